@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs what the tests need when it is missing, then runs every test.
+# Usage: bash scripts/test.sh   (root, or sudo, for the system packages)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Debian packages: a software Vulkan driver for headless rendering, a virtual X
+# display and xdotool for driving the real window, ImageMagick for screenshots.
+packages=(mesa-vulkan-drivers libvulkan1 xvfb xdotool imagemagick x11-utils)
+missing=()
+for package in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "installing: ${missing[*]}"
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# Every target: unit, integration and end-to-end tests, and the benchmarks once each
+# in test mode (so they are known to build and run).
+cargo test --release --all-targets

@@ -1,0 +1,318 @@
+//! The command line: `scenes` lists the scenes, `simulate` runs one headless and prints
+//! JSON Lines. Bad input gets one line on stderr and exit code 2, never a panic.
+
+use std::io::{self, Write};
+
+use clap::{Parser, Subcommand, ValueEnum};
+use serde::Serialize;
+
+use crate::physics::{LinkEnd, LinkState, World};
+use crate::scenes::{self, SCENES, Scene};
+
+/// Exit code for input the user can fix.
+pub const USAGE_ERROR: i32 = 2;
+
+/// particle-lab: a real-time particle physics lab.
+#[derive(Debug, Parser)]
+#[command(name = "particle-lab", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do; without a command the window opens.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Scene to open the window on.
+    #[arg(long, global = false)]
+    pub scene: Option<String>,
+    /// Set a scene parameter, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// List every scene with its parameters.
+    Scenes {
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+    /// Run a scene headless and print its state as JSON Lines.
+    Simulate(SimulateArgs),
+}
+
+/// Output format of `scenes`.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum Format {
+    /// Human-readable table.
+    Text,
+    /// One JSON array.
+    Json,
+}
+
+/// Arguments of `simulate`.
+#[derive(Debug, clap::Args)]
+pub struct SimulateArgs {
+    /// Scene name (see `particle-lab scenes`).
+    #[arg(long)]
+    pub scene: String,
+    /// Set a scene parameter, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Physics steps to run [default: the scene's own].
+    #[arg(long)]
+    pub steps: Option<u64>,
+    /// Time step in seconds [default: the scene's own].
+    #[arg(long, allow_negative_numbers = true)]
+    pub dt: Option<f32>,
+    /// Print every K-th step (step 0 and the last step are always printed).
+    #[arg(long, default_value_t = 1)]
+    pub every: u64,
+}
+
+/// Most steps `simulate` accepts in one run.
+pub const MAX_STEPS: u64 = 100_000_000;
+
+/// Parses the command line; on bad flags prints clap's first line and exits 2.
+#[must_use]
+pub fn parse() -> Cli {
+    match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                error.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                error.exit();
+            }
+            // clap's message is a paragraph, then usage; keep the paragraph on one line.
+            let text = error.render().to_string();
+            let message: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
+            eprintln!("{} (see 'particle-lab --help')", message.join(" "));
+            std::process::exit(USAGE_ERROR);
+        }
+    }
+}
+
+/// Runs `scenes`.
+pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
+    match format {
+        Format::Json => {
+            let list: Vec<SceneJson> = SCENES
+                .iter()
+                .map(|entry| {
+                    let info = entry.info;
+                    SceneJson {
+                        name: info.name,
+                        summary: info.summary,
+                        dt: info.dt,
+                        default_steps: info.default_steps,
+                        params: info
+                            .params
+                            .iter()
+                            .map(|p| ParamJson {
+                                name: p.name,
+                                unit: p.unit,
+                                default: p.default,
+                                min: p.min,
+                                max: p.max,
+                                help: p.help,
+                            })
+                            .collect(),
+                        presets: info.presets.iter().map(|p| p.name).collect(),
+                        actions: info.actions.iter().map(|a| a.label).collect(),
+                    }
+                })
+                .collect();
+            serde_json::to_writer(&mut *out, &list)?;
+            writeln!(out)
+        }
+        Format::Text => {
+            for entry in SCENES {
+                let info = entry.info;
+                writeln!(out, "{} — {}", info.name, info.summary)?;
+                writeln!(
+                    out,
+                    "  dt {} s ({:.0} Hz), {} steps by default",
+                    info.dt,
+                    1.0 / info.dt,
+                    info.default_steps
+                )?;
+                for p in info.params {
+                    let unit = if p.unit.is_empty() { String::new() } else { format!(" {}", p.unit) };
+                    writeln!(
+                        out,
+                        "  {:<12} {:>9}{unit:<6} [{} .. {}]  {}",
+                        p.name, p.default, p.min, p.max, p.help
+                    )?;
+                }
+                if !info.presets.is_empty() {
+                    let names: Vec<_> = info.presets.iter().map(|p| p.name).collect();
+                    writeln!(out, "  presets: {}", names.join(", "))?;
+                }
+                writeln!(out)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct SceneJson {
+    name: &'static str,
+    summary: &'static str,
+    dt: f32,
+    default_steps: u32,
+    params: Vec<ParamJson>,
+    presets: Vec<&'static str>,
+    actions: Vec<&'static str>,
+}
+
+#[derive(Serialize)]
+struct ParamJson {
+    name: &'static str,
+    unit: &'static str,
+    default: f32,
+    min: f32,
+    max: f32,
+    help: &'static str,
+}
+
+/// Validated settings of a `simulate` run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunPlan {
+    /// Steps to run.
+    pub steps: u64,
+    /// Time step (s).
+    pub dt: f32,
+    /// Print every this many steps.
+    pub every: u64,
+}
+
+/// Builds the scene and checks the numbers of a `simulate` run.
+pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String> {
+    let scene = scenes::build(&args.scene, &args.set)?;
+    let info = scene.info();
+    let dt = args.dt.unwrap_or(info.dt);
+    if !(dt > 0.0 && dt <= 1.0) {
+        return Err(format!("--dt {dt} is out of range; valid range: greater than 0 up to 1 second"));
+    }
+    let steps = args.steps.unwrap_or(u64::from(info.default_steps));
+    if steps > MAX_STEPS {
+        return Err(format!("--steps {steps} is out of range; valid range: 0 to {MAX_STEPS}"));
+    }
+    if args.every == 0 {
+        return Err("--every 0 is out of range; valid range: 1 or more".into());
+    }
+    Ok((scene, RunPlan { steps, dt, every: args.every }))
+}
+
+/// Runs `simulate`, writing one JSON object per printed step.
+pub fn simulate(
+    scene: &mut dyn Scene,
+    plan: RunPlan,
+    out: &mut impl Write,
+) -> io::Result<Result<(), String>> {
+    let mut links = Vec::new();
+    let mut line = Vec::with_capacity(4096);
+    for step in 0..=plan.steps {
+        if step > 0 {
+            if let Err(error) = scene.step(plan.dt) {
+                return Ok(Err(error.to_string()));
+            }
+        }
+        if step == 0 || step == plan.steps || step % plan.every == 0 {
+            line.clear();
+            write_state(&mut line, step, scene.world(), &mut links)?;
+            line.push(b'\n');
+            out.write_all(&line)?;
+        }
+    }
+    out.flush()?;
+    Ok(Ok(()))
+}
+
+#[derive(Serialize)]
+struct ParticleJson {
+    id: u32,
+    p: [f32; 3],
+    v: [f32; 3],
+}
+
+#[derive(Serialize)]
+struct LinkJson {
+    kind: &'static str,
+    a: u32,
+    b: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    anchor: Option<[f32; 3]>,
+    rest: f32,
+    length: f32,
+    tension: f32,
+}
+
+#[derive(Serialize)]
+struct EnergyJson {
+    kinetic: f32,
+    potential: f32,
+}
+
+#[derive(Serialize)]
+struct StateJson {
+    step: u64,
+    t: f64,
+    particles: Vec<ParticleJson>,
+    links: Vec<LinkJson>,
+    contacts: usize,
+    resolver: ResolverJson,
+    energy: EnergyJson,
+}
+
+#[derive(Serialize)]
+struct ResolverJson {
+    iterations: usize,
+    max_penetration: f32,
+}
+
+fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<LinkState>) -> io::Result<()> {
+    let p = &world.particles;
+    let mut particles: Vec<ParticleJson> = (0..p.len())
+        .map(|i| ParticleJson { id: p.id(i).0, p: p.position[i].to_array(), v: p.velocity[i].to_array() })
+        .collect();
+    particles.sort_by_key(|particle| particle.id);
+    world.links_into(links);
+    let links = links
+        .iter()
+        .map(|link| {
+            let (b, anchor) = match link.spec.b {
+                LinkEnd::Particle(id) => (Some(id.0), None),
+                LinkEnd::Anchor(point) => (None, Some(point.to_array())),
+            };
+            LinkJson {
+                kind: link.spec.kind.name(),
+                a: link.spec.a.0,
+                b,
+                anchor,
+                rest: link.spec.rest,
+                length: link.length,
+                tension: link.tension,
+            }
+        })
+        .collect();
+    let energy = world.energy();
+    let state = StateJson {
+        step,
+        t: world.time(),
+        particles,
+        links,
+        contacts: world.contacts().len(),
+        resolver: ResolverJson {
+            iterations: world.last_report().iterations(),
+            max_penetration: world.last_report().max_penetration,
+        },
+        energy: EnergyJson { kinetic: energy.kinetic, potential: energy.potential },
+    };
+    serde_json::to_writer(out, &state).map_err(io::Error::other)
+}

@@ -1,0 +1,9 @@
+//! particle-lab: a real-time mass-aggregate particle physics lab.
+//!
+//! - [`physics`]: the engine (particles, forces, contacts, links, world). No graphics.
+//! - [`scenes`]: the demos as data: each builds a world and declares its parameters.
+//! - [`cli`]: the command line (`scenes`, `simulate`).
+
+pub mod cli;
+pub mod physics;
+pub mod scenes;

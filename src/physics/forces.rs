@@ -1,0 +1,343 @@
+//! Force generators: anything that adds a force to particles each step.
+//!
+//! Each generator names the particles it acts on by [`ParticleId`]; the
+//! [`ForceRegistry`] owns the generators and applies them in the order they were added.
+
+use glam::Vec3;
+
+use super::links::{LinkEnd, LinkKind, LinkSpec};
+use super::particles::{ParticleId, Particles};
+
+/// Something that adds forces to particles every step.
+pub trait ForceGenerator {
+    /// Adds this step's force to the particles' accumulators. `dt` is the step (s).
+    fn apply(&mut self, particles: &mut Particles, dt: f32);
+
+    /// Whether this generator refers to the particle (so it must go when the particle does).
+    fn involves(&self, id: ParticleId) -> bool;
+
+    /// Stored elastic or field energy (J) in the current state; 0 if not meaningful.
+    fn potential_energy(&self, _particles: &Particles) -> f32 {
+        0.0
+    }
+
+    /// The generator seen as a link between two points, if it is one (springs are).
+    fn link(&self) -> Option<LinkSpec> {
+        None
+    }
+
+    /// Tension (N) along the link in the current state; positive pulls the ends together.
+    fn tension(&self, _particles: &Particles) -> f32 {
+        0.0
+    }
+}
+
+/// Handle to a registered force generator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ForceId(pub u32);
+
+/// Owns the force generators of a world; supports add, remove and clear.
+#[derive(Default)]
+pub struct ForceRegistry {
+    entries: Vec<(ForceId, Box<dyn ForceGenerator>)>,
+    next: u32,
+}
+
+impl ForceRegistry {
+    /// Registers a generator and returns its handle.
+    pub fn add(&mut self, generator: Box<dyn ForceGenerator>) -> ForceId {
+        let id = ForceId(self.next);
+        self.next += 1;
+        self.entries.push((id, generator));
+        id
+    }
+
+    /// Unregisters a generator; false if it was not registered.
+    pub fn remove(&mut self, id: ForceId) -> bool {
+        let before = self.entries.len();
+        self.entries.retain(|(entry, _)| *entry != id);
+        self.entries.len() != before
+    }
+
+    /// Swaps the generator behind `id` for another, keeping its place in the order;
+    /// false if `id` is not registered.
+    pub fn replace(&mut self, id: ForceId, generator: Box<dyn ForceGenerator>) -> bool {
+        match self.entries.iter_mut().find(|(entry, _)| *entry == id) {
+            Some(entry) => {
+                entry.1 = generator;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Drops every generator that refers to the particle.
+    pub fn remove_involving(&mut self, particle: ParticleId) {
+        self.entries.retain(|(_, g)| !g.involves(particle));
+    }
+
+    /// Unregisters everything.
+    pub fn clear(&mut self) {
+        self.entries.clear();
+    }
+
+    /// Number of registered generators.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// True when nothing is registered.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Applies every generator, in registration order.
+    pub fn apply(&mut self, particles: &mut Particles, dt: f32) {
+        for (_, generator) in &mut self.entries {
+            generator.apply(particles, dt);
+        }
+    }
+
+    /// Iterates over the generators.
+    pub fn iter(&self) -> impl Iterator<Item = &dyn ForceGenerator> {
+        self.entries.iter().map(|(_, g)| g.as_ref())
+    }
+}
+
+/// Unit vector of `d`, or zero when `d` is (nearly) zero: coincident ends exert no
+/// directed force instead of producing NaN.
+#[inline]
+#[must_use]
+pub fn direction_or_zero(d: Vec3) -> (Vec3, f32) {
+    let length = d.length();
+    if length > 1e-12 && length.is_finite() {
+        (d / length, length)
+    } else {
+        (Vec3::ZERO, length.min(f32::MAX))
+    }
+}
+
+/// Position of a link end: a particle's position or a fixed anchor.
+#[inline]
+pub(crate) fn end_position(particles: &Particles, end: LinkEnd) -> Option<Vec3> {
+    match end {
+        LinkEnd::Particle(id) => particles.index(id).map(|i| particles.position[i]),
+        LinkEnd::Anchor(p) => Some(p),
+    }
+}
+
+/// Uniform gravity as a force, `F = m g`, on a list of particles.
+///
+/// Scenes usually put gravity in each particle's constant acceleration instead (as the
+/// paper does); this generator exists for particles that need their own field.
+#[derive(Clone, Debug)]
+pub struct Gravity {
+    /// Acceleration of the field (m/s²), e.g. `(0, -9.81, 0)`.
+    pub gravity: Vec3,
+    /// Particles it acts on.
+    pub targets: Vec<ParticleId>,
+}
+
+impl ForceGenerator for Gravity {
+    fn apply(&mut self, particles: &mut Particles, _dt: f32) {
+        for &id in &self.targets {
+            if let Some(i) = particles.index(id) {
+                let inverse_mass = particles.inverse_mass[i];
+                if inverse_mass > 0.0 {
+                    particles.force[i] += self.gravity / inverse_mass;
+                }
+            }
+        }
+    }
+
+    fn involves(&self, id: ParticleId) -> bool {
+        self.targets.contains(&id)
+    }
+
+    fn potential_energy(&self, particles: &Particles) -> f32 {
+        self.targets
+            .iter()
+            .filter_map(|&id| particles.index(id))
+            .filter(|&i| particles.inverse_mass[i] > 0.0)
+            .map(|i| -self.gravity.dot(particles.position[i]) / particles.inverse_mass[i])
+            .sum()
+    }
+}
+
+/// Simplified aerodynamic drag, `F = -v̂ (k1 |v| + k2 |v|²)`.
+#[derive(Clone, Debug)]
+pub struct Drag {
+    /// Linear coefficient (N·s/m).
+    pub k1: f32,
+    /// Quadratic coefficient (N·s²/m²).
+    pub k2: f32,
+    /// Particles it acts on.
+    pub targets: Vec<ParticleId>,
+}
+
+impl Drag {
+    /// The drag force on a particle moving at `velocity` (N).
+    #[inline]
+    #[must_use]
+    pub fn force(&self, velocity: Vec3) -> Vec3 {
+        let speed = velocity.length();
+        // -v̂ (k1|v| + k2|v|²) = -v (k1 + k2|v|); zero velocity gives zero force.
+        -velocity * (self.k1 + self.k2 * speed)
+    }
+}
+
+impl ForceGenerator for Drag {
+    fn apply(&mut self, particles: &mut Particles, _dt: f32) {
+        for &id in &self.targets {
+            if let Some(i) = particles.index(id) {
+                particles.force[i] += self.force(particles.velocity[i]);
+            }
+        }
+    }
+
+    fn involves(&self, id: ParticleId) -> bool {
+        self.targets.contains(&id)
+    }
+}
+
+/// Hooke's law between a particle and the other end: a spring pushes when compressed
+/// and pulls when stretched; a bungee only pulls, and only when stretched.
+#[derive(Clone, Debug)]
+pub struct Spring {
+    /// The particle the force acts on.
+    pub a: ParticleId,
+    /// The other end: a particle (which gets the opposite force) or a fixed anchor.
+    pub b: LinkEnd,
+    /// Spring constant (N/m).
+    pub k: f32,
+    /// Length at which the spring exerts no force (m).
+    pub rest_length: f32,
+    /// A bungee exerts no force when shorter than its rest length.
+    pub bungee: bool,
+}
+
+impl Spring {
+    /// A spring between two particles.
+    #[must_use]
+    pub fn between(a: ParticleId, b: ParticleId, k: f32, rest_length: f32) -> Self {
+        Self { a, b: LinkEnd::Particle(b), k, rest_length, bungee: false }
+    }
+
+    /// A spring from a particle to a fixed anchor point.
+    #[must_use]
+    pub fn anchored(a: ParticleId, anchor: Vec3, k: f32, rest_length: f32) -> Self {
+        Self { a, b: LinkEnd::Anchor(anchor), k, rest_length, bungee: false }
+    }
+
+    /// The same link, as a bungee.
+    #[must_use]
+    pub fn as_bungee(mut self) -> Self {
+        self.bungee = true;
+        self
+    }
+
+    /// Force on end `a` (N) given the two end positions; `b` gets the opposite.
+    #[inline]
+    #[must_use]
+    pub fn force(&self, a: Vec3, b: Vec3) -> Vec3 {
+        let (direction, length) = direction_or_zero(a - b);
+        let extension = length - self.rest_length;
+        if self.bungee && extension <= 0.0 {
+            return Vec3::ZERO;
+        }
+        -self.k * extension * direction
+    }
+
+    fn extension(&self, particles: &Particles) -> Option<f32> {
+        let a = end_position(particles, LinkEnd::Particle(self.a))?;
+        let b = end_position(particles, self.b)?;
+        let extension = (a - b).length() - self.rest_length;
+        Some(if self.bungee { extension.max(0.0) } else { extension })
+    }
+}
+
+impl ForceGenerator for Spring {
+    fn apply(&mut self, particles: &mut Particles, _dt: f32) {
+        let Some(ia) = particles.index(self.a) else { return };
+        let Some(b) = end_position(particles, self.b) else { return };
+        let force = self.force(particles.position[ia], b);
+        particles.force[ia] += force;
+        if let LinkEnd::Particle(id) = self.b {
+            if let Some(ib) = particles.index(id) {
+                particles.force[ib] -= force;
+            }
+        }
+    }
+
+    fn involves(&self, id: ParticleId) -> bool {
+        self.a == id || self.b == LinkEnd::Particle(id)
+    }
+
+    fn potential_energy(&self, particles: &Particles) -> f32 {
+        self.extension(particles).map_or(0.0, |x| 0.5 * self.k * x * x)
+    }
+
+    fn link(&self) -> Option<LinkSpec> {
+        let kind = if self.bungee { LinkKind::Bungee } else { LinkKind::Spring };
+        Some(LinkSpec { kind, a: self.a, b: self.b, rest: self.rest_length })
+    }
+
+    fn tension(&self, particles: &Particles) -> f32 {
+        self.extension(particles).map_or(0.0, |x| self.k * x)
+    }
+}
+
+/// Buoyancy of a body treated as a vertical column of height `2 * half_height` in a
+/// liquid whose surface is the plane `y = surface`.
+///
+/// Submerged fraction `f = clamp((surface + half_height - y) / (2 half_height), 0, 1)`,
+/// force `density * volume * g * f` upwards (Archimedes). This corrects the sign of the
+/// partial-submersion term in the paper and in Cyclone.
+#[derive(Clone, Debug)]
+pub struct Buoyancy {
+    /// The floating particle.
+    pub target: ParticleId,
+    /// Height of the liquid surface (m).
+    pub surface: f32,
+    /// Half the body's height (m); the body is fully submerged at `y <= surface - half_height`.
+    pub half_height: f32,
+    /// Body volume (m³).
+    pub volume: f32,
+    /// Liquid density (kg/m³); water is 1000.
+    pub density: f32,
+    /// Gravitational acceleration (m/s², positive).
+    pub g: f32,
+}
+
+impl Buoyancy {
+    /// Fraction of the body below the surface when its centre is at height `y`.
+    #[inline]
+    #[must_use]
+    pub fn submerged_fraction(&self, y: f32) -> f32 {
+        if self.half_height <= 0.0 {
+            return if y <= self.surface { 1.0 } else { 0.0 };
+        }
+        ((self.surface + self.half_height - y) / (2.0 * self.half_height)).clamp(0.0, 1.0)
+    }
+
+    /// Upward force (N) on the body when its centre is at height `y`.
+    #[inline]
+    #[must_use]
+    pub fn force(&self, y: f32) -> Vec3 {
+        Vec3::Y * (self.density * self.volume * self.g * self.submerged_fraction(y))
+    }
+}
+
+impl ForceGenerator for Buoyancy {
+    fn apply(&mut self, particles: &mut Particles, _dt: f32) {
+        if let Some(i) = particles.index(self.target) {
+            particles.force[i] += self.force(particles.position[i].y);
+        }
+    }
+
+    fn involves(&self, id: ParticleId) -> bool {
+        self.target == id
+    }
+}

@@ -1,0 +1,328 @@
+//! Particle storage: struct-of-arrays with stable ids.
+//!
+//! Hot loops (integration, force clearing) walk the arrays in order with zipped
+//! iterators; everything that refers to a particle from outside (force generators,
+//! links, the renderer's trails) holds a [`ParticleId`], which stays valid until that
+//! particle is removed, even when other particles are removed and the arrays are
+//! compacted.
+
+use glam::Vec3;
+
+use super::PhysicsError;
+
+/// A stable handle to a particle. Ids are never reused within one [`Particles`] store.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ParticleId(pub u32);
+
+/// Everything needed to create a particle. Units: metres, seconds, kilograms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParticleDesc {
+    /// Position (m).
+    pub position: Vec3,
+    /// Velocity (m/s).
+    pub velocity: Vec3,
+    /// Constant acceleration applied every step, usually gravity (m/s²).
+    pub acceleration: Vec3,
+    /// Mass (kg); `f32::INFINITY` makes the particle immovable. Must be > 0.
+    pub mass: f32,
+    /// Fraction of velocity kept per second, in [0, 1]; 1 means no damping.
+    pub damping: f32,
+    /// Collision radius (m), >= 0.
+    pub radius: f32,
+}
+
+impl Default for ParticleDesc {
+    fn default() -> Self {
+        Self {
+            position: Vec3::ZERO,
+            velocity: Vec3::ZERO,
+            acceleration: Vec3::ZERO,
+            mass: 1.0,
+            damping: 1.0,
+            radius: 0.2,
+        }
+    }
+}
+
+impl ParticleDesc {
+    /// Checks the description, returning the inverse mass to store.
+    fn validate(&self) -> Result<f32, PhysicsError> {
+        let finite = |v: Vec3| v.is_finite();
+        if !(finite(self.position) && finite(self.velocity) && finite(self.acceleration)) {
+            return Err(PhysicsError::InvalidParticle(
+                "position, velocity and acceleration must be finite".into(),
+            ));
+        }
+        let inverse_mass = inverse_mass(self.mass)?;
+        if !(0.0..=1.0).contains(&self.damping) {
+            return Err(PhysicsError::InvalidParticle(format!(
+                "damping must be in [0, 1], got {}",
+                self.damping
+            )));
+        }
+        if !(self.radius.is_finite() && self.radius >= 0.0) {
+            return Err(PhysicsError::InvalidParticle(format!(
+                "radius must be finite and >= 0, got {}",
+                self.radius
+            )));
+        }
+        Ok(inverse_mass)
+    }
+}
+
+/// Converts a mass to an inverse mass: `INFINITY` gives 0 (immovable); zero, negative
+/// and NaN masses are errors.
+pub fn inverse_mass(mass: f32) -> Result<f32, PhysicsError> {
+    if mass == f32::INFINITY {
+        Ok(0.0)
+    } else if mass > 0.0 && mass.is_finite() {
+        Ok(1.0 / mass)
+    } else {
+        Err(PhysicsError::InvalidParticle(format!(
+            "mass must be > 0 (or infinite for an immovable particle), got {mass}"
+        )))
+    }
+}
+
+const DEAD: u32 = u32::MAX;
+
+/// All particles of a world, stored as parallel arrays indexed by a dense index.
+///
+/// The dense index of a particle changes when another particle is removed; use
+/// [`Particles::index`] to turn a [`ParticleId`] into the current index.
+#[derive(Clone, Debug, Default)]
+pub struct Particles {
+    /// Positions (m).
+    pub position: Vec<Vec3>,
+    /// Velocities (m/s).
+    pub velocity: Vec<Vec3>,
+    /// Constant accelerations (m/s²), usually gravity.
+    pub acceleration: Vec<Vec3>,
+    /// Force accumulated this step (N); cleared at the start of every step.
+    pub force: Vec<Vec3>,
+    /// Inverse masses (1/kg); 0 means immovable.
+    pub inverse_mass: Vec<f32>,
+    /// Collision radii (m).
+    pub radius: Vec<f32>,
+    /// Fraction of velocity kept per second.
+    damping: Vec<f32>,
+    /// `damping.powf(damping_dt)`, cached so the step does not call `powf` per particle.
+    damping_per_step: Vec<f32>,
+    damping_dt: f32,
+    /// Dense index -> id.
+    ids: Vec<ParticleId>,
+    /// Id -> dense index, or `DEAD`.
+    slots: Vec<u32>,
+}
+
+impl Particles {
+    /// An empty store.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// An empty store with room for `n` particles without reallocating.
+    #[must_use]
+    pub fn with_capacity(n: usize) -> Self {
+        Self {
+            position: Vec::with_capacity(n),
+            velocity: Vec::with_capacity(n),
+            acceleration: Vec::with_capacity(n),
+            force: Vec::with_capacity(n),
+            inverse_mass: Vec::with_capacity(n),
+            radius: Vec::with_capacity(n),
+            damping: Vec::with_capacity(n),
+            damping_per_step: Vec::with_capacity(n),
+            damping_dt: 0.0,
+            ids: Vec::with_capacity(n),
+            slots: Vec::with_capacity(n),
+        }
+    }
+
+    /// Number of live particles.
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// True when there are no particles.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
+
+    /// Adds a particle, or explains why the description is invalid.
+    pub fn add(&mut self, desc: ParticleDesc) -> Result<ParticleId, PhysicsError> {
+        let inverse_mass = desc.validate()?;
+        let id = ParticleId(self.slots.len() as u32);
+        self.slots.push(self.ids.len() as u32);
+        self.ids.push(id);
+        self.position.push(desc.position);
+        self.velocity.push(desc.velocity);
+        self.acceleration.push(desc.acceleration);
+        self.force.push(Vec3::ZERO);
+        self.inverse_mass.push(inverse_mass);
+        self.radius.push(desc.radius);
+        self.damping.push(desc.damping);
+        self.damping_per_step.push(damping_factor(desc.damping, self.damping_dt));
+        Ok(id)
+    }
+
+    /// Removes a particle; returns false if it was already gone. Other ids stay valid.
+    pub fn remove(&mut self, id: ParticleId) -> bool {
+        let Some(index) = self.index(id) else {
+            return false;
+        };
+        let last = self.ids.len() - 1;
+        self.position.swap_remove(index);
+        self.velocity.swap_remove(index);
+        self.acceleration.swap_remove(index);
+        self.force.swap_remove(index);
+        self.inverse_mass.swap_remove(index);
+        self.radius.swap_remove(index);
+        self.damping.swap_remove(index);
+        self.damping_per_step.swap_remove(index);
+        self.ids.swap_remove(index);
+        if index != last {
+            let moved = self.ids[index];
+            self.slots[moved.0 as usize] = index as u32;
+        }
+        self.slots[id.0 as usize] = DEAD;
+        true
+    }
+
+    /// Removes every particle. Ids handed out before stay dead.
+    pub fn clear(&mut self) {
+        for id in self.ids.drain(..) {
+            self.slots[id.0 as usize] = DEAD;
+        }
+        self.position.clear();
+        self.velocity.clear();
+        self.acceleration.clear();
+        self.force.clear();
+        self.inverse_mass.clear();
+        self.radius.clear();
+        self.damping.clear();
+        self.damping_per_step.clear();
+    }
+
+    /// The current dense index of a live particle.
+    #[inline]
+    #[must_use]
+    pub fn index(&self, id: ParticleId) -> Option<usize> {
+        match self.slots.get(id.0 as usize) {
+            Some(&slot) if slot != DEAD => Some(slot as usize),
+            _ => None,
+        }
+    }
+
+    /// The id of the particle at a dense index.
+    #[inline]
+    #[must_use]
+    pub fn id(&self, index: usize) -> ParticleId {
+        self.ids[index]
+    }
+
+    /// Ids of all live particles, in dense order.
+    #[inline]
+    #[must_use]
+    pub fn ids(&self) -> &[ParticleId] {
+        &self.ids
+    }
+
+    /// Mass of the particle at `index` (kg); infinite for immovable ones.
+    #[inline]
+    #[must_use]
+    pub fn mass(&self, index: usize) -> f32 {
+        let inverse = self.inverse_mass[index];
+        if inverse > 0.0 { 1.0 / inverse } else { f32::INFINITY }
+    }
+
+    /// Sets the mass of a particle (kg); see [`inverse_mass`] for what is accepted.
+    pub fn set_mass(&mut self, id: ParticleId, mass: f32) -> Result<(), PhysicsError> {
+        let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        self.inverse_mass[index] = inverse_mass(mass)?;
+        Ok(())
+    }
+
+    /// Damping of the particle at `index`: fraction of velocity kept per second.
+    #[inline]
+    #[must_use]
+    pub fn damping(&self, index: usize) -> f32 {
+        self.damping[index]
+    }
+
+    /// Sets a particle's damping, in [0, 1].
+    pub fn set_damping(&mut self, id: ParticleId, damping: f32) -> Result<(), PhysicsError> {
+        let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        if !(0.0..=1.0).contains(&damping) {
+            return Err(PhysicsError::InvalidParticle(format!("damping must be in [0, 1], got {damping}")));
+        }
+        self.damping[index] = damping;
+        self.damping_per_step[index] = damping_factor(damping, self.damping_dt);
+        Ok(())
+    }
+
+    /// The factor velocities are multiplied by over one step of the last integrated dt.
+    #[inline]
+    #[must_use]
+    pub fn damping_per_step(&self, index: usize) -> f32 {
+        self.damping_per_step[index]
+    }
+
+    /// Recomputes `damping^dt` for every particle if `dt` changed since the last step.
+    /// With a fixed time step this runs once, not once per step.
+    pub(crate) fn prepare_damping(&mut self, dt: f32) {
+        if dt != self.damping_dt {
+            self.damping_dt = dt;
+            for (factor, &damping) in self.damping_per_step.iter_mut().zip(&self.damping) {
+                *factor = damping_factor(damping, dt);
+            }
+        }
+    }
+
+    /// Zeroes every force accumulator.
+    #[inline]
+    pub fn clear_forces(&mut self) {
+        self.force.fill(Vec3::ZERO);
+    }
+
+    /// Semi-implicit Euler over `dt` seconds for every movable particle:
+    /// `v += (a + F/m) dt; v *= damping^dt; p += v dt`, using the new velocity.
+    pub fn integrate(&mut self, dt: f32) {
+        self.prepare_damping(dt);
+        let motion = self.position.iter_mut().zip(self.velocity.iter_mut());
+        let inputs = self
+            .acceleration
+            .iter()
+            .zip(&self.force)
+            .zip(self.inverse_mass.iter().zip(&self.damping_per_step));
+        for ((p, v), ((&a, &f), (&inverse_mass, &damp))) in motion.zip(inputs) {
+            if inverse_mass > 0.0 {
+                *v = (*v + (a + f * inverse_mass) * dt) * damp;
+                *p += *v * dt;
+            }
+        }
+    }
+
+    /// Acceleration the particle at `index` received this step: constant part plus
+    /// accumulated force over mass (m/s²). Zero for immovable particles.
+    #[inline]
+    #[must_use]
+    pub fn step_acceleration(&self, index: usize) -> Vec3 {
+        let inverse_mass = self.inverse_mass[index];
+        if inverse_mass > 0.0 {
+            self.acceleration[index] + self.force[index] * inverse_mass
+        } else {
+            Vec3::ZERO
+        }
+    }
+}
+
+#[inline]
+fn damping_factor(damping: f32, dt: f32) -> f32 {
+    if dt == 0.0 { 1.0 } else { damping.powf(dt) }
+}

@@ -1,0 +1,190 @@
+//! The demos as data. Each scene builds a [`World`], declares its parameters once (the
+//! panel's sliders, the `--set` flags and their validation all come from that table),
+//! and adds its own rules on top of the world's step (firing rounds, moving a load).
+
+mod bridge;
+mod params;
+mod projectile;
+mod spring_forces;
+
+use glam::{Vec2, Vec3};
+
+use crate::physics::{PhysicsError, ResolveReport, World};
+
+pub use params::{Param, ParamError, ParamValues, Preset};
+
+/// Static description of a scene.
+#[derive(Debug)]
+pub struct SceneInfo {
+    /// Name used on the command line and in the Scene menu (the paper's name).
+    pub name: &'static str,
+    /// One line saying what it shows.
+    pub summary: &'static str,
+    /// Physics time step used unless the user picks another (s).
+    pub dt: f32,
+    /// Steps `simulate` runs unless told otherwise.
+    pub default_steps: u32,
+    /// The parameter table.
+    pub params: &'static [Param],
+    /// Named sets of parameter values (e.g. ammo types).
+    pub presets: &'static [Preset],
+    /// Actions the scene offers, with the key that triggers them in the window.
+    pub actions: &'static [ActionInfo],
+}
+
+/// Something a user can do to a running scene besides changing parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SceneAction {
+    /// Fire a new round with the current parameters (projectile).
+    Fire,
+    /// Move the load by this much in load coordinates (bridge).
+    MoveLoad {
+        /// Along the bridge.
+        dx: f32,
+        /// Across the bridge.
+        dz: f32,
+    },
+}
+
+/// A button the panel shows for a scene action.
+#[derive(Clone, Copy, Debug)]
+pub struct ActionInfo {
+    /// Button label.
+    pub label: &'static str,
+    /// The key that does the same, as shown to the user.
+    pub key: &'static str,
+    /// The action.
+    pub action: SceneAction,
+}
+
+/// A rectangle of liquid surface to draw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Water {
+    /// Surface height (m).
+    pub height: f32,
+    /// Centre of the pool in x and z (m).
+    pub center: Vec2,
+    /// Half size of the pool in x and z (m).
+    pub half_extent: Vec2,
+}
+
+/// An extra sphere to draw that is not a particle (e.g. the bridge's load).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Marker {
+    /// Centre (m).
+    pub position: Vec3,
+    /// Radius (m).
+    pub radius: f32,
+    /// Linear RGB colour.
+    pub color: [f32; 3],
+}
+
+/// Where a camera should look to frame a scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraHint {
+    /// Point looked at (m).
+    pub target: Vec3,
+    /// Distance from the target (m).
+    pub distance: f32,
+    /// Rotation about the vertical axis (radians); 0 looks along -z.
+    pub yaw: f32,
+    /// Elevation (radians), positive looks down.
+    pub pitch: f32,
+}
+
+/// A running scene: a world plus the scene's own rules and parameters.
+pub trait Scene {
+    /// The scene's static description.
+    fn info(&self) -> &'static SceneInfo;
+
+    /// The world, for reading.
+    fn world(&self) -> &World;
+
+    /// The world, for interaction such as dragging a particle.
+    fn world_mut(&mut self) -> &mut World;
+
+    /// Current parameter values.
+    fn params(&self) -> &ParamValues;
+
+    /// Changes one parameter; takes effect at once where it can (gravity, load) or on
+    /// the next round (projectile launch settings), otherwise rebuilds the world.
+    fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError>;
+
+    /// Advances the scene by `dt` seconds.
+    fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError>;
+
+    /// Performs an action; false if this scene has no such action.
+    fn act(&mut self, _action: SceneAction) -> bool {
+        false
+    }
+
+    /// A liquid surface to draw, if the scene has one.
+    fn water(&self) -> Option<Water> {
+        None
+    }
+
+    /// Extra spheres to draw.
+    fn markers(&self, _out: &mut Vec<Marker>) {}
+
+    /// Where to put the camera initially.
+    fn camera(&self) -> CameraHint;
+
+    /// Named read-outs for the panel, e.g. a spring's stability number at `dt`.
+    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+        Vec::new()
+    }
+}
+
+/// A scene in the registry: its description and how to build it.
+pub struct SceneEntry {
+    /// The description.
+    pub info: &'static SceneInfo,
+    /// Builds the scene with the given (already validated) parameter values.
+    pub create: fn(ParamValues) -> Box<dyn Scene>,
+}
+
+impl SceneEntry {
+    /// Builds the scene with its default parameters.
+    #[must_use]
+    pub fn create_default(&self) -> Box<dyn Scene> {
+        (self.create)(ParamValues::defaults(self.info.params))
+    }
+}
+
+/// Every scene, in menu order.
+pub static SCENES: &[SceneEntry] = &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY];
+
+/// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works).
+pub fn find(name: &str) -> Result<&'static SceneEntry, String> {
+    let simplify = |s: &str| s.chars().filter(|c| *c != '-' && *c != '_').collect::<String>().to_lowercase();
+    let wanted = simplify(name);
+    SCENES
+        .iter()
+        .find(|entry| simplify(entry.info.name) == wanted)
+        .ok_or_else(|| format!("unknown scene '{name}'; valid scenes: {}", scene_names().join(", ")))
+}
+
+/// Builds a registered scene with its defaults.
+///
+/// # Panics
+/// If no scene has that name; for names a user typed, use [`build`].
+#[must_use]
+pub fn create_default(name: &str) -> Box<dyn Scene> {
+    find(name).expect("scene is registered").create_default()
+}
+
+/// Names of every scene, in menu order.
+#[must_use]
+pub fn scene_names() -> Vec<&'static str> {
+    SCENES.iter().map(|e| e.info.name).collect()
+}
+
+/// Builds a scene by name with `KEY=VALUE` assignments applied over its defaults.
+pub fn build(name: &str, assignments: &[String]) -> Result<Box<dyn Scene>, String> {
+    let entry = find(name)?;
+    let mut values = ParamValues::defaults(entry.info.params);
+    for assignment in assignments {
+        values.assign(assignment).map_err(|e| e.to_string())?;
+    }
+    Ok((entry.create)(values))
+}

@@ -1,0 +1,161 @@
+//! projectile: rounds fired from a launcher, as in the paper (g exaggerated to 20 m/s²,
+//! 200 kg, damping 0.99) with Cyclone's ammo types as presets.
+
+use glam::Vec3;
+
+use super::{
+    ActionInfo, CameraHint, Param, ParamError, ParamValues, Preset, Scene, SceneAction, SceneEntry, SceneInfo,
+};
+use crate::physics::{ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions, World};
+
+/// Rounds older than this are removed (s), as in Cyclone's ballistic demo.
+pub const MAX_AGE: f64 = 5.0;
+/// Rounds further than this from the launcher are removed (m).
+pub const MAX_DISTANCE: f32 = 200.0;
+/// Drawn and collision radius of a round (m).
+pub const ROUND_RADIUS: f32 = 0.3;
+
+#[rustfmt::skip]
+static PARAMS: &[Param] = &[
+    Param { name: "g", unit: "m/s²", default: 20.0, min: -5.0, max: 50.0, help: "Gravitational acceleration, downwards (negative floats up)", logarithmic: false },
+    Param { name: "speed", unit: "m/s", default: 25.0, min: 0.0, max: 200.0, help: "Launch speed of the next round", logarithmic: false },
+    Param { name: "angle", unit: "°", default: 45.0, min: -90.0, max: 90.0, help: "Launch elevation above the horizontal", logarithmic: false },
+    Param { name: "mass", unit: "kg", default: 200.0, min: 0.1, max: 1000.0, help: "Mass of the next round (matters when rounds collide)", logarithmic: true },
+    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity a round keeps per second (1 = no drag)", logarithmic: false },
+    Param { name: "height", unit: "m", default: 1.5, min: 0.0, max: 50.0, help: "Height of the launcher above the ground", logarithmic: false },
+];
+
+#[rustfmt::skip]
+static PRESETS: &[Preset] = &[
+    Preset { name: "paper", help: "The paper's round: 200 kg, g = 20 m/s²", values: &[("g", 20.0), ("speed", 25.0), ("angle", 45.0), ("mass", 200.0), ("damping", 0.99)] },
+    Preset { name: "pistol", help: "2 kg at 35 m/s, weak gravity", values: &[("g", 1.0), ("speed", 35.0), ("angle", 0.0), ("mass", 2.0), ("damping", 0.99)] },
+    Preset { name: "artillery", help: "200 kg at (40, 30) m/s, g = 20 m/s²", values: &[("g", 20.0), ("speed", 50.0), ("angle", 36.869_9), ("mass", 200.0), ("damping", 0.99)] },
+    Preset { name: "fireball", help: "1 kg at 10 m/s that floats upwards", values: &[("g", -0.6), ("speed", 10.0), ("angle", 0.0), ("mass", 1.0), ("damping", 0.9)] },
+    Preset { name: "laser", help: "0.1 kg at 100 m/s, no gravity", values: &[("g", 0.0), ("speed", 100.0), ("angle", 0.0), ("mass", 0.1), ("damping", 0.99)] },
+];
+
+#[rustfmt::skip]
+static ACTIONS: &[ActionInfo] = &[ActionInfo { label: "Fire", key: "F", action: SceneAction::Fire }];
+
+static INFO: SceneInfo = SceneInfo {
+    name: "projectile",
+    summary: "Rounds fired from a launcher: semi-implicit Euler with gravity and damping",
+    dt: 1.0 / 240.0,
+    default_steps: 600,
+    params: PARAMS,
+    presets: PRESETS,
+    actions: ACTIONS,
+};
+
+pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+
+fn create(params: ParamValues) -> Box<dyn Scene> {
+    let mut world = World::new();
+    world.add_contact_generator(SphereCollisions { restitution: 0.8 });
+    let mut scene = Projectile { world, params, rounds: Vec::new() };
+    scene.fire().expect("default parameters describe a valid round");
+    Box::new(scene)
+}
+
+struct Projectile {
+    world: World,
+    params: ParamValues,
+    /// Live rounds and the time each was fired (s).
+    rounds: Vec<(ParticleId, f64)>,
+}
+
+impl Projectile {
+    fn gravity(&self) -> Vec3 {
+        Vec3::new(0.0, -self.params.get("g"), 0.0)
+    }
+
+    fn launcher(&self) -> Vec3 {
+        Vec3::new(0.0, self.params.get("height"), 0.0)
+    }
+
+    fn fire(&mut self) -> Result<ParticleId, PhysicsError> {
+        let angle = self.params.get("angle").to_radians();
+        let direction = Vec3::new(angle.cos(), angle.sin(), 0.0);
+        let id = self.world.add_particle(ParticleDesc {
+            position: self.launcher(),
+            velocity: direction * self.params.get("speed"),
+            acceleration: self.gravity(),
+            mass: self.params.get("mass"),
+            damping: self.params.get("damping"),
+            radius: ROUND_RADIUS,
+        })?;
+        self.rounds.push((id, self.world.time()));
+        Ok(id)
+    }
+}
+
+impl Scene for Projectile {
+    fn info(&self) -> &'static SceneInfo {
+        &INFO
+    }
+
+    fn world(&self) -> &World {
+        &self.world
+    }
+
+    fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    fn params(&self) -> &ParamValues {
+        &self.params
+    }
+
+    fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
+        self.params.set(name, value)?;
+        if name == "g" {
+            let gravity = self.gravity();
+            self.world.set_acceleration_all(gravity);
+        }
+        // Launch settings apply to the next round fired.
+        Ok(())
+    }
+
+    fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
+        let report = self.world.step(dt)?;
+        let now = self.world.time();
+        let launcher = self.launcher();
+        let world = &mut self.world;
+        self.rounds.retain(|&(id, fired)| {
+            let Some(i) = world.particles.index(id) else { return false };
+            let p = world.particles.position[i];
+            let expired = p.y < 0.0 || now - fired > MAX_AGE || p.distance(launcher) > MAX_DISTANCE;
+            if expired {
+                world.remove_particle(id);
+            }
+            !expired
+        });
+        Ok(report)
+    }
+
+    fn act(&mut self, action: SceneAction) -> bool {
+        match action {
+            SceneAction::Fire => self.fire().is_ok(),
+            SceneAction::MoveLoad { .. } => false,
+        }
+    }
+
+    fn camera(&self) -> CameraHint {
+        CameraHint { target: Vec3::new(16.0, 5.0, 0.0), distance: 42.0, yaw: 0.0, pitch: 0.25 }
+    }
+
+    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+        let (g, v, h) = (self.params.get("g"), self.params.get("speed"), self.params.get("height"));
+        let angle = self.params.get("angle").to_radians();
+        let mut out = vec![("rounds in flight".into(), self.rounds.len().to_string())];
+        if g > 0.0 {
+            let vy = v * angle.sin();
+            out.push(("peak (no drag)".into(), format!("{:.2} m", h + vy.max(0.0).powi(2) / (2.0 * g))));
+            out.push((
+                "range at launch height (no drag)".into(),
+                format!("{:.2} m", v * v * (2.0 * angle).sin() / g),
+            ));
+        }
+        out
+    }
+}

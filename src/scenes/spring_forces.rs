@@ -1,0 +1,173 @@
+//! springForces: a bob on an anchored spring, and beside it one example of every other
+//! spring-like generator: a free spring between two particles, a bungee, a float in
+//! water and a closed-form stiff spring.
+
+use glam::{Vec2, Vec3};
+
+use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water};
+use crate::physics::{
+    Buoyancy, ForceId, GroundPlane, ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions,
+    Spring, StiffSpring, World,
+};
+
+/// Where the bob's spring is fixed (m).
+pub const BOB_ANCHOR: Vec3 = Vec3::new(-6.0, 7.0, 0.0);
+/// Where the bungee is fixed (m).
+pub const BUNGEE_ANCHOR: Vec3 = Vec3::new(3.0, 7.0, 0.0);
+/// Where the stiff spring is fixed (m).
+pub const STIFF_ANCHOR: Vec3 = Vec3::new(11.0, 4.0, 0.0);
+/// The pool the float sits in.
+pub const POOL: Water = Water { height: 1.5, center: Vec2::new(7.0, 0.0), half_extent: Vec2::new(1.5, 1.5) };
+/// Volume of the float (m³): half submerged at 1 kg in water.
+const FLOAT_VOLUME: f32 = 0.002;
+const RADIUS: f32 = 0.3;
+
+#[rustfmt::skip]
+static PARAMS: &[Param] = &[
+    Param { name: "k", unit: "N/m", default: 20.0, min: 1.0, max: 500.0, help: "Spring constant of the springs and the bungee", logarithmic: true },
+    Param { name: "rest_length", unit: "m", default: 2.0, min: 0.5, max: 4.0, help: "Length at which the springs exert no force", logarithmic: false },
+    Param { name: "mass", unit: "kg", default: 1.0, min: 0.1, max: 10.0, help: "Mass of every particle in the scene", logarithmic: true },
+    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
+    Param { name: "stiff_k", unit: "N/m", default: 10_000.0, min: 10.0, max: 1_000_000.0, help: "Stiffness of the closed-form stiff spring (stable at any value)", logarithmic: true },
+];
+
+static INFO: SceneInfo = SceneInfo {
+    name: "springForces",
+    summary: "A bob on a spring, a free spring, a bungee, buoyancy and a stiff spring",
+    dt: 1.0 / 240.0,
+    default_steps: 1200,
+    params: PARAMS,
+    presets: &[],
+    actions: &[],
+};
+
+pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+
+fn create(params: ParamValues) -> Box<dyn Scene> {
+    Box::new(SpringForces::build(params).expect("parameter ranges keep every particle valid"))
+}
+
+struct SpringForces {
+    world: World,
+    params: ParamValues,
+    bob: ParticleId,
+    float_force: ForceId,
+    float: ParticleId,
+}
+
+impl SpringForces {
+    fn build(params: ParamValues) -> Result<Self, PhysicsError> {
+        let (k, rest, mass) = (params.get("k"), params.get("rest_length"), params.get("mass"));
+        let (damping, g) = (params.get("damping"), params.get("g"));
+        let mut world = World::new();
+        let mut add = |position: Vec3| {
+            world.add_particle(ParticleDesc {
+                position,
+                acceleration: Vec3::new(0.0, -g, 0.0),
+                mass,
+                damping,
+                radius: RADIUS,
+                ..ParticleDesc::default()
+            })
+        };
+        // The bob starts at rest with its spring at rest length, so gravity sets it going.
+        let bob = add(BOB_ANCHOR - Vec3::Y * rest)?;
+        // Two particles on the ground joined by a spring stretched by half its length.
+        let left = add(Vec3::new(-3.0, RADIUS, 0.0))?;
+        let right = add(Vec3::new(-3.0 + 1.5 * rest, RADIUS, 0.0))?;
+        // The bungee's particle starts beside its anchor: it falls slack, then is caught.
+        let jumper = add(BUNGEE_ANCHOR + Vec3::new(0.5, 0.0, 0.0))?;
+        let float = add(Vec3::new(POOL.center.x, POOL.height + 2.5, POOL.center.y))?;
+        let stiff = add(STIFF_ANCHOR + Vec3::new(0.8, 0.0, 0.0))?;
+
+        world.add_force(Spring::anchored(bob, BOB_ANCHOR, k, rest));
+        world.add_force(Spring::between(left, right, k, rest));
+        world.add_force(Spring::anchored(jumper, BUNGEE_ANCHOR, k, rest).as_bungee());
+        let float_force = world.add_force(float_buoyancy(float, g));
+        world.add_force(StiffSpring::new(stiff, STIFF_ANCHOR, params.get("stiff_k"), 0.05));
+        world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 });
+        world.add_contact_generator(SphereCollisions { restitution: 0.5 });
+        Ok(Self { world, params, bob, float_force, float })
+    }
+}
+
+fn float_buoyancy(target: ParticleId, g: f32) -> Buoyancy {
+    Buoyancy { target, surface: POOL.height, half_height: RADIUS, volume: FLOAT_VOLUME, density: 1000.0, g }
+}
+
+impl Scene for SpringForces {
+    fn info(&self) -> &'static SceneInfo {
+        &INFO
+    }
+
+    fn world(&self) -> &World {
+        &self.world
+    }
+
+    fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    fn params(&self) -> &ParamValues {
+        &self.params
+    }
+
+    fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
+        let mut params = self.params.clone();
+        params.set(name, value)?;
+        match name {
+            "g" => {
+                self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0));
+                self.world.forces.replace(self.float_force, Box::new(float_buoyancy(self.float, value)));
+                self.params = params;
+            }
+            "mass" => {
+                let ids = self.world.particles.ids().to_vec();
+                for id in ids {
+                    self.world.particles.set_mass(id, value).expect("range checked above");
+                }
+                self.params = params;
+            }
+            "damping" => {
+                let ids = self.world.particles.ids().to_vec();
+                for id in ids {
+                    self.world.particles.set_damping(id, value).expect("range checked above");
+                }
+                self.params = params;
+            }
+            // Spring constants and lengths shape the whole scene: start it again.
+            _ => *self = Self::build(params).expect("parameter ranges keep every particle valid"),
+        }
+        Ok(())
+    }
+
+    fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
+        self.world.step(dt)
+    }
+
+    fn water(&self) -> Option<Water> {
+        Some(POOL)
+    }
+
+    fn camera(&self) -> CameraHint {
+        CameraHint { target: Vec3::new(2.5, 4.0, 0.0), distance: 24.0, yaw: 0.0, pitch: 0.2 }
+    }
+
+    fn readouts(&self, dt: f32) -> Vec<(String, String)> {
+        let (k, mass) = (self.params.get("k"), self.params.get("mass"));
+        let omega = (k / mass).sqrt();
+        let stiff_omega = (self.params.get("stiff_k") / mass).sqrt();
+        let verdict = |w: f32| if w * dt < 2.0 { "stable" } else { "would explode explicitly" };
+        let bob_y = self.world.particles.index(self.bob).map_or(0.0, |i| self.world.particles.position[i].y);
+        vec![
+            ("spring period 2π√(m/k)".into(), format!("{:.3} s", std::f32::consts::TAU / omega)),
+            ("spring ω·dt (explicit limit 2)".into(), format!("{:.3} ({})", omega * dt, verdict(omega))),
+            (
+                "stiff spring ω·dt".into(),
+                format!("{:.2} ({}; solved exactly)", stiff_omega * dt, verdict(stiff_omega)),
+            ),
+            ("bob height".into(), format!("{bob_y:.3} m")),
+        ]
+    }
+}

@@ -1,0 +1,149 @@
+//! The `scenes` and `simulate` commands of the real binary.
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_particle-lab")).args(args).output().expect("binary runs")
+}
+
+fn json_lines(output: &Output) -> Vec<Value> {
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap_or_else(|e| panic!("bad JSON line {line}: {e}")))
+        .collect()
+}
+
+#[test]
+fn scenes_lists_every_scene_in_text_and_json() {
+    let text = run(&["scenes"]);
+    assert!(text.status.success());
+    let text = String::from_utf8_lossy(&text.stdout);
+    for name in ["projectile", "springForces", "bridge"] {
+        assert!(text.contains(name), "{name} missing from:\n{text}");
+    }
+    let json = run(&["scenes", "--format", "json"]);
+    assert!(json.status.success());
+    let list: Value = serde_json::from_slice(&json.stdout).unwrap();
+    let list = list.as_array().unwrap();
+    assert_eq!(list.len(), 3);
+    let projectile = list.iter().find(|s| s["name"] == "projectile").unwrap();
+    let g = projectile["params"].as_array().unwrap().iter().find(|p| p["name"] == "g").unwrap();
+    assert_eq!(g["default"], 20.0);
+    assert_eq!(g["unit"], "m/s²");
+    assert!(projectile["dt"].as_f64().unwrap() > 0.0);
+    for name in ["speed", "angle", "mass", "damping", "height"] {
+        assert!(projectile["params"].as_array().unwrap().iter().any(|p| p["name"] == name), "no {name}");
+    }
+}
+
+#[test]
+fn simulate_prints_the_documented_schema() {
+    let out = run(&["simulate", "--scene", "bridge", "--steps", "10", "--every", "4"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let lines = json_lines(&out);
+    let steps: Vec<u64> = lines.iter().map(|l| l["step"].as_u64().unwrap()).collect();
+    assert_eq!(steps, vec![0, 4, 8, 10], "step 0, every 4th, and the last");
+    let first = &lines[0];
+    assert_eq!(first["t"], 0.0);
+    let particles = first["particles"].as_array().unwrap();
+    assert_eq!(particles.len(), 12);
+    assert_eq!(particles[0]["id"], 0);
+    assert_eq!(particles[0]["p"].as_array().unwrap().len(), 3);
+    assert_eq!(particles[0]["v"].as_array().unwrap().len(), 3);
+    let links = first["links"].as_array().unwrap();
+    let count = |kind: &str| links.iter().filter(|l| l["kind"] == kind).count();
+    assert_eq!((count("rod"), count("cable"), count("support_cable")), (6, 10, 12));
+    let rod = links.iter().find(|l| l["kind"] == "rod").unwrap();
+    assert_eq!(rod["rest"], 2.0);
+    assert!((rod["length"].as_f64().unwrap() - 2.0).abs() < 1e-6);
+    assert!(rod["b"].is_u64());
+    let support = links.iter().find(|l| l["kind"] == "support_cable").unwrap();
+    assert!(support["b"].is_null(), "anchored links have b = null");
+    assert!(first["energy"]["kinetic"].is_number() && first["energy"]["potential"].is_number());
+    let last_t = lines[3]["t"].as_f64().unwrap();
+    assert!((last_t - 10.0 / 240.0).abs() < 1e-6, "t = {last_t}");
+}
+
+#[test]
+fn simulate_spring_forces_lists_every_spring_kind() {
+    let out = run(&["simulate", "--scene", "springForces", "--steps", "1"]);
+    assert!(out.status.success());
+    let lines = json_lines(&out);
+    let kinds: Vec<&str> =
+        lines[0]["links"].as_array().unwrap().iter().map(|l| l["kind"].as_str().unwrap()).collect();
+    for kind in ["spring", "bungee", "stiff_spring"] {
+        assert!(kinds.contains(&kind), "{kind} missing: {kinds:?}");
+    }
+}
+
+#[test]
+fn simulate_applies_set_and_dt() {
+    let out = run(&[
+        "simulate",
+        "--scene",
+        "projectile",
+        "--set",
+        "speed=10",
+        "--set",
+        "angle=90",
+        "--set",
+        "g=10",
+        "--set",
+        "damping=1",
+        "--dt",
+        "0.01",
+        "--steps",
+        "100",
+        "--every",
+        "100",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let lines = json_lines(&out);
+    let v0 = &lines[0]["particles"][0]["v"];
+    assert!(v0[0].as_f64().unwrap().abs() < 1e-5 && (v0[1].as_f64().unwrap() - 10.0).abs() < 1e-5);
+    // Straight up at 10 m/s under 10 m/s²: after 1 s it is at the top, 1.5 + 5 - 0.05 m.
+    let y = lines[1]["particles"][0]["p"][1].as_f64().unwrap();
+    let expected = 1.5 + 10.0 * 1.0 - 10.0 * 0.01 * 0.01 * 100.0 * 101.0 / 2.0;
+    assert!((y - expected).abs() < 1e-3, "y {y} vs {expected}");
+}
+
+fn assert_usage_error(args: &[&str], expected: &[&str]) {
+    let out = run(args);
+    assert_eq!(out.status.code(), Some(2), "{args:?} should exit 2");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: one line, got:\n{stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+    for word in expected {
+        assert!(stderr.contains(word), "{args:?}: '{word}' not in: {stderr}");
+    }
+    assert!(out.stdout.is_empty(), "{args:?} printed to stdout");
+}
+
+#[test]
+fn bad_input_gets_one_line_and_exit_code_2() {
+    assert_usage_error(&["simulate", "--scene", "nope"], &["nope", "projectile", "springForces", "bridge"]);
+    assert_usage_error(
+        &["simulate", "--scene", "bridge", "--set", "bogus=1"],
+        &["bogus", "load_x", "load_mass"],
+    );
+    assert_usage_error(&["simulate", "--scene", "bridge", "--set", "g=abc"], &["abc", "g"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--set", "g=NaN"], &["NaN"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--set", "g=inf"], &["inf"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--set", "g=1000"], &["1000", "0", "30"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--set", "g"], &["KEY=VALUE"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--dt", "0"], &["--dt"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--dt", "-1"], &["--dt"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--steps", "ten"], &["ten"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--every", "0"], &["--every"]);
+    assert_usage_error(&["simulate"], &["--scene"]);
+    assert_usage_error(&["scenes", "--format", "xml"], &["xml"]);
+    assert_usage_error(&["frobnicate"], &["frobnicate"]);
+}
+
+#[test]
+fn scene_names_forgive_case_and_dashes() {
+    let out = run(&["simulate", "--scene", "spring-forces", "--steps", "1"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -1,0 +1,180 @@
+//! Every force generator against a force worked out by hand.
+
+use glam::{DVec3, Vec3};
+use particle_lab::physics::stiff_spring::damped_oscillator;
+use particle_lab::physics::*;
+
+fn close(a: Vec3, b: Vec3, tolerance: f32) -> bool {
+    (a - b).length() <= tolerance
+}
+
+fn world_with(positions: &[Vec3], velocities: &[Vec3], mass: f32) -> (World, Vec<ParticleId>) {
+    let mut world = World::new();
+    let ids = positions
+        .iter()
+        .zip(velocities)
+        .map(|(&position, &velocity)| {
+            world.add_particle(ParticleDesc { position, velocity, mass, ..ParticleDesc::default() }).unwrap()
+        })
+        .collect();
+    (world, ids)
+}
+
+/// Applies one generator to fresh force accumulators and returns the forces.
+fn forces_of(world: &mut World, generator: &mut dyn ForceGenerator) -> Vec<Vec3> {
+    world.particles.clear_forces();
+    generator.apply(&mut world.particles, 0.01);
+    world.particles.force.clone()
+}
+
+#[test]
+fn gravity_is_mass_times_field() {
+    let (mut world, ids) = world_with(&[Vec3::ZERO], &[Vec3::ZERO], 3.0);
+    let mut gravity = Gravity { gravity: Vec3::new(0.0, -9.81, 0.0), targets: ids.clone() };
+    let f = forces_of(&mut world, &mut gravity);
+    assert!(close(f[0], Vec3::new(0.0, -29.43, 0.0), 1e-4), "{f:?}");
+    // Potential energy m g h at 2 m up.
+    world.particles.position[0].y = 2.0;
+    assert!((gravity.potential_energy(&world.particles) - 3.0 * 9.81 * 2.0).abs() < 1e-3);
+}
+
+#[test]
+fn gravity_skips_immovable_particles() {
+    let (mut world, ids) = world_with(&[Vec3::ZERO], &[Vec3::ZERO], f32::INFINITY);
+    let mut gravity = Gravity { gravity: Vec3::new(0.0, -9.81, 0.0), targets: ids };
+    assert_eq!(forces_of(&mut world, &mut gravity)[0], Vec3::ZERO);
+}
+
+#[test]
+fn drag_is_linear_plus_quadratic_against_velocity() {
+    // |v| = 5 along (3, 4, 0)/5; k1 = 0.5, k2 = 0.1: magnitude 0.5*5 + 0.1*25 = 5.
+    let v = Vec3::new(3.0, 4.0, 0.0);
+    let (mut world, ids) = world_with(&[Vec3::ZERO], &[v], 1.0);
+    let mut drag = Drag { k1: 0.5, k2: 0.1, targets: ids };
+    let f = forces_of(&mut world, &mut drag);
+    assert!(close(f[0], Vec3::new(-3.0, -4.0, 0.0), 1e-5), "{f:?}");
+    // At rest: no force and no NaN.
+    world.particles.velocity[0] = Vec3::ZERO;
+    assert_eq!(forces_of(&mut world, &mut drag)[0], Vec3::ZERO);
+}
+
+#[test]
+fn spring_pulls_when_stretched_and_pushes_when_compressed() {
+    // Rest length 2, k = 10. Stretched to 3: 10 N pulling a towards b.
+    let (mut world, ids) = world_with(&[Vec3::ZERO, Vec3::new(3.0, 0.0, 0.0)], &[Vec3::ZERO; 2], 1.0);
+    let mut spring = Spring::between(ids[0], ids[1], 10.0, 2.0);
+    let f = forces_of(&mut world, &mut spring);
+    assert!(close(f[0], Vec3::new(10.0, 0.0, 0.0), 1e-5), "stretched: {f:?}");
+    assert!(close(f[1], Vec3::new(-10.0, 0.0, 0.0), 1e-5), "stretched: {f:?}");
+    // Compressed to 1.5: 5 N pushing apart (Cyclone's abs() would pull).
+    world.particles.position[1] = Vec3::new(1.5, 0.0, 0.0);
+    let f = forces_of(&mut world, &mut spring);
+    assert!(close(f[0], Vec3::new(-5.0, 0.0, 0.0), 1e-5), "compressed: {f:?}");
+    assert!(close(f[1], Vec3::new(5.0, 0.0, 0.0), 1e-5), "compressed: {f:?}");
+    assert!((spring.potential_energy(&world.particles) - 0.5 * 10.0 * 0.25).abs() < 1e-5);
+}
+
+#[test]
+fn anchored_spring_acts_towards_and_away_from_anchor() {
+    let anchor = Vec3::new(0.0, 5.0, 0.0);
+    // 4 m below the anchor, rest 3, k 2: 2 N upwards.
+    let (mut world, ids) = world_with(&[Vec3::new(0.0, 1.0, 0.0)], &[Vec3::ZERO], 1.0);
+    let mut spring = Spring::anchored(ids[0], anchor, 2.0, 3.0);
+    assert!(close(forces_of(&mut world, &mut spring)[0], Vec3::new(0.0, 2.0, 0.0), 1e-5));
+    // 1 m below: compressed by 2, pushed 4 N down.
+    world.particles.position[0] = Vec3::new(0.0, 4.0, 0.0);
+    assert!(close(forces_of(&mut world, &mut spring)[0], Vec3::new(0.0, -4.0, 0.0), 1e-5));
+}
+
+#[test]
+fn bungee_pulls_only_when_stretched() {
+    let (mut world, ids) = world_with(&[Vec3::ZERO, Vec3::new(0.0, 0.0, 4.0)], &[Vec3::ZERO; 2], 1.0);
+    let mut bungee = Spring::between(ids[0], ids[1], 3.0, 2.0).as_bungee();
+    let f = forces_of(&mut world, &mut bungee);
+    assert!(close(f[0], Vec3::new(0.0, 0.0, 6.0), 1e-5), "stretched: {f:?}");
+    assert!(close(f[1], Vec3::new(0.0, 0.0, -6.0), 1e-5), "stretched: {f:?}");
+    world.particles.position[1] = Vec3::new(0.0, 0.0, 1.0);
+    let f = forces_of(&mut world, &mut bungee);
+    assert_eq!(f, vec![Vec3::ZERO, Vec3::ZERO], "slack bungee must not push");
+    assert_eq!(bungee.potential_energy(&world.particles), 0.0);
+}
+
+#[test]
+fn anchored_bungee_pulls_only_when_stretched() {
+    let anchor = Vec3::new(1.0, 0.0, 0.0);
+    let (mut world, ids) = world_with(&[Vec3::new(4.0, 0.0, 0.0)], &[Vec3::ZERO], 1.0);
+    let mut bungee = Spring::anchored(ids[0], anchor, 5.0, 1.0).as_bungee();
+    assert!(close(forces_of(&mut world, &mut bungee)[0], Vec3::new(-10.0, 0.0, 0.0), 1e-5));
+    world.particles.position[0] = Vec3::new(1.5, 0.0, 0.0);
+    assert_eq!(forces_of(&mut world, &mut bungee)[0], Vec3::ZERO);
+}
+
+#[test]
+fn buoyancy_follows_archimedes_in_all_three_cases() {
+    let (mut world, ids) = world_with(&[Vec3::new(0.0, 5.0, 0.0)], &[Vec3::ZERO], 1.0);
+    let mut buoyancy =
+        Buoyancy { target: ids[0], surface: 2.0, half_height: 0.5, volume: 0.01, density: 1000.0, g: 10.0 };
+    // Fully out (bottom at 4.5 > 2): nothing.
+    assert_eq!(forces_of(&mut world, &mut buoyancy)[0], Vec3::ZERO);
+    // Centre at the surface: half submerged, 0.5 * 1000 * 0.01 * 10 = 50 N up.
+    world.particles.position[0].y = 2.0;
+    assert!(close(forces_of(&mut world, &mut buoyancy)[0], Vec3::new(0.0, 50.0, 0.0), 1e-3));
+    // A quarter submerged: centre 0.25 above the surface -> 25 N (the paper's sign gives -25).
+    world.particles.position[0].y = 2.25;
+    assert!(close(forces_of(&mut world, &mut buoyancy)[0], Vec3::new(0.0, 25.0, 0.0), 1e-3));
+    // Fully under: 100 N.
+    world.particles.position[0].y = -3.0;
+    assert!(close(forces_of(&mut world, &mut buoyancy)[0], Vec3::new(0.0, 100.0, 0.0), 1e-3));
+}
+
+#[test]
+fn coincident_spring_ends_give_zero_force_not_nan() {
+    let (mut world, ids) = world_with(&[Vec3::ONE, Vec3::ONE], &[Vec3::ZERO; 2], 1.0);
+    let mut spring = Spring::between(ids[0], ids[1], 100.0, 1.0);
+    let f = forces_of(&mut world, &mut spring);
+    assert!(f.iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn damped_oscillator_matches_its_differential_equation() {
+    // Check y'' + 2ζω y' + ω² y = 0 numerically at a few times, in every damping regime.
+    for zeta in [0.0, 0.3, 1.0, 2.5] {
+        let omega = 7.0;
+        let (y0, v0) = (DVec3::new(1.0, -0.5, 0.2), DVec3::new(0.3, 2.0, -1.0));
+        for t in [0.1, 0.37, 1.2] {
+            let h = 1e-4;
+            let (y, v) = damped_oscillator(y0, v0, omega, zeta, t);
+            let (_, v_plus) = damped_oscillator(y0, v0, omega, zeta, t + h);
+            let (_, v_minus) = damped_oscillator(y0, v0, omega, zeta, t - h);
+            let (y_plus, _) = damped_oscillator(y0, v0, omega, zeta, t + h);
+            let (y_minus, _) = damped_oscillator(y0, v0, omega, zeta, t - h);
+            let acceleration = (v_plus - v_minus) / (2.0 * h);
+            let residual = acceleration + 2.0 * zeta * omega * v + omega * omega * y;
+            assert!(residual.length() < 1e-4, "zeta {zeta} t {t}: residual {residual:?}");
+            assert!(((y_plus - y_minus) / (2.0 * h) - v).length() < 1e-5, "v is y' (zeta {zeta})");
+        }
+        let (y, v) = damped_oscillator(y0, v0, omega, zeta, 0.0);
+        assert!((y - y0).length() < 1e-12 && (v - v0).length() < 1e-12);
+    }
+}
+
+#[test]
+fn stiff_spring_lands_the_particle_on_the_closed_form() {
+    // No gravity, no damping: after one step the particle is exactly where damped
+    // harmonic motion puts it.
+    let anchor = Vec3::new(0.0, 2.0, 0.0);
+    let start = Vec3::new(0.5, 2.0, 0.0);
+    let (k, mass, zeta, dt) = (400.0_f32, 2.0_f32, 0.1_f32, 0.01_f32);
+    let mut world = World::new();
+    let id = world.add_particle(ParticleDesc { position: start, mass, ..ParticleDesc::default() }).unwrap();
+    world.add_force(StiffSpring::new(id, anchor, k, zeta));
+    let omega = f64::from(k / mass).sqrt();
+    let mut expected = (start - anchor).as_dvec3();
+    let mut velocity = DVec3::ZERO;
+    for _ in 0..50 {
+        world.step(dt).unwrap();
+        (expected, velocity) = damped_oscillator(expected, velocity, omega, f64::from(zeta), f64::from(dt));
+    }
+    let got = world.particles.position[0] - anchor;
+    assert!((got.as_dvec3() - expected).length() < 1e-4, "got {got:?}, expected {expected:?}");
+}

@@ -1,0 +1,126 @@
+//! The scene registry and parameter tables.
+
+use glam::Vec3;
+use particle_lab::scenes::{self, ParamError, SceneAction};
+
+#[test]
+fn every_parameter_table_is_consistent() {
+    for entry in scenes::SCENES {
+        let info = entry.info;
+        assert!(info.dt > 0.0 && info.default_steps > 0, "{}", info.name);
+        for p in info.params {
+            assert!(p.min < p.max && (p.min..=p.max).contains(&p.default), "{}.{}", info.name, p.name);
+            assert!(!p.help.is_empty(), "{}.{} has no help", info.name, p.name);
+            assert!(!p.logarithmic || p.min > 0.0, "{}.{}: log slider needs min > 0", info.name, p.name);
+        }
+        for preset in info.presets {
+            let mut scene = entry.create_default();
+            for &(name, value) in preset.values {
+                scene.set_param(name, value).unwrap_or_else(|e| panic!("preset {}: {e}", preset.name));
+            }
+        }
+    }
+}
+
+#[test]
+fn scenes_expose_the_parameters_the_issue_names() {
+    let names = |scene: &str| -> Vec<&str> {
+        scenes::find(scene).unwrap().info.params.iter().map(|p| p.name).collect()
+    };
+    for name in ["g", "speed", "angle", "mass", "damping", "height"] {
+        assert!(names("projectile").contains(&name), "projectile lacks {name}");
+    }
+    for name in ["k", "rest_length", "mass", "damping", "g"] {
+        assert!(names("springForces").contains(&name), "springForces lacks {name}");
+    }
+    for name in ["load_x", "load_z", "load_mass", "g"] {
+        assert!(names("bridge").contains(&name), "bridge lacks {name}");
+    }
+    let projectile = scenes::find("projectile").unwrap().info;
+    let default = |n: &str| projectile.params.iter().find(|p| p.name == n).unwrap().default;
+    assert_eq!((default("g"), default("mass"), default("damping")), (20.0, 200.0, 0.99));
+}
+
+#[test]
+fn projectile_fires_round_zero_from_the_launcher() {
+    let scene = scenes::build("projectile", &["height=3".into(), "angle=30".into(), "speed=10".into()]).unwrap();
+    let p = &scene.world().particles;
+    assert_eq!(p.len(), 1);
+    assert_eq!(p.id(0).0, 0);
+    assert_eq!(p.position[0], Vec3::new(0.0, 3.0, 0.0));
+    let v = p.velocity[0];
+    assert!((v - Vec3::new(10.0 * 30f32.to_radians().cos(), 5.0, 0.0)).length() < 1e-5, "{v:?}");
+}
+
+#[test]
+fn changing_g_takes_effect_at_once() {
+    let mut scene = scenes::create_default("projectile");
+    scene.set_param("g", 5.0).unwrap();
+    assert_eq!(scene.world().particles.acceleration[0], Vec3::new(0.0, -5.0, 0.0));
+    let mut bridge = scenes::create_default("bridge");
+    bridge.set_param("g", 2.0).unwrap();
+    assert!(bridge.world().particles.acceleration.iter().all(|a| *a == Vec3::new(0.0, -2.0, 0.0)));
+}
+
+#[test]
+fn fire_adds_a_round_with_the_current_speed() {
+    let mut scene = scenes::create_default("projectile");
+    scene.set_param("speed", 40.0).unwrap();
+    scene.set_param("angle", 0.0).unwrap();
+    assert!(scene.act(SceneAction::Fire));
+    let p = &scene.world().particles;
+    assert_eq!(p.len(), 2);
+    let newest = p.index(particle_lab::physics::ParticleId(1)).unwrap();
+    assert_eq!(p.velocity[newest], Vec3::new(40.0, 0.0, 0.0));
+}
+
+#[test]
+fn rounds_are_removed_when_they_land() {
+    let mut scene = scenes::create_default("projectile");
+    for _ in 0..(240 * 4) {
+        scene.step(1.0 / 240.0).unwrap();
+    }
+    assert!(scene.world().particles.is_empty(), "the first round should have landed and gone");
+}
+
+#[test]
+fn bridge_load_moves_and_shifts_mass() {
+    let mut bridge = scenes::create_default("bridge");
+    let mass_of = |scene: &dyn scenes::Scene, i: usize| scene.world().particles.mass(i);
+    // Load at (0, 0.5): half of 10 kg on each of particles 0 and 1.
+    assert!((mass_of(bridge.as_ref(), 0) - 6.0).abs() < 1e-4);
+    assert!((mass_of(bridge.as_ref(), 1) - 6.0).abs() < 1e-4);
+    for _ in 0..25 {
+        assert!(bridge.act(SceneAction::MoveLoad { dx: 0.1, dz: 0.0 }));
+    }
+    // Now at x = 2.5: particles 4..7 share it equally.
+    for i in 4..8 {
+        assert!((mass_of(bridge.as_ref(), i) - 3.5).abs() < 1e-3, "particle {i}: {}", mass_of(bridge.as_ref(), i));
+    }
+    let total: f32 = (0..12).map(|i| mass_of(bridge.as_ref(), i)).sum();
+    assert!((total - 22.0).abs() < 1e-3, "load mass is conserved: {total}");
+    // It stops at the end of the bridge.
+    for _ in 0..100 {
+        bridge.act(SceneAction::MoveLoad { dx: 0.1, dz: 0.1 });
+    }
+    assert_eq!((bridge.params().get("load_x"), bridge.params().get("load_z")), (5.0, 1.0));
+}
+
+#[test]
+fn set_param_rejects_bad_values_and_keeps_the_old_one() {
+    let mut scene = scenes::create_default("springForces");
+    assert!(matches!(scene.set_param("k", -1.0), Err(ParamError::OutOfRange { .. })));
+    assert!(matches!(scene.set_param("k", f32::NAN), Err(ParamError::NotANumber { .. })));
+    assert!(matches!(scene.set_param("zz", 1.0), Err(ParamError::UnknownKey { .. })));
+    assert_eq!(scene.params().get("k"), 20.0);
+}
+
+#[test]
+fn stiff_spring_scene_is_stable_at_the_top_of_its_range() {
+    let mut scene = scenes::build("springForces", &["stiff_k=1000000".into()]).unwrap();
+    for _ in 0..(240 * 10) {
+        scene.step(1.0 / 240.0).unwrap();
+    }
+    assert!(scene.world().is_finite());
+    assert!(scene.world().particles.position.iter().all(|p| p.length() < 50.0));
+}
