@@ -38,6 +38,65 @@ pub enum Command {
     },
     /// Run a scene headless and print its state as JSON Lines.
     Simulate(SimulateArgs),
+    /// Step a scene and write one off-screen frame to a PNG (needs no display).
+    Render(RenderArgs),
+}
+
+/// Arguments of `render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// Scene name (see `particle-lab scenes`).
+    #[arg(long)]
+    pub scene: String,
+    /// Set a scene parameter, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Physics steps to run before the frame, at the scene's own rate.
+    #[arg(long, default_value_t = 120)]
+    pub steps: u64,
+    /// Image size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size)]
+    pub size: [u32; 2],
+    /// Draw the panel over the scene, as the window does.
+    #[arg(long)]
+    pub ui: bool,
+    /// Where to write the PNG.
+    #[arg(long, value_name = "FILE.png")]
+    pub out: std::path::PathBuf,
+}
+
+/// Largest image side `render` accepts (px).
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+fn parse_size(text: &str) -> Result<[u32; 2], String> {
+    let bad = || format!("'{text}' is not a size like 1280x720 (each side 1 to {MAX_IMAGE_SIDE})");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let side = |s: &str| s.trim().parse::<u32>().ok().filter(|v| (1..=MAX_IMAGE_SIDE).contains(v));
+    Ok([side(w).ok_or_else(bad)?, side(h).ok_or_else(bad)?])
+}
+
+/// Runs `render`: builds the scene, steps it, draws one frame and writes the PNG.
+/// Input errors come back as `Err((2, message))`, GPU or file errors as `Err((1, message))`.
+pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
+    if args.steps > MAX_STEPS {
+        return Err((2, format!("--steps {} is out of range; valid range: 0 to {MAX_STEPS}", args.steps)));
+    }
+    if args.out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
+        return Err((2, format!("--out {} must name a .png file", args.out.display())));
+    }
+    let mut lab = crate::ui::Lab::new(&args.scene, &args.set).map_err(|e| (2, e))?;
+    lab.run_steps_recorded(args.steps);
+    let mut snapshotter = crate::snapshot::Snapshotter::new().map_err(|e| (1, e))?;
+    let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
+    crate::render::offscreen::write_png(&args.out, args.size, &pixels).map_err(|e| (1, e))?;
+    Ok(format!(
+        "wrote {} ({}x{}, {} after {} steps)",
+        args.out.display(),
+        args.size[0],
+        args.size[1],
+        args.scene,
+        args.steps
+    ))
 }
 
 /// Output format of `scenes`.

@@ -4,6 +4,10 @@
 //! - [`scenes`]: the demos as data: each builds a world and declares its parameters.
 //! - [`cli`]: the command line (`scenes`, `simulate`).
 
+pub mod app;
 pub mod cli;
 pub mod physics;
+pub mod render;
 pub mod scenes;
+pub mod snapshot;
+pub mod ui;

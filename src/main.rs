@@ -3,9 +3,13 @@
 use std::io::{self, Write};
 use std::process::ExitCode;
 
+use particle_lab::app::{self, AppError};
 use particle_lab::cli::{self, Command, USAGE_ERROR};
 
 fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn,particle_lab=info"))
+        .format_timestamp(None)
+        .init();
     let args = cli::parse();
     match args.command {
         Some(Command::Scenes { format }) => {
@@ -19,12 +23,24 @@ fn main() -> ExitCode {
             }
             Err(message) => usage_error(&message),
         },
-        None => {
-            eprintln!(
-                "particle-lab: the window is not built yet; try 'particle-lab simulate --scene projectile'"
-            );
-            ExitCode::from(1)
-        }
+        Some(Command::Render(render)) => match cli::render(&render) {
+            Ok(message) => {
+                println!("{message}");
+                ExitCode::SUCCESS
+            }
+            Err((code, message)) => {
+                eprintln!("particle-lab: {message}");
+                ExitCode::from(code)
+            }
+        },
+        None => match app::run(args.scene.as_deref().unwrap_or("projectile"), &args.set) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(AppError::Usage(message)) => usage_error(&message),
+            Err(AppError::Fatal(message)) => {
+                eprintln!("particle-lab: {message}");
+                ExitCode::from(1)
+            }
+        },
     }
 }
 

@@ -43,7 +43,8 @@ fn scenes_expose_the_parameters_the_issue_names() {
 
 #[test]
 fn projectile_fires_round_zero_from_the_launcher() {
-    let scene = scenes::build("projectile", &["height=3".into(), "angle=30".into(), "speed=10".into()]).unwrap();
+    let scene =
+        scenes::build("projectile", &["height=3".into(), "angle=30".into(), "speed=10".into()]).unwrap();
     let p = &scene.world().particles;
     assert_eq!(p.len(), 1);
     assert_eq!(p.id(0).0, 0);
@@ -95,7 +96,11 @@ fn bridge_load_moves_and_shifts_mass() {
     }
     // Now at x = 2.5: particles 4..7 share it equally.
     for i in 4..8 {
-        assert!((mass_of(bridge.as_ref(), i) - 3.5).abs() < 1e-3, "particle {i}: {}", mass_of(bridge.as_ref(), i));
+        assert!(
+            (mass_of(bridge.as_ref(), i) - 3.5).abs() < 1e-3,
+            "particle {i}: {}",
+            mass_of(bridge.as_ref(), i)
+        );
     }
     let total: f32 = (0..12).map(|i| mass_of(bridge.as_ref(), i)).sum();
     assert!((total - 22.0).abs() < 1e-3, "load mass is conserved: {total}");

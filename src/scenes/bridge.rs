@@ -26,10 +26,10 @@ static PARAMS: &[Param] = &[
 
 #[rustfmt::skip]
 static ACTIONS: &[ActionInfo] = &[
-    ActionInfo { label: "Load ←", key: "←/A", action: SceneAction::MoveLoad { dx: -LOAD_STEP, dz: 0.0 } },
-    ActionInfo { label: "Load →", key: "→/D", action: SceneAction::MoveLoad { dx: LOAD_STEP, dz: 0.0 } },
-    ActionInfo { label: "Load ↑", key: "↑/W", action: SceneAction::MoveLoad { dx: 0.0, dz: -LOAD_STEP } },
-    ActionInfo { label: "Load ↓", key: "↓/S", action: SceneAction::MoveLoad { dx: 0.0, dz: LOAD_STEP } },
+    ActionInfo { label: "Load left", key: "Left arrow or A", action: SceneAction::MoveLoad { dx: -LOAD_STEP, dz: 0.0 } },
+    ActionInfo { label: "Load right", key: "Right arrow or D", action: SceneAction::MoveLoad { dx: LOAD_STEP, dz: 0.0 } },
+    ActionInfo { label: "Load back", key: "Up arrow or W", action: SceneAction::MoveLoad { dx: 0.0, dz: -LOAD_STEP } },
+    ActionInfo { label: "Load front", key: "Down arrow or S", action: SceneAction::MoveLoad { dx: 0.0, dz: LOAD_STEP } },
 ];
 
 static INFO: SceneInfo = SceneInfo {
@@ -40,6 +40,7 @@ static INFO: SceneInfo = SceneInfo {
     params: PARAMS,
     presets: &[],
     actions: ACTIONS,
+    trails: false,
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
@@ -172,7 +173,7 @@ impl Scene for Bridge {
     }
 
     fn camera(&self) -> CameraHint {
-        CameraHint { target: Vec3::new(0.0, 3.5, 0.0), distance: 17.0, yaw: 0.45, pitch: 0.35 }
+        CameraHint { target: Vec3::new(0.0, 3.2, 0.0), distance: 14.0, yaw: 0.55, pitch: 0.32 }
     }
 
     fn readouts(&self, _dt: f32) -> Vec<(String, String)> {

@@ -11,6 +11,7 @@ use glam::{Vec2, Vec3};
 
 use crate::physics::{PhysicsError, ResolveReport, World};
 
+pub use bridge::LOAD_STEP;
 pub use params::{Param, ParamError, ParamValues, Preset};
 
 /// Static description of a scene.
@@ -30,6 +31,8 @@ pub struct SceneInfo {
     pub presets: &'static [Preset],
     /// Actions the scene offers, with the key that triggers them in the window.
     pub actions: &'static [ActionInfo],
+    /// Whether trails help here (they clutter a scene that barely moves).
+    pub trails: bool,
 }
 
 /// Something a user can do to a running scene besides changing parameters.

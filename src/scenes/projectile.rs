@@ -4,7 +4,8 @@
 use glam::Vec3;
 
 use super::{
-    ActionInfo, CameraHint, Param, ParamError, ParamValues, Preset, Scene, SceneAction, SceneEntry, SceneInfo,
+    ActionInfo, CameraHint, Marker, Param, ParamError, ParamValues, Preset, Scene, SceneAction, SceneEntry,
+    SceneInfo,
 };
 use crate::physics::{ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions, World};
 
@@ -45,6 +46,7 @@ static INFO: SceneInfo = SceneInfo {
     params: PARAMS,
     presets: PRESETS,
     actions: ACTIONS,
+    trails: true,
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
@@ -137,6 +139,23 @@ impl Scene for Projectile {
         match action {
             SceneAction::Fire => self.fire().is_ok(),
             SceneAction::MoveLoad { .. } => false,
+        }
+    }
+
+    fn markers(&self, out: &mut Vec<Marker>) {
+        let launcher = self.launcher();
+        out.push(Marker { position: launcher, radius: 0.45, color: [0.3, 0.32, 0.35] });
+        // Where the next round would go without drag: dots every 0.1 s of flight.
+        let g = self.params.get("g");
+        let angle = self.params.get("angle").to_radians();
+        let v = Vec3::new(angle.cos(), angle.sin(), 0.0) * self.params.get("speed");
+        for k in 1..=80 {
+            let t = k as f32 * 0.1;
+            let p = launcher + v * t + Vec3::new(0.0, -0.5 * g * t * t, 0.0);
+            if p.y < 0.0 || p.distance(launcher) > MAX_DISTANCE {
+                break;
+            }
+            out.push(Marker { position: p, radius: 0.1, color: [0.55, 0.6, 0.7] });
         }
     }
 

@@ -40,6 +40,7 @@ static INFO: SceneInfo = SceneInfo {
     params: PARAMS,
     presets: &[],
     actions: &[],
+    trails: true,
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };

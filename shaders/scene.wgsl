@@ -1,0 +1,242 @@
+// particle-lab's 3D pass: ground grid, sphere impostors, thick segments, water.
+
+struct Globals {
+    view_proj: mat4x4<f32>,
+    // xyz: eye position (m).
+    eye: vec4<f32>,
+    // x, y: viewport size (px); z: 1 when the grid is on.
+    viewport: vec4<f32>,
+    // xyz: unit direction towards the light.
+    light: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> globals: Globals;
+
+const SKY: vec3<f32> = vec3<f32>(0.55, 0.65, 0.80);
+const GROUND_BOUNCE: vec3<f32> = vec3<f32>(0.20, 0.18, 0.15);
+
+fn depth_of(world: vec3<f32>) -> f32 {
+    let clip = globals.view_proj * vec4<f32>(world, 1.0);
+    return clip.z / clip.w;
+}
+
+// ---------------------------------------------------------------- ground
+
+struct GroundOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+};
+
+const GROUND_HALF_SIZE: f32 = 400.0;
+
+@vertex
+fn vs_ground(@builtin(vertex_index) index: u32) -> GroundOut {
+    // Two triangles covering a large square centred under the eye.
+    var corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    let c = corners[index] * GROUND_HALF_SIZE;
+    let world = vec3<f32>(c.x + floor(globals.eye.x), 0.0, c.y + floor(globals.eye.z));
+    var out: GroundOut;
+    out.clip = globals.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    return out;
+}
+
+// Anti-aliased grid line intensity for lines every `spacing` metres.
+fn grid_line(p: vec2<f32>, spacing: f32, width_px: f32) -> f32 {
+    let coord = p / spacing;
+    let derivative = fwidth(coord);
+    let distance = abs(fract(coord - 0.5) - 0.5) / max(derivative, vec2<f32>(1e-6));
+    let line = min(distance.x, distance.y);
+    return 1.0 - clamp(line - width_px * 0.5 + 0.5, 0.0, 1.0);
+}
+
+@fragment
+fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
+    var color = vec3<f32>(0.035, 0.038, 0.042);
+    if (globals.viewport.z > 0.5) {
+        let minor = grid_line(in.world.xz, 1.0, 1.0);
+        let major = grid_line(in.world.xz, 5.0, 1.5);
+        color = mix(color, vec3<f32>(0.075, 0.08, 0.085), minor);
+        color = mix(color, vec3<f32>(0.15, 0.16, 0.17), major);
+        // The x axis red, the z axis blue, as in most 3D tools.
+        let axis_x = 1.0 - clamp(abs(in.world.z) / max(fwidth(in.world.z), 1e-6) - 0.5, 0.0, 1.0);
+        let axis_z = 1.0 - clamp(abs(in.world.x) / max(fwidth(in.world.x), 1e-6) - 0.5, 0.0, 1.0);
+        color = mix(color, vec3<f32>(0.60, 0.15, 0.12), axis_x);
+        color = mix(color, vec3<f32>(0.12, 0.25, 0.65), axis_z);
+    }
+    // Fade into the background with distance.
+    let distance = length(in.world - globals.eye.xyz);
+    let fog = clamp((distance - 60.0) / 250.0, 0.0, 1.0);
+    return vec4<f32>(mix(color, vec3<f32>(0.045, 0.05, 0.065), fog), 1.0);
+}
+
+// ---------------------------------------------------------------- spheres
+
+struct SphereIn {
+    @location(0) center: vec3<f32>,
+    @location(1) radius: f32,
+    @location(2) color: vec4<f32>,
+};
+
+struct SphereOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) center: vec3<f32>,
+    @location(2) radius: f32,
+    @location(3) color: vec4<f32>,
+};
+
+@vertex
+fn vs_sphere(@builtin(vertex_index) index: u32, sphere: SphereIn) -> SphereOut {
+    // A square facing the eye, placed at the sphere's front. Half-size r at distance
+    // d - r subtends atan(r / (d - r)) >= asin(r / d), the silhouette's angle.
+    let corner = vec2<f32>(f32(index & 1u) * 2.0 - 1.0, f32((index >> 1u) & 1u) * 2.0 - 1.0);
+    let to_center = sphere.center - globals.eye.xyz;
+    let forward = normalize(to_center);
+    var up = vec3<f32>(0.0, 1.0, 0.0);
+    if (abs(forward.y) > 0.999) {
+        up = vec3<f32>(1.0, 0.0, 0.0);
+    }
+    let right = normalize(cross(forward, up));
+    let up2 = cross(right, forward);
+    // A little margin so the anti-aliased edge has room.
+    let half_size = sphere.radius * 1.08;
+    let world = sphere.center - forward * sphere.radius + (right * corner.x + up2 * corner.y) * half_size;
+    var out: SphereOut;
+    out.clip = globals.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    out.center = sphere.center;
+    out.radius = sphere.radius;
+    out.color = sphere.color;
+    return out;
+}
+
+struct SphereFragment {
+    @location(0) color: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn fs_sphere(in: SphereOut) -> SphereFragment {
+    let eye = globals.eye.xyz;
+    let ray = normalize(in.world - eye);
+    let to_eye = eye - in.center;
+    let b = dot(to_eye, ray);
+    // Distance from the centre to the ray, and the edge coverage it gives.
+    let closest = sqrt(max(dot(to_eye, to_eye) - b * b, 0.0));
+    let coverage = clamp((in.radius - closest) / max(fwidth(closest), 1e-6) + 0.5, 0.0, 1.0);
+    if (coverage <= 0.0) {
+        discard;
+    }
+    let h = max(in.radius * in.radius - closest * closest, 0.0);
+    let t = -b - sqrt(h);
+    let hit = eye + ray * t;
+    let normal = normalize(hit - in.center);
+    let light = globals.light.xyz;
+    let diffuse = max(dot(normal, light), 0.0);
+    let ambient = mix(GROUND_BOUNCE, SKY, normal.y * 0.5 + 0.5);
+    let specular = pow(max(dot(reflect(-light, normal), -ray), 0.0), 40.0);
+    let rim = pow(1.0 - max(dot(normal, -ray), 0.0), 3.0) * 0.15;
+    let base = in.color.rgb;
+    let lit = base * (0.35 * ambient + 0.8 * diffuse) + vec3<f32>(0.35 * specular + rim);
+    var out: SphereFragment;
+    out.color = vec4<f32>(lit, coverage);
+    out.depth = depth_of(hit);
+    return out;
+}
+
+// ---------------------------------------------------------------- segments
+
+struct SegmentIn {
+    @location(0) from_point: vec3<f32>,
+    @location(1) width: f32,
+    @location(2) to_point: vec3<f32>,
+    @location(3) color: vec4<f32>,
+};
+
+struct SegmentOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) color: vec4<f32>,
+};
+
+// Moves a clip-space end that lies behind the eye onto the near side.
+fn clip_to_front(p: vec4<f32>, other: vec4<f32>) -> vec4<f32> {
+    let near_w = 1e-3;
+    if (p.w >= near_w) {
+        return p;
+    }
+    let t = (near_w - p.w) / (other.w - p.w);
+    return mix(p, other, t);
+}
+
+@vertex
+fn vs_segment(@builtin(vertex_index) index: u32, segment: SegmentIn) -> SegmentOut {
+    var ends = array<f32, 6>(0.0, 1.0, 1.0, 0.0, 1.0, 0.0);
+    var sides = array<f32, 6>(-1.0, -1.0, 1.0, -1.0, 1.0, 1.0);
+    let a0 = globals.view_proj * vec4<f32>(segment.from_point, 1.0);
+    let b0 = globals.view_proj * vec4<f32>(segment.to_point, 1.0);
+    let a = clip_to_front(a0, b0);
+    let b = clip_to_front(b0, a0);
+    let half_viewport = globals.viewport.xy * 0.5;
+    let a_px = a.xy / a.w * half_viewport;
+    let b_px = b.xy / b.w * half_viewport;
+    var direction = b_px - a_px;
+    if (length(direction) < 1e-6) {
+        direction = vec2<f32>(1.0, 0.0);
+    }
+    direction = normalize(direction);
+    let normal = vec2<f32>(-direction.y, direction.x);
+    let end = ends[index];
+    var p = mix(a, b, end);
+    // Widen in pixels, and extend the ends by half a width so joints meet.
+    let offset_px = normal * sides[index] * segment.width * 0.5 + direction * (end * 2.0 - 1.0) * segment.width * 0.5;
+    p = vec4<f32>(p.xy + offset_px / half_viewport * p.w, p.z, p.w);
+    var out: SegmentOut;
+    out.clip = p;
+    out.color = segment.color;
+    return out;
+}
+
+@fragment
+fn fs_segment(in: SegmentOut) -> @location(0) vec4<f32> {
+    return in.color;
+}
+
+// ---------------------------------------------------------------- water
+
+struct WaterIn {
+    @location(0) center: vec4<f32>,
+    @location(1) half_extent: vec4<f32>,
+};
+
+struct WaterOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+};
+
+@vertex
+fn vs_water(@builtin(vertex_index) index: u32, water: WaterIn) -> WaterOut {
+    var corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    let c = corners[index] * water.half_extent.xy;
+    let world = vec3<f32>(water.center.x + c.x, water.center.y, water.center.z + c.y);
+    var out: WaterOut;
+    out.clip = globals.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    return out;
+}
+
+@fragment
+fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
+    let view = normalize(globals.eye.xyz - in.world);
+    // More reflective at grazing angles (Schlick's Fresnel for water).
+    let fresnel = 0.02 + 0.98 * pow(1.0 - max(view.y, 0.0), 5.0);
+    let deep = vec3<f32>(0.05, 0.25, 0.45);
+    let color = mix(deep, SKY, fresnel);
+    return vec4<f32>(color, mix(0.45, 0.85, fresnel));
+}

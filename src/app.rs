@@ -1,0 +1,279 @@
+//! The window: winit events in, egui and the 3D view out. A thin shell around
+//! [`Lab`], [`ui::show`] and [`Painter`].
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use winit::application::ApplicationHandler;
+use winit::dpi::LogicalSize;
+use winit::event::WindowEvent;
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::window::{Window, WindowId};
+
+use crate::render::{Gpu, GpuError, OffscreenTarget};
+use crate::ui::paint::{Painter, UiFrame};
+use crate::ui::{self, Lab};
+
+/// Why the window could not run.
+#[derive(Debug)]
+pub enum AppError {
+    /// Bad command-line input (exit code 2).
+    Usage(String),
+    /// No display, no GPU, or another failure (exit code 1).
+    Fatal(String),
+}
+
+/// Opens the window on `scene` with `KEY=VALUE` settings and runs until it is closed.
+pub fn run(scene: &str, assignments: &[String]) -> Result<(), AppError> {
+    let lab = Lab::new(scene, assignments).map_err(AppError::Usage)?;
+    let event_loop = EventLoop::new().map_err(|e| {
+        AppError::Fatal(format!(
+            "cannot open a window: no display ({e}); run it on a desktop, or under a virtual \
+             display: apt-get install xvfb, then 'Xvfb :99 &' and 'DISPLAY=:99 particle-lab'"
+        ))
+    })?;
+    let mut app = App { lab, window: None, error: None };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| AppError::Fatal(format!("the window's event loop failed: {e}")))?;
+    match app.error {
+        Some(message) => Err(AppError::Fatal(message)),
+        None => Ok(()),
+    }
+}
+
+struct App {
+    lab: Lab,
+    window: Option<WindowState>,
+    error: Option<String>,
+}
+
+/// Everything that exists once the window does.
+struct WindowState {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    gpu: Gpu,
+    painter: Painter,
+    egui: egui::Context,
+    egui_winit: egui_winit::State,
+    screenshot_target: Option<OffscreenTarget>,
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, message: String) {
+        log::error!("{message}");
+        self.error = Some(message);
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        match WindowState::new(event_loop) {
+            Ok(state) => {
+                log::info!("window open: scene {}", self.lab.entry.info.name);
+                self.window = Some(state);
+            }
+            Err(message) => self.fail(event_loop, message),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(state) = &mut self.window else { return };
+        // egui sees every event first; the 3D view only gets what reaches its area.
+        let response = state.egui_winit.on_window_event(&state.window, &event);
+        if response.repaint {
+            state.window.request_redraw();
+        }
+        match event {
+            WindowEvent::CloseRequested => {
+                log::info!("window closed");
+                event_loop.exit();
+            }
+            WindowEvent::Resized(size) => state.resize(size.width, size.height),
+            WindowEvent::RedrawRequested => {
+                if let Err(message) = state.frame(&mut self.lab) {
+                    self.fail(event_loop, message);
+                    return;
+                }
+                if self.lab.requests.quit {
+                    log::info!("quit");
+                    event_loop.exit();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.window {
+            state.window.request_redraw();
+        }
+    }
+}
+
+impl WindowState {
+    fn new(event_loop: &ActiveEventLoop) -> Result<Self, String> {
+        let attributes = Window::default_attributes()
+            .with_title("particle-lab")
+            .with_inner_size(LogicalSize::new(1280.0, 720.0))
+            .with_min_inner_size(LogicalSize::new(320.0, 240.0));
+        let window = Arc::new(
+            event_loop.create_window(attributes).map_err(|e| format!("cannot create the window: {e}"))?,
+        );
+        let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
+            event_loop.owned_display_handle(),
+        ));
+        let instance = wgpu::Instance::new(descriptor);
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| GpuError::Surface(e.to_string()).to_string())?;
+        let gpu = Gpu::with_instance(instance, Some(&surface)).map_err(|e| e.to_string())?;
+        let capabilities = surface.get_capabilities(&gpu.adapter);
+        // egui wants a non-sRGB surface; the 3D pass draws through an sRGB view of it.
+        let format = capabilities
+            .formats
+            .iter()
+            .copied()
+            .find(|f| !f.is_srgb())
+            .or_else(|| capabilities.formats.first().map(|f| f.remove_srgb_suffix()))
+            .ok_or_else(|| GpuError::Surface("the GPU cannot present to this window".into()).to_string())?;
+        let size = window.inner_size();
+        let config = wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format,
+            color_space: wgpu::SurfaceColorSpace::Auto,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode: wgpu::PresentMode::AutoVsync,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: capabilities.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![format.add_srgb_suffix()],
+        };
+        if size.width > 0 && size.height > 0 {
+            surface.configure(&gpu.device, &config);
+        }
+        let painter = Painter::new(&gpu.device, format);
+        let egui = egui::Context::default();
+        let max_texture_side = gpu.device.limits().max_texture_dimension_2d as usize;
+        let egui_winit = egui_winit::State::new(
+            egui.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(max_texture_side),
+        );
+        Ok(Self { window, surface, config, gpu, painter, egui, egui_winit, screenshot_target: None })
+    }
+
+    /// Reconfigures the surface for a new size; a minimised window (size 0) waits.
+    fn resize(&mut self, width: u32, height: u32) {
+        if width == 0 || height == 0 {
+            return;
+        }
+        log::info!("resized to {width}x{height}");
+        self.config.width = width;
+        self.config.height = height;
+        self.surface.configure(&self.gpu.device, &self.config);
+    }
+
+    fn frame(&mut self, lab: &mut Lab) -> Result<(), String> {
+        let size = self.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(()); // minimised
+        }
+        if size.width != self.config.width || size.height != self.config.height {
+            self.resize(size.width, size.height);
+        }
+        let input = self.egui_winit.take_egui_input(&self.window);
+        let mut rect = egui::Rect::NOTHING;
+        let output = self.egui.run_ui(input, |ui| rect = ui::show(ui, lab));
+        self.egui_winit.handle_platform_output(&self.window, output.platform_output);
+        lab.advance();
+
+        let ppp = output.pixels_per_point;
+        let primitives = self.egui.tessellate(output.shapes, ppp);
+        let viewport = [rect.left() * ppp, rect.top() * ppp, rect.width() * ppp, rect.height() * ppp];
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        self.painter.update_textures(device, queue, &output.textures_delta);
+
+        let texture = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) => Some((t, false)),
+            wgpu::CurrentSurfaceTexture::Suboptimal(t) => Some((t, true)),
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => None,
+            wgpu::CurrentSurfaceTexture::Outdated => {
+                self.surface.configure(device, &self.config);
+                None
+            }
+            wgpu::CurrentSurfaceTexture::Lost => {
+                log::warn!("surface lost; recreating it");
+                let instance = &self.gpu.instance;
+                self.surface = instance
+                    .create_surface(self.window.clone())
+                    .map_err(|e| format!("cannot recreate the surface: {e}"))?;
+                self.surface.configure(device, &self.config);
+                None
+            }
+            wgpu::CurrentSurfaceTexture::Validation => {
+                log::warn!("surface texture failed validation; skipping a frame");
+                None
+            }
+        };
+        let target_size = [self.config.width, self.config.height];
+        if let Some((texture, suboptimal)) = texture {
+            let view = texture.texture.create_view(&Default::default());
+            let srgb_view = texture.texture.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(self.config.format.add_srgb_suffix()),
+                ..Default::default()
+            });
+            let ui = UiFrame { primitives: &primitives, pixels_per_point: ppp };
+            self.painter.paint(device, queue, &srgb_view, &view, target_size, viewport, lab, Some(ui));
+            self.window.pre_present_notify();
+            queue.present(texture);
+            if suboptimal {
+                self.surface.configure(device, &self.config);
+            }
+        }
+        if std::mem::take(&mut lab.requests.screenshot) {
+            let ui = UiFrame { primitives: &primitives, pixels_per_point: ppp };
+            lab.status = match self.screenshot(lab, target_size, viewport, ui) {
+                Ok(path) => format!("screenshot saved to {}", path.display()),
+                Err(error) => format!("screenshot failed: {error}"),
+            };
+            log::info!("{}", lab.status);
+        }
+        self.painter.free_textures(&output.textures_delta);
+        Ok(())
+    }
+
+    /// Draws the frame again into an off-screen texture and writes it as a PNG in the
+    /// current directory.
+    fn screenshot(
+        &mut self,
+        lab: &Lab,
+        size: [u32; 2],
+        viewport: [f32; 4],
+        ui: UiFrame<'_>,
+    ) -> Result<PathBuf, String> {
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        if self.screenshot_target.as_ref().is_none_or(|t| t.size != size) {
+            self.screenshot_target = Some(OffscreenTarget::with_format(device, size, self.config.format));
+        }
+        let target = self.screenshot_target.as_ref().expect("created above");
+        self.painter.paint(device, queue, &target.srgb_view, &target.view, size, viewport, lab, Some(ui));
+        let pixels = target.read_rgba(device, queue)?;
+        let seconds = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_millis())
+            .unwrap_or_default();
+        let directory = std::env::current_dir().map_err(|e| format!("no current directory: {e}"))?;
+        let path = directory.join(format!("particle-lab-{}-{seconds}.png", lab.entry.info.name));
+        crate::render::offscreen::write_png(&path, size, &pixels)?;
+        Ok(path)
+    }
+}

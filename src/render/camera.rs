@@ -1,0 +1,101 @@
+//! An orbiting perspective camera.
+
+use glam::camera::rh;
+use glam::{Mat4, Vec2, Vec3};
+
+use crate::scenes::CameraHint;
+
+/// A camera that orbits a target point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrbitCamera {
+    /// Point looked at (m).
+    pub target: Vec3,
+    /// Distance from the target (m).
+    pub distance: f32,
+    /// Rotation about the vertical axis (radians); 0 puts the eye on +z looking along -z.
+    pub yaw: f32,
+    /// Elevation of the eye (radians); positive looks down.
+    pub pitch: f32,
+    /// Vertical field of view (radians).
+    pub fov_y: f32,
+}
+
+impl OrbitCamera {
+    /// Closest the eye may get to the target (m).
+    pub const MIN_DISTANCE: f32 = 0.5;
+    /// Furthest the eye may get from the target (m).
+    pub const MAX_DISTANCE: f32 = 500.0;
+    const PITCH_LIMIT: f32 = 1.55;
+
+    /// A camera placed as a scene asks.
+    #[must_use]
+    pub fn from_hint(hint: CameraHint) -> Self {
+        Self {
+            target: hint.target,
+            distance: hint.distance,
+            yaw: hint.yaw,
+            pitch: hint.pitch,
+            fov_y: 45f32.to_radians(),
+        }
+    }
+
+    /// Position of the eye (m).
+    #[must_use]
+    pub fn eye(&self) -> Vec3 {
+        let (sin_yaw, cos_yaw) = self.yaw.sin_cos();
+        let (sin_pitch, cos_pitch) = self.pitch.sin_cos();
+        self.target + self.distance * Vec3::new(cos_pitch * sin_yaw, sin_pitch, cos_pitch * cos_yaw)
+    }
+
+    /// World to clip space for a viewport of this aspect ratio (width / height).
+    #[must_use]
+    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        let near = (self.distance * 0.01).clamp(0.01, 0.5);
+        // wgpu's clip space is DirectX's: depth 0..1, y up.
+        let projection = rh::proj::directx::perspective(self.fov_y, aspect.max(1e-3), near, 2000.0);
+        projection * rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
+    }
+
+    /// Turns the camera by a drag of `delta` pixels.
+    pub fn orbit(&mut self, delta: Vec2) {
+        self.yaw -= delta.x * 0.008;
+        self.pitch = (self.pitch + delta.y * 0.008).clamp(-Self::PITCH_LIMIT, Self::PITCH_LIMIT);
+    }
+
+    /// Moves the target sideways by a drag of `delta` pixels in a view `height` pixels high.
+    pub fn pan(&mut self, delta: Vec2, height: f32) {
+        let forward = (self.target - self.eye()).normalize_or_zero();
+        let right = forward.cross(Vec3::Y).normalize_or_zero();
+        let up = right.cross(forward);
+        let metres_per_pixel = 2.0 * self.distance * (self.fov_y * 0.5).tan() / height.max(1.0);
+        self.target += (-right * delta.x + up * delta.y) * metres_per_pixel;
+    }
+
+    /// Zooms by wheel `steps` (positive zooms in).
+    pub fn zoom(&mut self, steps: f32) {
+        self.distance = (self.distance * 0.9f32.powf(steps)).clamp(Self::MIN_DISTANCE, Self::MAX_DISTANCE);
+    }
+
+    /// The ray through a pixel: origin and unit direction. `pixel` is from the top left
+    /// of a viewport `size` pixels large.
+    #[must_use]
+    pub fn ray(&self, pixel: Vec2, size: Vec2) -> (Vec3, Vec3) {
+        let ndc = Vec2::new(pixel.x / size.x * 2.0 - 1.0, 1.0 - pixel.y / size.y * 2.0);
+        let inverse = self.view_projection(size.x / size.y).inverse();
+        let near = inverse.project_point3(ndc.extend(0.0));
+        let far = inverse.project_point3(ndc.extend(1.0));
+        (near, (far - near).normalize_or_zero())
+    }
+
+    /// Where a world point lands in a viewport, in pixels from the top left, or `None`
+    /// if it is behind the eye.
+    #[must_use]
+    pub fn project(&self, point: Vec3, size: Vec2) -> Option<Vec2> {
+        let clip = self.view_projection(size.x / size.y) * point.extend(1.0);
+        if clip.w <= 0.0 {
+            return None;
+        }
+        let ndc = clip.truncate() / clip.w;
+        Some(Vec2::new((ndc.x + 1.0) * 0.5 * size.x, (1.0 - ndc.y) * 0.5 * size.y))
+    }
+}

@@ -1,0 +1,302 @@
+//! What one frame draws, as plain data: sphere and segment instances, the water. Built
+//! from a scene on the CPU, uploaded by the renderer. No GPU types here.
+
+use std::collections::{HashMap, VecDeque};
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use crate::physics::{LinkKind, LinkState, ParticleId};
+use crate::scenes::{Marker, Scene};
+
+/// One sphere impostor.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SphereInstance {
+    /// Centre (m).
+    pub center: [f32; 3],
+    /// Radius (m).
+    pub radius: f32,
+    /// Linear RGBA colour.
+    pub color: [f32; 4],
+}
+
+/// One thick line segment, drawn as a screen-space quad.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SegmentInstance {
+    /// Start (m).
+    pub from: [f32; 3],
+    /// Width in pixels.
+    pub width: f32,
+    /// End (m).
+    pub to: [f32; 3],
+    /// Unused; keeps the colour 16-byte aligned.
+    pub pad: f32,
+    /// Linear RGBA colour; alpha blends.
+    pub color: [f32; 4],
+}
+
+/// A rectangle of water surface.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct WaterQuad {
+    /// Centre x, surface height, centre z, unused (m).
+    pub center: [f32; 4],
+    /// Half extents in x and z, unused, unused (m).
+    pub half_extent: [f32; 4],
+}
+
+/// Everything the renderer draws for one frame.
+#[derive(Clone, Debug, Default)]
+pub struct FrameData {
+    /// Particles and markers.
+    pub spheres: Vec<SphereInstance>,
+    /// Links, trails and guides.
+    pub segments: Vec<SegmentInstance>,
+    /// A pool, if the scene has one.
+    pub water: Option<WaterQuad>,
+    /// Draw the ground's grid lines.
+    pub grid: bool,
+}
+
+/// What the View menu toggles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ViewOptions {
+    /// Fading trails behind moving particles.
+    pub trails: bool,
+    /// Colour links by tension instead of by kind.
+    pub tension_colors: bool,
+    /// Grid lines on the ground.
+    pub grid: bool,
+    /// The statistics block in the panel.
+    pub stats: bool,
+    /// 4x multisample anti-aliasing (costly on a software GPU).
+    pub msaa: bool,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        Self { trails: true, tension_colors: false, grid: true, stats: true, msaa: true }
+    }
+}
+
+/// Colour of a link of each kind (linear RGB): rods blue, cables green, supports grey,
+/// springs orange, bungees purple, stiff springs red.
+#[must_use]
+pub fn link_color(kind: LinkKind) -> [f32; 3] {
+    match kind {
+        LinkKind::Rod => [0.10, 0.30, 0.95],
+        LinkKind::Cable => [0.10, 0.75, 0.20],
+        LinkKind::SupportRod | LinkKind::SupportCable => [0.55, 0.55, 0.58],
+        LinkKind::Spring => [0.95, 0.45, 0.05],
+        LinkKind::Bungee => [0.60, 0.20, 0.85],
+        LinkKind::StiffSpring => [0.90, 0.10, 0.10],
+    }
+}
+
+/// Blue (no load) through white to red (`tension >= reference`); compression is cyan.
+#[must_use]
+pub fn tension_color(tension: f32, reference: f32) -> [f32; 3] {
+    let x = (tension / reference.max(1e-6)).clamp(-1.0, 1.0);
+    if x >= 0.0 {
+        let (cold, hot) = (Vec3::new(0.15, 0.25, 0.9), Vec3::new(1.0, 0.1, 0.05));
+        cold.lerp(hot, x).to_array()
+    } else {
+        Vec3::new(0.15, 0.25, 0.9).lerp(Vec3::new(0.1, 0.9, 0.9), -x).to_array()
+    }
+}
+
+/// Colour of a particle: a few distinct hues by id; immovable ones grey.
+#[must_use]
+pub fn particle_color(id: ParticleId, immovable: bool) -> [f32; 3] {
+    const PALETTE: [[f32; 3]; 6] = [
+        [0.90, 0.55, 0.10],
+        [0.85, 0.85, 0.80],
+        [0.20, 0.60, 0.90],
+        [0.85, 0.25, 0.45],
+        [0.35, 0.80, 0.45],
+        [0.75, 0.65, 0.20],
+    ];
+    if immovable { [0.4, 0.4, 0.4] } else { PALETTE[id.0 as usize % PALETTE.len()] }
+}
+
+/// Recent positions of moving particles, for trails that fade with age.
+#[derive(Debug, Default)]
+pub struct Trails {
+    points: HashMap<ParticleId, VecDeque<(Vec3, f64)>>,
+    spare: Vec<VecDeque<(Vec3, f64)>>,
+}
+
+impl Trails {
+    /// How long a trail point lasts (s).
+    pub const LIFETIME: f64 = 4.0;
+    /// Smallest distance between recorded points (m).
+    const SPACING: f32 = 0.05;
+
+    /// Records where every particle is at simulated time `now`, and forgets points
+    /// older than the lifetime (also of particles that are gone).
+    pub fn record(&mut self, scene: &dyn Scene, now: f64) {
+        let particles = &scene.world().particles;
+        for (i, &id) in particles.ids().iter().enumerate() {
+            let p = particles.position[i];
+            let spare = &mut self.spare;
+            let trail = self.points.entry(id).or_insert_with(|| spare.pop().unwrap_or_default());
+            if trail.back().is_none_or(|&(last, _)| last.distance(p) >= Self::SPACING) {
+                trail.push_back((p, now));
+            }
+        }
+        for trail in self.points.values_mut() {
+            while trail.front().is_some_and(|&(_, t)| now - t > Self::LIFETIME || t > now) {
+                trail.pop_front();
+            }
+        }
+        let empty: Vec<ParticleId> =
+            self.points.iter().filter(|(_, t)| t.is_empty()).map(|(&id, _)| id).collect();
+        for id in empty {
+            if let Some(trail) = self.points.remove(&id) {
+                self.spare.push(trail);
+            }
+        }
+    }
+
+    /// Forgets every trail.
+    pub fn clear(&mut self) {
+        self.points.clear();
+    }
+
+    /// Number of points held.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.points.values().map(VecDeque::len).sum()
+    }
+
+    /// True when no points are held.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Builds [`FrameData`] from a scene, reusing its storage from frame to frame.
+#[derive(Debug, Default)]
+pub struct FrameBuilder {
+    links: Vec<LinkState>,
+    markers: Vec<Marker>,
+    /// The frame built last.
+    pub frame: FrameData,
+}
+
+impl FrameBuilder {
+    /// Fills `self.frame` for the scene's current state. `highlight` is drawn brighter
+    /// and larger (the particle under the mouse or being dragged).
+    pub fn build(
+        &mut self,
+        scene: &dyn Scene,
+        trails: Option<&Trails>,
+        now: f64,
+        options: ViewOptions,
+        highlight: Option<ParticleId>,
+    ) -> &FrameData {
+        let frame = &mut self.frame;
+        frame.spheres.clear();
+        frame.segments.clear();
+        frame.grid = options.grid;
+        let world = scene.world();
+        let particles = &world.particles;
+        for (i, &id) in particles.ids().iter().enumerate() {
+            let mut color = particle_color(id, particles.inverse_mass[i] == 0.0);
+            let mut radius = particles.radius[i].max(0.05);
+            if highlight == Some(id) {
+                color = [1.0, 0.95, 0.3];
+                radius *= 1.15;
+            }
+            frame.spheres.push(SphereInstance {
+                center: particles.position[i].to_array(),
+                radius,
+                color: [color[0], color[1], color[2], 1.0],
+            });
+        }
+        self.markers.clear();
+        scene.markers(&mut self.markers);
+        for marker in &self.markers {
+            let [r, g, b] = marker.color;
+            frame.spheres.push(SphereInstance {
+                center: marker.position.to_array(),
+                radius: marker.radius,
+                color: [r, g, b, 1.0],
+            });
+        }
+
+        world.links_into(&mut self.links);
+        let reference = self.links.iter().map(|l| l.tension.abs()).fold(0.0, f32::max);
+        for link in &self.links {
+            let [r, g, b] = if options.tension_colors {
+                tension_color(link.tension, reference)
+            } else {
+                link_color(link.spec.kind)
+            };
+            let width = match link.spec.kind {
+                LinkKind::Rod | LinkKind::SupportRod => 5.0,
+                LinkKind::Spring | LinkKind::Bungee | LinkKind::StiffSpring => 4.0,
+                LinkKind::Cable | LinkKind::SupportCable => 3.0,
+            };
+            frame.segments.push(SegmentInstance {
+                from: link.from.to_array(),
+                width,
+                to: link.to.to_array(),
+                pad: 0.0,
+                color: [r, g, b, 1.0],
+            });
+            // Anchors: a small grey sphere where a link is fixed in space.
+            if let crate::physics::LinkEnd::Anchor(anchor) = link.spec.b {
+                frame.spheres.push(SphereInstance {
+                    center: anchor.to_array(),
+                    radius: 0.08,
+                    color: [0.35, 0.35, 0.38, 1.0],
+                });
+            }
+        }
+
+        if let Some(water) = scene.water() {
+            frame.water = Some(WaterQuad {
+                center: [water.center.x, water.height, water.center.y, 0.0],
+                half_extent: [water.half_extent.x, water.half_extent.y, 0.0, 0.0],
+            });
+            // The pool's rim and floor edges, so its depth reads.
+            let (c, h) = (water.center, water.half_extent);
+            let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+            for k in 0..4 {
+                let (ax, az) = corners[k];
+                let (bx, bz) = corners[(k + 1) % 4];
+                for y in [0.0, water.height] {
+                    frame.segments.push(SegmentInstance {
+                        from: [c.x + ax * h.x, y, c.y + az * h.y],
+                        width: 2.0,
+                        to: [c.x + bx * h.x, y, c.y + bz * h.y],
+                        pad: 0.0,
+                        color: [0.3, 0.5, 0.7, 1.0],
+                    });
+                }
+            }
+        } else {
+            frame.water = None;
+        }
+
+        if let (true, Some(trails)) = (options.trails, trails) {
+            for trail in trails.points.values() {
+                for ((a, _), (b, tb)) in trail.iter().zip(trail.iter().skip(1)) {
+                    let fade = (1.0 - (now - tb) / Trails::LIFETIME).clamp(0.0, 1.0) as f32;
+                    frame.segments.push(SegmentInstance {
+                        from: a.to_array(),
+                        width: 2.5,
+                        to: b.to_array(),
+                        pad: 0.0,
+                        color: [1.0, 0.8, 0.35, 0.8 * fade],
+                    });
+                }
+            }
+        }
+        &self.frame
+    }
+}

@@ -1,0 +1,15 @@
+//! Drawing: an orbit camera, the per-frame data built from a scene, and the wgpu
+//! renderer that draws it into a window or an off-screen texture with the same code.
+//! Reads the physics; never steps it.
+
+pub mod camera;
+pub mod frame;
+pub mod gpu;
+pub mod offscreen;
+pub mod renderer;
+
+pub use camera::OrbitCamera;
+pub use frame::{FrameBuilder, FrameData, Trails, ViewOptions};
+pub use gpu::{Gpu, GpuError};
+pub use offscreen::OffscreenTarget;
+pub use renderer::Renderer;

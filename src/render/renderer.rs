@@ -1,0 +1,331 @@
+//! The 3D renderer: built once, draws a [`FrameData`] into any texture view.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::camera::OrbitCamera;
+use super::frame::{FrameData, SegmentInstance, SphereInstance, WaterQuad};
+
+/// Samples per pixel of the 3D pass by default (4x MSAA).
+pub const DEFAULT_SAMPLE_COUNT: u32 = 4;
+/// Background colour (linear), also the colour the ground fades into.
+pub const BACKGROUND: wgpu::Color = wgpu::Color { r: 0.045, g: 0.05, b: 0.065, a: 1.0 };
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Globals {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    viewport: [f32; 4],
+    light: [f32; 4],
+}
+
+/// A vertex buffer that keeps its size and grows (doubling) only when needed.
+struct GrowingBuffer {
+    buffer: wgpu::Buffer,
+    label: &'static str,
+}
+
+impl GrowingBuffer {
+    fn new(device: &wgpu::Device, label: &'static str, size: u64) -> Self {
+        Self { buffer: Self::create(device, label, size), label }
+    }
+
+    fn create(device: &wgpu::Device, label: &'static str, size: u64) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
+        let needed = bytes.len() as u64;
+        if needed > self.buffer.size() {
+            let size = needed.next_power_of_two().max(self.buffer.size() * 2);
+            self.buffer = Self::create(device, self.label, size);
+        }
+        if !bytes.is_empty() {
+            queue.write_buffer(&self.buffer, 0, bytes);
+        }
+    }
+}
+
+/// Multisampled colour (none without MSAA) and depth attachments for one target size.
+struct Attachments {
+    size: [u32; 2],
+    color: Option<wgpu::TextureView>,
+    depth: wgpu::TextureView,
+}
+
+/// Draws the ground, particles (sphere impostors), links, trails and water.
+pub struct Renderer {
+    color_format: wgpu::TextureFormat,
+    sample_count: u32,
+    globals: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    ground: wgpu::RenderPipeline,
+    spheres: wgpu::RenderPipeline,
+    segments: wgpu::RenderPipeline,
+    water: wgpu::RenderPipeline,
+    sphere_buffer: GrowingBuffer,
+    segment_buffer: GrowingBuffer,
+    water_buffer: GrowingBuffer,
+    attachments: Option<Attachments>,
+}
+
+impl Renderer {
+    /// Builds every pipeline and buffer. `color_format` is the format of the views it
+    /// will draw into (an sRGB format, so lighting is done in linear space);
+    /// `sample_count` is 1 (no MSAA) or 4 (4x MSAA).
+    #[must_use]
+    pub fn new(device: &wgpu::Device, color_format: wgpu::TextureFormat, sample_count: u32) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/scene.wgsl"));
+        let globals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("globals"),
+            size: std::mem::size_of::<Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals"),
+            layout: &layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: globals.as_entire_binding() }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+
+        let alpha_blend = Some(wgpu::BlendState::ALPHA_BLENDING);
+        let make = |label: &str,
+                    entry: &str,
+                    buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                    topology: wgpu::PrimitiveTopology,
+                    blend: Option<wgpu::BlendState>,
+                    depth_write: bool,
+                    alpha_to_coverage: bool| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some(&format!("vs_{entry}")),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState { topology, cull_mode: None, ..Default::default() },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState {
+                    count: sample_count,
+                    mask: !0,
+                    alpha_to_coverage_enabled: alpha_to_coverage,
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some(&format!("fs_{entry}")),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: color_format,
+                        blend,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+
+        let sphere_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<SphereInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x4],
+        };
+        // Spelled out: the colour sits after a padding float, at byte 32.
+        let segment_attributes = [
+            wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 },
+            wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32, offset: 12, shader_location: 1 },
+            wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 16, shader_location: 2 },
+            wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x4, offset: 32, shader_location: 3 },
+        ];
+        let segment_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<SegmentInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &segment_attributes,
+        };
+        let water_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<WaterQuad>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
+        };
+
+        use wgpu::PrimitiveTopology::{TriangleList, TriangleStrip};
+        Self {
+            color_format,
+            sample_count,
+            ground: make("ground", "ground", &[], TriangleList, None, true, false),
+            spheres: make("spheres", "sphere", &[Some(sphere_layout)], TriangleStrip, None, true, true),
+            segments: make(
+                "segments",
+                "segment",
+                &[Some(segment_layout)],
+                TriangleList,
+                alpha_blend,
+                true,
+                false,
+            ),
+            water: make("water", "water", &[Some(water_layout)], TriangleList, alpha_blend, false, false),
+            sphere_buffer: GrowingBuffer::new(device, "spheres", 64 * 1024),
+            segment_buffer: GrowingBuffer::new(device, "segments", 64 * 1024),
+            water_buffer: GrowingBuffer::new(device, "water", std::mem::size_of::<WaterQuad>() as u64),
+            globals,
+            bind_group,
+            attachments: None,
+        }
+    }
+
+    /// Samples per pixel: 1, or 4 with MSAA.
+    #[must_use]
+    pub fn sample_count(&self) -> u32 {
+        self.sample_count
+    }
+
+    /// The format of the views this renderer draws into.
+    #[must_use]
+    pub fn color_format(&self) -> wgpu::TextureFormat {
+        self.color_format
+    }
+
+    fn attachments(&mut self, device: &wgpu::Device, size: [u32; 2]) -> &Attachments {
+        if self.attachments.as_ref().is_none_or(|a| a.size != size) {
+            let sample_count = self.sample_count;
+            let make = |label: &str, format: wgpu::TextureFormat| {
+                device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some(label),
+                        size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: 1 },
+                        mip_level_count: 1,
+                        sample_count,
+                        dimension: wgpu::TextureDimension::D2,
+                        format,
+                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                        view_formats: &[],
+                    })
+                    .create_view(&Default::default())
+            };
+            self.attachments = Some(Attachments {
+                size,
+                color: (self.sample_count > 1).then(|| make("msaa colour", self.color_format)),
+                depth: make("depth", DEPTH_FORMAT),
+            });
+        }
+        self.attachments.as_ref().expect("created above")
+    }
+
+    /// Records the 3D pass: clears `target` (of `size` pixels, in this renderer's colour
+    /// format) and draws `frame` as seen by `camera` into `viewport` (x, y, width,
+    /// height in pixels).
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        size: [u32; 2],
+        viewport: [f32; 4],
+        camera: &OrbitCamera,
+        frame: &FrameData,
+    ) {
+        let size = [size[0].max(1), size[1].max(1)];
+        let [x, y] =
+            [viewport[0].clamp(0.0, size[0] as f32 - 1.0), viewport[1].clamp(0.0, size[1] as f32 - 1.0)];
+        let width = viewport[2].clamp(1.0, size[0] as f32 - x);
+        let height = viewport[3].clamp(1.0, size[1] as f32 - y);
+        let aspect = width / height;
+        let light = Vec3::new(0.4, 0.8, 0.45).normalize();
+        let globals = Globals {
+            view_proj: camera.view_projection(aspect).to_cols_array_2d(),
+            eye: camera.eye().extend(1.0).to_array(),
+            viewport: [width, height, if frame.grid { 1.0 } else { 0.0 }, 0.0],
+            light: light.extend(0.0).to_array(),
+        };
+        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
+        self.sphere_buffer.write(device, queue, bytemuck::cast_slice(&frame.spheres));
+        self.segment_buffer.write(device, queue, bytemuck::cast_slice(&frame.segments));
+        if let Some(water) = &frame.water {
+            self.water_buffer.write(device, queue, bytemuck::bytes_of(water));
+        }
+
+        let attachments = self.attachments(device, size);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                // Without MSAA draw straight into the target; with it, resolve into it.
+                view: attachments.color.as_ref().unwrap_or(target),
+                depth_slice: None,
+                resolve_target: attachments.color.as_ref().map(|_| target),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(BACKGROUND),
+                    store: if attachments.color.is_some() {
+                        wgpu::StoreOp::Discard
+                    } else {
+                        wgpu::StoreOp::Store
+                    },
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &attachments.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_viewport(x, y, width, height, 0.0, 1.0);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_pipeline(&self.ground);
+        pass.draw(0..6, 0..1);
+        if !frame.spheres.is_empty() {
+            pass.set_pipeline(&self.spheres);
+            pass.set_vertex_buffer(0, self.sphere_buffer.buffer.slice(..));
+            pass.draw(0..4, 0..frame.spheres.len() as u32);
+        }
+        if !frame.segments.is_empty() {
+            pass.set_pipeline(&self.segments);
+            pass.set_vertex_buffer(0, self.segment_buffer.buffer.slice(..));
+            pass.draw(0..6, 0..frame.segments.len() as u32);
+        }
+        if frame.water.is_some() {
+            pass.set_pipeline(&self.water);
+            pass.set_vertex_buffer(0, self.water_buffer.buffer.slice(..));
+            pass.draw(0..6, 0..1);
+        }
+    }
+}

@@ -1,0 +1,343 @@
+//! The lab: the running scene plus everything the panel controls (run state, view
+//! options, camera, trails, the particle being dragged). Knows nothing of windows.
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use glam::{Vec2, Vec3};
+
+use crate::physics::ParticleId;
+use crate::render::{OrbitCamera, Trails, ViewOptions};
+use crate::scenes::{self, SCENES, Scene, SceneAction, SceneEntry};
+
+/// Real time one frame may add to the physics (s): after a stall the rest is dropped
+/// instead of running hundreds of catch-up steps.
+pub const MAX_FRAME_TIME: f64 = 0.1;
+/// Most physics steps one frame may run.
+pub const MAX_STEPS_PER_FRAME: u32 = 64;
+/// Physics rates the panel offers (Hz).
+pub const PHYSICS_RATE_RANGE: std::ops::RangeInclusive<f32> = 30.0..=1000.0;
+/// Time scales the panel offers.
+pub const TIME_SCALE_RANGE: std::ops::RangeInclusive<f32> = 0.05..=4.0;
+/// Samples kept for the energy plot.
+const HISTORY: usize = 600;
+
+/// Timing figures for the stats block.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stats {
+    /// Frames per second, smoothed.
+    pub fps: f32,
+    /// Time between frames (ms), smoothed.
+    pub frame_ms: f32,
+    /// Wall time per physics step (ms), smoothed.
+    pub step_ms: f32,
+    /// Physics steps run in the last frame.
+    pub steps_last_frame: u32,
+    /// Steps dropped so far because a frame took too long.
+    pub dropped_steps: u64,
+}
+
+/// A sample of the energy plot.
+#[derive(Clone, Copy, Debug)]
+pub struct EnergySample {
+    /// Simulated time (s).
+    pub t: f64,
+    /// Kinetic energy (J).
+    pub kinetic: f32,
+    /// Potential energy (J).
+    pub potential: f32,
+}
+
+/// A particle held by the mouse: it follows the pointer in the plane through its
+/// grab point facing the camera.
+#[derive(Clone, Copy, Debug)]
+pub struct Grab {
+    /// The particle.
+    pub id: ParticleId,
+    /// A point of the drag plane (m).
+    pub plane_point: Vec3,
+    /// The drag plane's normal.
+    pub plane_normal: Vec3,
+    /// Where the pointer puts it (m).
+    pub target: Vec3,
+}
+
+/// Things the panel asks the window to do.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Requests {
+    /// Save a screenshot after this frame.
+    pub screenshot: bool,
+    /// Close the window.
+    pub quit: bool,
+}
+
+/// Everything the panel shows and edits.
+pub struct Lab {
+    /// The running scene.
+    pub scene: Box<dyn Scene>,
+    /// Its registry entry.
+    pub entry: &'static SceneEntry,
+    /// Physics stopped?
+    pub paused: bool,
+    /// Simulated seconds per real second.
+    pub time_scale: f32,
+    /// Physics steps per simulated second (Hz).
+    pub physics_rate: f32,
+    accumulator: f64,
+    /// View toggles.
+    pub view: ViewOptions,
+    /// The camera.
+    pub camera: OrbitCamera,
+    /// Trails behind moving particles.
+    pub trails: Trails,
+    /// Timing figures.
+    pub stats: Stats,
+    /// Energy over time, for the plot.
+    pub energy: VecDeque<EnergySample>,
+    /// A message for the status line, e.g. where a screenshot went.
+    pub status: String,
+    /// Show the controls window.
+    pub show_help: bool,
+    /// The particle under the pointer.
+    pub hovered: Option<ParticleId>,
+    /// The particle being dragged.
+    pub grab: Option<Grab>,
+    /// Requests for the window.
+    pub requests: Requests,
+    last_frame: Option<Instant>,
+}
+
+impl Lab {
+    /// A lab on `name` with `KEY=VALUE` settings, validated like `simulate`'s.
+    pub fn new(name: &str, assignments: &[String]) -> Result<Self, String> {
+        let entry = scenes::find(name)?;
+        let scene = scenes::build(name, assignments)?;
+        let mut lab = Self {
+            camera: OrbitCamera::from_hint(scene.camera()),
+            physics_rate: 1.0 / entry.info.dt,
+            scene,
+            entry,
+            paused: false,
+            time_scale: 1.0,
+            accumulator: 0.0,
+            view: ViewOptions { trails: entry.info.trails, ..ViewOptions::default() },
+            trails: Trails::default(),
+            stats: Stats::default(),
+            energy: VecDeque::with_capacity(HISTORY),
+            status: String::new(),
+            show_help: false,
+            hovered: None,
+            grab: None,
+            requests: Requests::default(),
+            last_frame: None,
+        };
+        lab.record();
+        Ok(lab)
+    }
+
+    /// The physics time step (s).
+    #[must_use]
+    pub fn dt(&self) -> f32 {
+        1.0 / self.physics_rate
+    }
+
+    /// Switches to another scene with its default parameters.
+    pub fn switch_scene(&mut self, entry: &'static SceneEntry) {
+        log::info!("scene: {}", entry.info.name);
+        self.entry = entry;
+        self.scene = entry.create_default();
+        self.physics_rate = 1.0 / entry.info.dt;
+        self.camera = OrbitCamera::from_hint(self.scene.camera());
+        self.view.trails = entry.info.trails;
+        self.restart();
+    }
+
+    /// Rebuilds the current scene with its current parameters.
+    pub fn reset(&mut self) {
+        log::info!("reset: {}", self.entry.info.name);
+        self.scene = (self.entry.create)(self.scene.params().clone());
+        self.restart();
+    }
+
+    fn restart(&mut self) {
+        self.accumulator = 0.0;
+        self.trails.clear();
+        self.energy.clear();
+        self.grab = None;
+        self.hovered = None;
+        self.record();
+    }
+
+    /// Changes a parameter of the running scene; a refusal goes to the status line.
+    pub fn set_param(&mut self, name: &str, value: f32) {
+        match self.scene.set_param(name, value) {
+            Ok(()) => log::info!("set {}.{name} = {value}", self.entry.info.name),
+            Err(error) => self.status = error.to_string(),
+        }
+    }
+
+    /// Applies a preset of the current scene by name.
+    pub fn apply_preset(&mut self, name: &str) {
+        let Some(preset) = self.entry.info.presets.iter().find(|p| p.name == name) else { return };
+        for &(key, value) in preset.values {
+            self.set_param(key, value);
+        }
+        self.status = format!("preset: {} ({})", preset.name, preset.help);
+    }
+
+    /// Performs a scene action (fire, move the load).
+    pub fn act(&mut self, action: SceneAction) {
+        if self.scene.act(action) {
+            log::info!("action: {action:?}");
+        }
+    }
+
+    /// Advances the physics by the real time since the last call, in fixed steps.
+    pub fn advance(&mut self) {
+        let now = Instant::now();
+        let real_dt = self.last_frame.map_or(0.0, |last| now.duration_since(last).as_secs_f64());
+        self.last_frame = Some(now);
+        if real_dt > 0.0 {
+            let smooth = |old: f32, new: f32| if old == 0.0 { new } else { old * 0.9 + new * 0.1 };
+            self.stats.frame_ms = smooth(self.stats.frame_ms, (real_dt * 1000.0) as f32);
+            self.stats.fps = 1000.0 / self.stats.frame_ms.max(1e-3);
+        }
+        self.stats.steps_last_frame = 0;
+        if self.paused {
+            return;
+        }
+        let dt = f64::from(self.dt());
+        self.accumulator += real_dt.min(MAX_FRAME_TIME) * f64::from(self.time_scale);
+        let wanted = (self.accumulator / dt).floor() as u64;
+        let steps = wanted.min(u64::from(MAX_STEPS_PER_FRAME)) as u32;
+        if wanted > u64::from(steps) {
+            self.stats.dropped_steps += wanted - u64::from(steps);
+            self.accumulator = 0.0;
+        } else {
+            self.accumulator -= f64::from(steps) * dt;
+        }
+        self.run_steps(steps);
+    }
+
+    /// Runs exactly `steps` physics steps now, paused or not.
+    pub fn run_steps(&mut self, steps: u32) {
+        if steps == 0 {
+            return;
+        }
+        let started = Instant::now();
+        let dt = self.dt();
+        for _ in 0..steps {
+            self.hold_grabbed(dt);
+            if let Err(error) = self.scene.step(dt) {
+                self.status = error.to_string();
+                self.paused = true;
+                break;
+            }
+        }
+        let per_step = started.elapsed().as_secs_f32() * 1000.0 / steps as f32;
+        self.stats.step_ms =
+            if self.stats.step_ms == 0.0 { per_step } else { self.stats.step_ms * 0.9 + per_step * 0.1 };
+        self.stats.steps_last_frame = steps;
+        self.record();
+    }
+
+    /// Runs `steps` physics steps one at a time, recording trails after each (for
+    /// off-screen frames that should look like a window that ran that long).
+    pub fn run_steps_recorded(&mut self, steps: u64) {
+        for _ in 0..steps {
+            self.run_steps(1);
+            if self.paused {
+                break;
+            }
+        }
+    }
+
+    /// Records trails and the energy plot at the current simulated time.
+    fn record(&mut self) {
+        let t = self.scene.world().time();
+        self.trails.record(self.scene.as_ref(), t);
+        let energy = self.scene.world().energy();
+        if self.energy.len() == HISTORY {
+            self.energy.pop_front();
+        }
+        self.energy.push_back(EnergySample { t, kinetic: energy.kinetic, potential: energy.potential });
+    }
+
+    /// Moves the dragged particle to the pointer, with the velocity that takes it there.
+    fn hold_grabbed(&mut self, dt: f32) {
+        let Some(grab) = self.grab else { return };
+        let world = self.scene.world_mut();
+        let Some(i) = world.particles.index(grab.id) else {
+            self.grab = None;
+            return;
+        };
+        if world.particles.inverse_mass[i] == 0.0 {
+            return;
+        }
+        let from = world.particles.position[i];
+        // Move part of the way each step so a fast flick is not an infinite velocity.
+        let to = from.lerp(grab.target, 0.5);
+        world.particles.velocity[i] = (to - from) / dt;
+        world.particles.position[i] = to;
+    }
+
+    /// The particle whose sphere the ray through `pixel` hits first, if any.
+    #[must_use]
+    pub fn pick(&self, pixel: Vec2, viewport: Vec2) -> Option<ParticleId> {
+        let (origin, direction) = self.camera.ray(pixel, viewport);
+        let particles = &self.scene.world().particles;
+        let mut best: Option<(f32, ParticleId)> = None;
+        for (i, &id) in particles.ids().iter().enumerate() {
+            // A little larger than drawn, so small particles are easy to catch.
+            let radius = particles.radius[i].max(0.05) * 1.3 + 0.05;
+            let to_center = particles.position[i] - origin;
+            let along = to_center.dot(direction);
+            let miss = to_center.length_squared() - along * along;
+            if along > 0.0 && miss <= radius * radius && best.is_none_or(|(d, _)| along < d) {
+                best = Some((along, id));
+            }
+        }
+        best.map(|(_, id)| id)
+    }
+
+    /// Starts dragging the particle under `pixel`; false if there is none.
+    pub fn start_grab(&mut self, pixel: Vec2, viewport: Vec2) -> bool {
+        let Some(id) = self.pick(pixel, viewport) else { return false };
+        let particles = &self.scene.world().particles;
+        let Some(i) = particles.index(id) else { return false };
+        let point = particles.position[i];
+        let normal = (self.camera.eye() - self.camera.target).normalize_or_zero();
+        self.grab = Some(Grab { id, plane_point: point, plane_normal: normal, target: point });
+        log::info!("grab: particle {}", id.0);
+        true
+    }
+
+    /// Moves the drag target to where the ray through `pixel` meets the drag plane.
+    pub fn move_grab(&mut self, pixel: Vec2, viewport: Vec2) {
+        let Some(grab) = &mut self.grab else { return };
+        let (origin, direction) = self.camera.ray(pixel, viewport);
+        let facing = direction.dot(grab.plane_normal);
+        if facing.abs() > 1e-4 {
+            let t = (grab.plane_point - origin).dot(grab.plane_normal) / facing;
+            if t > 0.0 {
+                grab.target = origin + direction * t;
+            }
+        }
+    }
+
+    /// Lets go of the dragged particle (it keeps the velocity it had).
+    pub fn end_grab(&mut self) {
+        self.grab = None;
+    }
+
+    /// Points the camera where the scene asks.
+    pub fn frame_scene(&mut self) {
+        self.camera = OrbitCamera::from_hint(self.scene.camera());
+    }
+
+    /// Index of the current scene in the registry.
+    #[must_use]
+    pub fn scene_index(&self) -> usize {
+        SCENES.iter().position(|e| std::ptr::eq(e, self.entry)).unwrap_or(0)
+    }
+}

@@ -1,0 +1,369 @@
+//! The egui panel: menu bar, side panel (scene parameters, run controls, stats, energy
+//! plot), help window, and the 3D view's mouse handling. The same code runs in the
+//! window and in `render --ui`.
+
+pub mod lab;
+pub mod paint;
+
+use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
+use glam::Vec2;
+
+use crate::scenes::{SCENES, SceneAction};
+pub use lab::Lab;
+
+/// Keyboard shortcuts, as shown in the Help window.
+pub const SHORTCUTS: &[(&str, &str)] = &[
+    ("Space", "pause / resume"),
+    (".", "one physics step"),
+    ("R", "reset the scene"),
+    ("F", "fire (projectile)"),
+    ("Arrows / WASD", "move the load (bridge)"),
+    ("Home", "frame the scene"),
+    ("F12", "save a screenshot"),
+    ("Ctrl+Q", "quit"),
+    ("Left drag on a particle", "drag it (let go to throw)"),
+    ("Left drag elsewhere", "orbit the camera"),
+    ("Right or middle drag", "pan"),
+    ("Wheel", "zoom"),
+];
+
+/// Draws the whole interface for one frame and handles its input. Returns the 3D
+/// view's rectangle (in points).
+pub fn show(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
+    shortcuts(ui.ctx(), lab);
+    egui::Panel::top("menu").show(ui, |ui| menu_bar(ui, lab));
+    if !lab.status.is_empty() {
+        egui::Panel::bottom("status").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label(&lab.status);
+                if ui.small_button("✕").on_hover_text("Dismiss").clicked() {
+                    lab.status.clear();
+                }
+            });
+        });
+    }
+    egui::Panel::left("controls").default_size(300.0).resizable(true).show(ui, |ui| {
+        egui::ScrollArea::vertical().show(ui, |ui| side_panel(ui, lab));
+    });
+    let mut open = lab.show_help;
+    egui::Window::new("Controls").open(&mut open).resizable(false).show(ui.ctx(), |ui| help(ui));
+    lab.show_help = open;
+    egui::CentralPanel::no_frame().show(ui, |ui| view_3d(ui, lab)).inner
+}
+
+fn shortcuts(ctx: &egui::Context, lab: &mut Lab) {
+    if ctx.egui_wants_keyboard_input() {
+        return;
+    }
+    ctx.input_mut(|input| {
+        if input.consume_key(Modifiers::COMMAND, Key::Q) {
+            lab.requests.quit = true;
+        }
+        if input.consume_key(Modifiers::NONE, Key::Space) {
+            lab.paused = !lab.paused;
+            log::info!("paused: {}", lab.paused);
+        }
+        if input.consume_key(Modifiers::NONE, Key::Period) {
+            lab.paused = true;
+            lab.run_steps(1);
+        }
+        if input.consume_key(Modifiers::NONE, Key::R) {
+            lab.reset();
+        }
+        if input.consume_key(Modifiers::NONE, Key::F) {
+            lab.act(SceneAction::Fire);
+        }
+        if input.consume_key(Modifiers::NONE, Key::Home) {
+            lab.frame_scene();
+        }
+        if input.consume_key(Modifiers::NONE, Key::F12) {
+            lab.requests.screenshot = true;
+        }
+        let step = crate::scenes::LOAD_STEP;
+        for (keys, dx, dz) in [
+            ([Key::ArrowLeft, Key::A], -step, 0.0),
+            ([Key::ArrowRight, Key::D], step, 0.0),
+            ([Key::ArrowUp, Key::W], 0.0, -step),
+            ([Key::ArrowDown, Key::S], 0.0, step),
+        ] {
+            for key in keys {
+                if input.consume_key(Modifiers::NONE, key) {
+                    lab.act(SceneAction::MoveLoad { dx, dz });
+                }
+            }
+        }
+    });
+}
+
+fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
+    egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("Scene", |ui| {
+            for entry in SCENES {
+                let current = std::ptr::eq(entry, lab.entry);
+                if ui.selectable_label(current, entry.info.name).on_hover_text(entry.info.summary).clicked() {
+                    lab.switch_scene(entry);
+                    ui.close();
+                }
+            }
+        });
+        ui.menu_button("View", |ui| {
+            ui.checkbox(&mut lab.view.trails, "Trails");
+            ui.checkbox(&mut lab.view.tension_colors, "Link colours by tension");
+            ui.checkbox(&mut lab.view.grid, "Grid");
+            ui.checkbox(&mut lab.view.stats, "Stats");
+            ui.checkbox(&mut lab.view.msaa, "Anti-aliasing (4× MSAA)")
+                .on_hover_text("Smoother edges; turn off for speed on a software GPU");
+            ui.separator();
+            if ui.button("Frame the scene (Home)").clicked() {
+                lab.frame_scene();
+                ui.close();
+            }
+            if ui.button("Save screenshot (F12)").clicked() {
+                lab.requests.screenshot = true;
+                ui.close();
+            }
+        });
+        ui.menu_button("Help", |ui| {
+            if ui.button("Controls and shortcuts").clicked() {
+                lab.show_help = true;
+                ui.close();
+            }
+        });
+        ui.separator();
+        ui.label(egui::RichText::new(lab.entry.info.name).strong());
+        ui.label(format!("t = {:.2} s", lab.scene.world().time()));
+        if lab.paused {
+            ui.colored_label(Color32::from_rgb(240, 190, 60), "paused");
+        }
+    });
+}
+
+fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
+    ui.heading(lab.entry.info.name);
+    ui.label(lab.entry.info.summary);
+    ui.separator();
+
+    ui.horizontal(|ui| {
+        let label = if lab.paused { "Resume" } else { "Pause" };
+        if ui.button(label).on_hover_text("Space").clicked() {
+            lab.paused = !lab.paused;
+        }
+        if ui.button("Step").on_hover_text("One physics step (.)").clicked() {
+            lab.paused = true;
+            lab.run_steps(1);
+        }
+        if ui.button("Reset").on_hover_text("R").clicked() {
+            lab.reset();
+        }
+    });
+    ui.add(
+        egui::Slider::new(&mut lab.time_scale, TIME_SCALE.clone())
+            .logarithmic(true)
+            .text("time scale")
+            .suffix("×"),
+    )
+    .on_hover_text("Simulated seconds per real second");
+    ui.add(
+        egui::Slider::new(&mut lab.physics_rate, PHYSICS_RATE.clone())
+            .logarithmic(true)
+            .text("physics rate")
+            .suffix(" Hz"),
+    )
+    .on_hover_text("Fixed physics steps per simulated second; the frame rate does not change it");
+
+    ui.separator();
+    ui.label(egui::RichText::new("Parameters").strong());
+    let mut changes = Vec::new();
+    for (param, value) in lab.scene.params().iter() {
+        let mut edited = value;
+        let label = if param.unit.is_empty() {
+            param.name.to_string()
+        } else {
+            format!("{} ({})", param.name, param.unit)
+        };
+        let response = ui
+            .add(
+                egui::Slider::new(&mut edited, param.min..=param.max)
+                    .logarithmic(param.logarithmic)
+                    .text(label),
+            )
+            .on_hover_text(param.help);
+        if response.changed() && edited != value {
+            changes.push((param.name, edited));
+        }
+    }
+    for (name, value) in changes {
+        lab.set_param(name, value);
+    }
+    let presets = lab.entry.info.presets;
+    if !presets.is_empty() {
+        ui.label("Presets");
+        ui.horizontal_wrapped(|ui| {
+            for preset in presets {
+                if ui.button(preset.name).on_hover_text(preset.help).clicked() {
+                    lab.apply_preset(preset.name);
+                }
+            }
+        });
+    }
+    let actions = lab.entry.info.actions;
+    if !actions.is_empty() {
+        ui.horizontal_wrapped(|ui| {
+            for action in actions {
+                if ui.button(action.label).on_hover_text(action.key).clicked() {
+                    lab.act(action.action);
+                }
+            }
+        });
+    }
+
+    ui.separator();
+    egui::Grid::new("readouts").num_columns(2).striped(true).show(ui, |ui| {
+        for (name, value) in lab.scene.readouts(lab.dt()) {
+            ui.label(name);
+            ui.label(value);
+            ui.end_row();
+        }
+    });
+
+    if lab.view.stats {
+        ui.separator();
+        ui.label(egui::RichText::new("Stats").strong());
+        let world = lab.scene.world();
+        let report = world.last_report();
+        let energy = world.energy();
+        egui::Grid::new("stats").num_columns(2).show(ui, |ui| {
+            let mut row = |name: &str, value: String| {
+                ui.label(name);
+                ui.monospace(value);
+                ui.end_row();
+            };
+            row("FPS", format!("{:.0}", lab.stats.fps));
+            row("frame time", format!("{:.1} ms", lab.stats.frame_ms));
+            row("physics / step", format!("{:.1} µs", lab.stats.step_ms * 1000.0));
+            row("steps / frame", lab.stats.steps_last_frame.to_string());
+            row("particles", world.particles.len().to_string());
+            row("contacts", world.contacts().len().to_string());
+            row("resolver iterations", report.iterations().to_string());
+            row("kinetic energy", format!("{:.2} J", energy.kinetic));
+            row("potential energy", format!("{:.2} J", energy.potential));
+        });
+        energy_plot(ui, lab);
+    }
+}
+
+const TIME_SCALE: std::ops::RangeInclusive<f32> = lab::TIME_SCALE_RANGE;
+const PHYSICS_RATE: std::ops::RangeInclusive<f32> = lab::PHYSICS_RATE_RANGE;
+
+/// Kinetic, potential and total energy over the last few seconds.
+fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 110.0), Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, Color32::from_gray(20));
+    let samples = &lab.energy;
+    let (Some(first), Some(last)) = (samples.front(), samples.back()) else { return };
+    let totals = samples.iter().map(|s| s.kinetic + s.potential);
+    let values = samples.iter().flat_map(|s| [s.kinetic, s.potential]).chain(totals);
+    let (low, high) = values.fold((f32::MAX, f32::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let span_t = (last.t - first.t).max(1e-6);
+    let span_e = (high - low).max(1e-6);
+    let to_screen = |t: f64, e: f32| {
+        egui::pos2(
+            rect.left() + ((t - first.t) / span_t) as f32 * rect.width(),
+            rect.bottom() - 4.0 - (e - low) / span_e * (rect.height() - 8.0),
+        )
+    };
+    let series: [(&str, Color32, fn(&lab::EnergySample) -> f32); 3] = [
+        ("kinetic", Color32::from_rgb(240, 140, 40), |s| s.kinetic),
+        ("potential", Color32::from_rgb(80, 160, 240), |s| s.potential),
+        ("total", Color32::from_rgb(220, 220, 220), |s| s.kinetic + s.potential),
+    ];
+    for (k, (name, color, value)) in series.iter().enumerate() {
+        let points: Vec<egui::Pos2> = samples.iter().map(|s| to_screen(s.t, value(s))).collect();
+        painter.add(egui::Shape::line(points, Stroke::new(1.5, *color)));
+        painter.text(
+            rect.left_top() + egui::vec2(6.0, 4.0 + 13.0 * k as f32),
+            egui::Align2::LEFT_TOP,
+            *name,
+            egui::FontId::proportional(11.0),
+            *color,
+        );
+    }
+    painter.text(
+        rect.right_top() + egui::vec2(-6.0, 4.0),
+        egui::Align2::RIGHT_TOP,
+        format!("{high:.1} J"),
+        egui::FontId::monospace(10.0),
+        Color32::GRAY,
+    );
+    painter.text(
+        rect.right_bottom() + egui::vec2(-6.0, -4.0),
+        egui::Align2::RIGHT_BOTTOM,
+        format!("{low:.1} J"),
+        egui::FontId::monospace(10.0),
+        Color32::GRAY,
+    );
+}
+
+fn help(ui: &mut egui::Ui) {
+    egui::Grid::new("shortcuts").num_columns(2).striped(true).show(ui, |ui| {
+        for (key, meaning) in SHORTCUTS {
+            ui.monospace(*key);
+            ui.label(*meaning);
+            ui.end_row();
+        }
+    });
+}
+
+/// The 3D view's input: drag particles, orbit, pan and zoom. Only input that reached
+/// this area (not the panels) moves anything.
+fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
+    let rect = ui.max_rect();
+    let response = ui.interact(rect, ui.scope_id().with("3d view"), Sense::click_and_drag());
+    let size = Vec2::new(rect.width(), rect.height());
+    let local = |p: egui::Pos2| Vec2::new(p.x - rect.left(), p.y - rect.top());
+
+    lab.hovered = response.hover_pos().and_then(|p| lab.pick(local(p), size));
+    if response.drag_started_by(PointerButton::Primary) {
+        if let Some(p) = response.interact_pointer_pos() {
+            // Press on a particle to drag it; anywhere else orbits.
+            let press = p - response.drag_delta();
+            lab.start_grab(local(press), size);
+        }
+    }
+    if response.dragged_by(PointerButton::Primary) {
+        if lab.grab.is_some() {
+            if let Some(p) = response.interact_pointer_pos() {
+                lab.move_grab(local(p), size);
+            }
+        } else {
+            let d = response.drag_delta();
+            lab.camera.orbit(Vec2::new(d.x, d.y));
+        }
+    }
+    if response.drag_stopped() {
+        lab.end_grab();
+    }
+    if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
+        let d = response.drag_delta();
+        lab.camera.pan(Vec2::new(d.x, d.y), rect.height());
+    }
+    if response.hovered() {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+        if scroll != 0.0 {
+            lab.camera.zoom(scroll / 50.0);
+        }
+    }
+    if lab.scene.world().particles.is_empty()
+        && lab.entry.info.actions.iter().any(|a| a.action == SceneAction::Fire)
+    {
+        ui.painter().text(
+            rect.center_top() + egui::vec2(0.0, 24.0),
+            egui::Align2::CENTER_TOP,
+            "Press F (or the Fire button) to launch a round",
+            egui::FontId::proportional(16.0),
+            Color32::from_gray(200),
+        );
+    }
+    rect
+}

@@ -1,0 +1,109 @@
+//! Paints one frame, the 3D view then the egui panel, into any pair of texture views.
+//! The window, its screenshots and `render` all go through here.
+
+use crate::render::renderer::DEFAULT_SAMPLE_COUNT;
+use crate::render::{FrameBuilder, Renderer};
+use crate::ui::Lab;
+
+/// The egui side of a frame: what to draw and at what scale.
+pub struct UiFrame<'a> {
+    /// Tessellated egui output.
+    pub primitives: &'a [egui::ClippedPrimitive],
+    /// Physical pixels per egui point.
+    pub pixels_per_point: f32,
+}
+
+/// The 3D renderer, egui's renderer, and the frame builder, built once.
+pub struct Painter {
+    renderer: Renderer,
+    format: wgpu::TextureFormat,
+    egui: egui_wgpu::Renderer,
+    builder: FrameBuilder,
+}
+
+impl Painter {
+    /// Builds both renderers for targets of `format` (a non-sRGB format; the 3D pass
+    /// draws through its sRGB view).
+    #[must_use]
+    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+        // No dithering: the panel has no gradients, and on a software GPU it costs
+        // several milliseconds a frame.
+        let options = egui_wgpu::RendererOptions { dithering: false, ..Default::default() };
+        Self {
+            renderer: Renderer::new(device, format.add_srgb_suffix(), DEFAULT_SAMPLE_COUNT),
+            format,
+            egui: egui_wgpu::Renderer::new(device, format.remove_srgb_suffix(), options),
+            builder: FrameBuilder::default(),
+        }
+    }
+
+    /// Uploads the textures egui added or changed. Call before [`Self::paint`].
+    pub fn update_textures(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        delta: &egui::TexturesDelta,
+    ) {
+        for (id, images) in &delta.set {
+            for image in images {
+                self.egui.update_texture(device, queue, *id, image);
+            }
+        }
+    }
+
+    /// Frees the textures egui no longer needs. Call after submitting the frame.
+    pub fn free_textures(&mut self, delta: &egui::TexturesDelta) {
+        for id in &delta.free {
+            self.egui.free_texture(id);
+        }
+    }
+
+    /// Records and submits one frame: the scene in `viewport` (x, y, width, height in
+    /// pixels) of a target `size` pixels large, then the panel if given.
+    #[allow(clippy::too_many_arguments)]
+    pub fn paint(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        srgb_view: &wgpu::TextureView,
+        view: &wgpu::TextureView,
+        size: [u32; 2],
+        viewport: [f32; 4],
+        lab: &Lab,
+        ui: Option<UiFrame<'_>>,
+    ) {
+        let samples = if lab.view.msaa { DEFAULT_SAMPLE_COUNT } else { 1 };
+        if self.renderer.sample_count() != samples {
+            self.renderer = Renderer::new(device, self.format.add_srgb_suffix(), samples);
+        }
+        let highlight = lab.grab.map(|g| g.id).or(lab.hovered);
+        let now = lab.scene.world().time();
+        let frame = self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        self.renderer.render(device, queue, &mut encoder, srgb_view, size, viewport, &lab.camera, frame);
+        let mut extra = Vec::new();
+        if let Some(ui) = ui {
+            let screen =
+                egui_wgpu::ScreenDescriptor { size_in_pixels: size, pixels_per_point: ui.pixels_per_point };
+            extra = self.egui.update_buffers(device, queue, &mut encoder, ui.primitives, &screen);
+            let mut pass = encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("egui"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                })
+                .forget_lifetime();
+            self.egui.render(&mut pass, ui.primitives, &screen);
+        }
+        queue.submit(extra.into_iter().chain([encoder.finish()]));
+    }
+}
