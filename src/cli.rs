@@ -281,6 +281,13 @@ pub fn simulate(
             if let Err(error) = scene.step(plan.dt) {
                 return Ok(Err(error.to_string()));
             }
+            if !scene.world().is_finite() {
+                out.flush()?;
+                return Ok(Err(format!(
+                    "the simulation blew up at step {step} (positions or velocities are no longer \
+                     finite); try a smaller --dt, or a softer spring"
+                )));
+            }
         }
         if step == 0 || step == plan.steps || step % plan.every == 0 {
             line.clear();

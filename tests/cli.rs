@@ -147,3 +147,30 @@ fn scene_names_forgive_case_and_dashes() {
     let out = run(&["simulate", "--scene", "spring-forces", "--steps", "1"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+#[test]
+fn a_run_that_blows_up_fails_clearly_instead_of_printing_null() {
+    // ω·dt = sqrt(500/0.1) * 0.1 ≈ 7: the explicit springs explode.
+    let out = run(&[
+        "simulate",
+        "--scene",
+        "springForces",
+        "--set",
+        "k=500",
+        "--set",
+        "mass=0.1",
+        "--dt",
+        "0.1",
+        "--steps",
+        "200",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("blew up") && stderr.contains("--dt"), "{stderr}");
+    for line in json_lines(&out) {
+        for particle in line["particles"].as_array().unwrap() {
+            let numbers = particle["p"].as_array().unwrap().iter().chain(particle["v"].as_array().unwrap());
+            assert!(numbers.clone().all(Value::is_number), "printed a non-finite state: {particle}");
+        }
+    }
+}

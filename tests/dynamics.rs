@@ -353,6 +353,53 @@ fn immovable_particles_do_not_move() {
         .unwrap();
     world.step(0.1).unwrap();
     assert_eq!(world.particles.position[0], Vec3::ONE);
+    assert_eq!(world.particles.velocity[0], Vec3::ZERO, "contacts must not see a velocity it never uses");
+}
+
+#[test]
+fn removing_one_target_keeps_a_shared_field_on_the_others() {
+    let mut world = World::new();
+    let a = world.add_particle(particle(Vec3::ZERO, Vec3::X, 1.0)).unwrap();
+    let b = world.add_particle(particle(Vec3::ONE, Vec3::X, 1.0)).unwrap();
+    world.add_force(Drag { k1: 1.0, k2: 0.0, targets: vec![a, b] });
+    world.remove_particle(a);
+    assert_eq!(world.forces.len(), 1, "drag still acts on b");
+    world.step(0.1).unwrap();
+    assert!(world.particles.velocity[0].x < 1.0, "b was not slowed: {:?}", world.particles.velocity[0]);
+    world.remove_particle(b);
+    assert!(world.forces.is_empty(), "drag with no targets left is dropped");
+}
+
+#[test]
+fn a_float_keeps_its_energy_while_bobbing() {
+    let mut world = World::new();
+    let id = world
+        .add_particle(ParticleDesc {
+            acceleration: Vec3::new(0.0, -G, 0.0),
+            ..particle(Vec3::new(0.0, 3.0, 0.0), Vec3::ZERO, 1.0)
+        })
+        .unwrap();
+    world.add_force(Buoyancy {
+        target: id,
+        surface: 1.0,
+        half_height: 0.3,
+        volume: 0.002,
+        density: 1000.0,
+        g: G,
+    });
+    let total = |w: &World| {
+        let e = w.energy();
+        e.kinetic + e.potential
+    };
+    let start = total(&world);
+    let mut lowest = f32::MAX;
+    for _ in 0..(240 * 10) {
+        world.step(1.0 / 240.0).unwrap();
+        lowest = lowest.min(world.particles.position[0].y);
+        let drift = (total(&world) - start).abs();
+        assert!(drift < 0.01 * start.abs().max(1.0), "energy drifted by {drift} J");
+    }
+    assert!(lowest < 1.0, "it went into the water");
 }
 
 #[test]

@@ -132,7 +132,27 @@ fn coincident_spring_ends_give_zero_force_not_nan() {
     let (mut world, ids) = world_with(&[Vec3::ONE, Vec3::ONE], &[Vec3::ZERO; 2], 1.0);
     let mut spring = Spring::between(ids[0], ids[1], 100.0, 1.0);
     let f = forces_of(&mut world, &mut spring);
-    assert!(f.iter().all(|v| v.is_finite()));
+    assert_eq!(f, vec![Vec3::ZERO, Vec3::ZERO], "no direction, no force");
+    let mut bungee = Spring::between(ids[0], ids[1], 100.0, 0.0).as_bungee();
+    assert_eq!(forces_of(&mut world, &mut bungee), vec![Vec3::ZERO, Vec3::ZERO]);
+}
+
+#[test]
+fn buoyancy_energy_is_minus_the_integral_of_its_force() {
+    let (mut world, ids) = world_with(&[Vec3::ZERO], &[Vec3::ZERO], 1.0);
+    let buoyancy =
+        Buoyancy { target: ids[0], surface: 2.0, half_height: 0.5, volume: 0.01, density: 1000.0, g: 10.0 };
+    // F = -dU/dy everywhere: check by central differences across all three regimes.
+    for y in [3.0_f32, 2.4, 2.0, 1.7, 1.2, -1.0] {
+        let h = 1e-3;
+        let mut energy_at = |y: f32| {
+            world.particles.position[0].y = y;
+            buoyancy.potential_energy(&world.particles)
+        };
+        let slope = (energy_at(y + h) - energy_at(y - h)) / (2.0 * h);
+        let force = buoyancy.force(y).y;
+        assert!((slope + force).abs() < 0.5, "y {y}: dU/dy {slope} vs -F {}", -force);
+    }
 }
 
 #[test]
@@ -156,6 +176,50 @@ fn damped_oscillator_matches_its_differential_equation() {
         let (y, v) = damped_oscillator(y0, v0, omega, zeta, 0.0);
         assert!((y - y0).length() < 1e-12 && (v - v0).length() < 1e-12);
     }
+}
+
+#[test]
+fn stiff_spring_first_step_lands_on_the_closed_form_despite_damping() {
+    // The integrator's damping factor must be the one the spring planned with, also on
+    // the very first step.
+    let anchor = Vec3::ZERO;
+    let start = Vec3::new(0.5, 0.0, 0.0);
+    let (k, dt) = (400.0_f32, 0.01_f32);
+    let mut world = World::new();
+    let id = world
+        .add_particle(ParticleDesc { position: start, damping: 0.5, ..ParticleDesc::default() })
+        .unwrap();
+    world.add_force(StiffSpring::new(id, anchor, k, 0.0));
+    world.step(dt).unwrap();
+    let (expected, _) =
+        damped_oscillator(start.as_dvec3(), DVec3::ZERO, f64::from(k).sqrt(), 0.0, f64::from(dt));
+    let got = world.particles.position[0].as_dvec3();
+    assert!((got - expected).length() < 1e-6, "got {got:?}, expected {expected:?}");
+}
+
+#[test]
+fn stiff_spring_under_gravity_oscillates_about_the_shifted_rest_point() {
+    let anchor = Vec3::new(0.0, 5.0, 0.0);
+    let (k, mass, g, dt) = (100.0_f32, 1.0_f32, 9.81_f32, 1.0 / 60.0);
+    let mut world = World::new();
+    let id = world
+        .add_particle(ParticleDesc {
+            position: anchor,
+            acceleration: Vec3::new(0.0, -g, 0.0),
+            mass,
+            ..ParticleDesc::default()
+        })
+        .unwrap();
+    world.add_force(StiffSpring::new(id, anchor, k, 0.0));
+    let omega = f64::from(k / mass).sqrt();
+    let rest = anchor.as_dvec3() - DVec3::Y * f64::from(g * mass / k);
+    let (mut y, mut v) = (anchor.as_dvec3() - rest, DVec3::ZERO);
+    for _ in 0..600 {
+        world.step(dt).unwrap();
+        (y, v) = damped_oscillator(y, v, omega, 0.0, f64::from(dt));
+    }
+    let got = world.particles.position[0].as_dvec3();
+    assert!((got - (rest + y)).length() < 1e-3, "got {got:?}, expected {:?}", rest + y);
 }
 
 #[test]

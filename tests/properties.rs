@@ -46,7 +46,8 @@ proptest! {
     #[test]
     fn no_generator_or_contact_produces_nan(
         pa in position(), pb in position(), va in vec3(50.0), vb in vec3(50.0),
-        ma in prop_oneof![0.01f32..1000.0, Just(f32::INFINITY)], mb in 0.01f32..1000.0,
+        ma in prop_oneof![0.01f32..1000.0, Just(f32::INFINITY)],
+        mb in prop_oneof![0.01f32..1000.0, Just(f32::INFINITY)],
         k in 0.0f32..1.0e6, rest in 0.0f32..5.0, radius in 0.0f32..2.0,
         restitution in 0.0f32..=1.0, dt in 1.0e-4f32..0.1, zeta in 0.0f32..5.0,
     ) {
@@ -65,8 +66,14 @@ proptest! {
         world.add_contact_generator(Constraint::cable(a, b, rest, restitution));
         world.add_contact_generator(Constraint::support_rod(a, pb, rest));
         world.add_contact_generator(Constraint::support_cable(b, pa, rest, restitution));
-        // One step: forces, contacts and their resolution are all exercised once.
-        world.step(dt).unwrap();
+        // Several steps: the stiff spring's remembered velocity and repeated contacts
+        // are exercised too. Explicit springs may legitimately grow; NaN never.
+        for _ in 0..5 {
+            world.step(dt).unwrap();
+            if !world.particles.position.iter().all(|p| p.length() < 1.0e15) {
+                break;
+            }
+        }
         prop_assert!(world.is_finite(), "state after a step: {:?}", world.particles);
         for contact in world.contacts() {
             prop_assert!(contact.normal.is_finite() && contact.penetration.is_finite());

@@ -13,8 +13,15 @@ pub trait ForceGenerator {
     /// Adds this step's force to the particles' accumulators. `dt` is the step (s).
     fn apply(&mut self, particles: &mut Particles, dt: f32);
 
-    /// Whether this generator refers to the particle (so it must go when the particle does).
+    /// Whether this generator refers to the particle.
     fn involves(&self, id: ParticleId) -> bool;
+
+    /// The particle is being removed: forget it. Returns true if the generator has
+    /// nothing left to act on and must go too. A link goes with either end; a field
+    /// acting on many particles only drops that one from its list.
+    fn release(&mut self, id: ParticleId) -> bool {
+        self.involves(id)
+    }
 
     /// Stored elastic or field energy (J) in the current state; 0 if not meaningful.
     fn potential_energy(&self, _particles: &Particles) -> f32 {
@@ -71,9 +78,9 @@ impl ForceRegistry {
         }
     }
 
-    /// Drops every generator that refers to the particle.
+    /// Tells every generator the particle is gone, dropping those left with nothing.
     pub fn remove_involving(&mut self, particle: ParticleId) {
-        self.entries.retain(|(_, g)| !g.involves(particle));
+        self.entries.retain_mut(|(_, g)| !g.release(particle));
     }
 
     /// Unregisters everything.
@@ -156,6 +163,11 @@ impl ForceGenerator for Gravity {
         self.targets.contains(&id)
     }
 
+    fn release(&mut self, id: ParticleId) -> bool {
+        self.targets.retain(|&target| target != id);
+        self.targets.is_empty()
+    }
+
     fn potential_energy(&self, particles: &Particles) -> f32 {
         self.targets
             .iter()
@@ -199,6 +211,11 @@ impl ForceGenerator for Drag {
 
     fn involves(&self, id: ParticleId) -> bool {
         self.targets.contains(&id)
+    }
+
+    fn release(&mut self, id: ParticleId) -> bool {
+        self.targets.retain(|&target| target != id);
+        self.targets.is_empty()
     }
 }
 
@@ -339,5 +356,25 @@ impl ForceGenerator for Buoyancy {
 
     fn involves(&self, id: ParticleId) -> bool {
         self.target == id
+    }
+
+    /// Work done against buoyancy to push the body down from the surface (J):
+    /// `ρ V g s u²` while partly submerged (`u` the submerged fraction), growing
+    /// linearly once fully under. Zero when clear of the liquid.
+    fn potential_energy(&self, particles: &Particles) -> f32 {
+        let Some(i) = particles.index(self.target) else { return 0.0 };
+        let weight = self.density * self.volume * self.g;
+        let s = self.half_height;
+        if s <= 0.0 {
+            return (weight * (self.surface - particles.position[i].y)).max(0.0);
+        }
+        let u = (self.surface + s - particles.position[i].y) / (2.0 * s);
+        if u <= 0.0 {
+            0.0
+        } else if u <= 1.0 {
+            weight * s * u * u
+        } else {
+            weight * s * (2.0 * u - 1.0)
+        }
     }
 }

@@ -206,6 +206,9 @@ impl ContactGenerator for Constraint {
             },
             LinkEnd::Anchor(p) => (None, p),
         };
+        if b == Some(a) {
+            return; // a link from a particle to itself constrains nothing
+        }
         let (towards_b, current) = direction_or_zero(other - particles.position[a]);
         let error = current - self.length;
         let too_long = error > 0.0;

@@ -161,7 +161,8 @@ impl Particles {
         self.slots.push(self.ids.len() as u32);
         self.ids.push(id);
         self.position.push(desc.position);
-        self.velocity.push(desc.velocity);
+        // An immovable particle never moves, so it has no velocity for contacts to see.
+        self.velocity.push(if inverse_mass > 0.0 { desc.velocity } else { Vec3::ZERO });
         self.acceleration.push(desc.acceleration);
         self.force.push(Vec3::ZERO);
         self.inverse_mass.push(inverse_mass);
@@ -245,6 +246,9 @@ impl Particles {
     pub fn set_mass(&mut self, id: ParticleId, mass: f32) -> Result<(), PhysicsError> {
         let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
         self.inverse_mass[index] = inverse_mass(mass)?;
+        if self.inverse_mass[index] == 0.0 {
+            self.velocity[index] = Vec3::ZERO;
+        }
         Ok(())
     }
 

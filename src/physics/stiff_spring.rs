@@ -10,7 +10,9 @@
 //! The integrator's stored velocity is then the step's average velocity, not the exact
 //! end velocity; feeding the average back in is only marginally stable, so the
 //! generator remembers the exact velocity and uses it when nothing else has moved the
-//! particle since.
+//! particle since. A consequence: the particle's reported velocity (and so the world's
+//! kinetic energy) is the step's average, which at ω·dt near 1 or more differs visibly
+//! from the instantaneous velocity; positions follow the closed form exactly.
 
 use glam::{DVec3, Vec3};
 
@@ -72,7 +74,7 @@ impl ForceGenerator for StiffSpring {
     fn apply(&mut self, particles: &mut Particles, dt: f32) {
         let Some(i) = particles.index(self.target) else { return };
         let inverse_mass = particles.inverse_mass[i];
-        if inverse_mass <= 0.0 || self.k <= 0.0 || dt <= 0.0 {
+        if inverse_mass <= 0.0 || !(self.k > 0.0 && self.k.is_finite()) || dt <= 0.0 {
             return;
         }
         let position = particles.position[i];

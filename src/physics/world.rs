@@ -105,6 +105,8 @@ impl World {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(PhysicsError::InvalidTimeStep(dt));
         }
+        // Before the generators: the stiff spring reads this step's damping factor.
+        self.particles.prepare_damping(dt);
         self.particles.clear_forces();
         self.forces.apply(&mut self.particles, dt);
         self.particles.integrate(dt);
@@ -213,8 +215,14 @@ impl World {
     }
 
     /// Sets the constant acceleration of every particle (typically gravity).
-    pub fn set_acceleration_all(&mut self, acceleration: Vec3) {
+    pub fn set_acceleration_all(&mut self, acceleration: Vec3) -> Result<(), PhysicsError> {
+        if !acceleration.is_finite() {
+            return Err(PhysicsError::InvalidParticle(format!(
+                "acceleration must be finite, got {acceleration}"
+            )));
+        }
         self.particles.acceleration.fill(acceleration);
+        Ok(())
     }
 
     /// True if every position and velocity is finite.

@@ -138,7 +138,7 @@ impl Scene for Bridge {
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
         self.params.set(name, value)?;
         if name == "g" {
-            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0));
+            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
         } else {
             self.distribute_load();
         }

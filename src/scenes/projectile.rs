@@ -112,7 +112,7 @@ impl Scene for Projectile {
         self.params.set(name, value)?;
         if name == "g" {
             let gravity = self.gravity();
-            self.world.set_acceleration_all(gravity);
+            self.world.set_acceleration_all(gravity).expect("g is range-checked");
         }
         // Launch settings apply to the next round fired.
         Ok(())

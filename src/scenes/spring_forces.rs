@@ -119,7 +119,7 @@ impl Scene for SpringForces {
         params.set(name, value)?;
         match name {
             "g" => {
-                self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0));
+                self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
                 self.world.forces.replace(self.float_force, Box::new(float_buoyancy(self.float, value)));
                 self.params = params;
             }

@@ -233,6 +233,14 @@ impl Lab {
                 self.paused = true;
                 break;
             }
+            if !self.scene.world().is_finite() {
+                self.status = "The simulation blew up (a value stopped being finite): paused. \
+                               Lower the time step (raise the physics rate) or soften a spring, then Reset."
+                    .into();
+                log::warn!("{}", self.status);
+                self.paused = true;
+                break;
+            }
         }
         let per_step = started.elapsed().as_secs_f32() * 1000.0 / steps as f32;
         self.stats.step_ms =
