@@ -5,8 +5,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # Debian packages: a software Vulkan driver for headless rendering, a virtual X
-# display and xdotool for driving the real window, ImageMagick for screenshots.
-packages=(mesa-vulkan-drivers libvulkan1 xvfb xdotool imagemagick x11-utils)
+# display with a window manager (openbox, wmctrl) and xdotool for driving the real
+# window, ImageMagick for screenshots of the screen.
+packages=(mesa-vulkan-drivers libvulkan1 xvfb xdotool openbox wmctrl imagemagick)
 missing=()
 for package in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

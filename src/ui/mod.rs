@@ -36,7 +36,7 @@ pub fn show(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
         egui::Panel::bottom("status").show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.label(&lab.status);
-                if ui.small_button("✕").on_hover_text("Dismiss").clicked() {
+                if ui.small_button("Dismiss").clicked() {
                     lab.status.clear();
                 }
             });

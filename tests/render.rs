@@ -1,0 +1,194 @@
+//! Headless render tests on wgpu's adapter (Mesa's lavapipe on CI): every scene against a
+//! reference image, plus checks of specific content.
+//!
+//! Set `UPDATE_GOLDEN=1` to rewrite the references in `tests/golden/`. On a mismatch the
+//! test writes `<scene>-actual.png` and `<scene>-difference.png` next to the reference.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use glam::Vec2;
+use particle_lab::render::offscreen::{read_png, write_png};
+use particle_lab::scenes::SCENES;
+use particle_lab::snapshot::Snapshotter;
+use particle_lab::ui::Lab;
+
+/// Not a multiple of 64 wide, so read-back has to unpad rows.
+const SIZE: [u32; 2] = [400, 300];
+const STEPS: u64 = 120;
+/// A channel may differ by this much before the pixel counts as different.
+const CHANNEL_TOLERANCE: u8 = 24;
+/// Share of pixels allowed to differ.
+const PIXEL_TOLERANCE: f64 = 0.005;
+
+fn snapshotter() -> Snapshotter {
+    Snapshotter::new().unwrap_or_else(|e| {
+        panic!("headless rendering needs a GPU adapter: {e}; 'bash scripts/test.sh' installs Mesa's lavapipe")
+    })
+}
+
+fn golden_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden")
+}
+
+fn pixel(image: &[u8], size: [u32; 2], x: u32, y: u32) -> [u8; 4] {
+    let i = ((y * size[0] + x) * 4) as usize;
+    [image[i], image[i + 1], image[i + 2], image[i + 3]]
+}
+
+fn differs(a: [u8; 4], b: [u8; 4], tolerance: u8) -> bool {
+    a.iter().zip(&b).any(|(x, y)| x.abs_diff(*y) > tolerance)
+}
+
+/// Compares with the reference image; on a mismatch writes the actual image and a
+/// difference image and fails.
+fn compare_with_golden(name: &str, actual: &[u8], size: [u32; 2]) {
+    let dir = golden_dir();
+    let reference_path = dir.join(format!("{name}.png"));
+    if std::env::var_os("UPDATE_GOLDEN").is_some() {
+        std::fs::create_dir_all(&dir).unwrap();
+        write_png(&reference_path, size, actual).unwrap();
+        return;
+    }
+    let (expected, expected_size) = read_png(&reference_path)
+        .unwrap_or_else(|e| panic!("{e}; run with UPDATE_GOLDEN=1 to create the reference"));
+    assert_eq!(expected_size, size, "{name}: reference has another size");
+    let mut difference = Vec::with_capacity(actual.len());
+    let mut different = 0usize;
+    for (a, e) in actual.chunks_exact(4).zip(expected.chunks_exact(4)) {
+        let (a, e) = ([a[0], a[1], a[2], a[3]], [e[0], e[1], e[2], e[3]]);
+        if differs(a, e, CHANNEL_TOLERANCE) {
+            different += 1;
+        }
+        for c in 0..3 {
+            difference.push(a[c].abs_diff(e[c]).saturating_mul(4));
+        }
+        difference.push(255);
+    }
+    let share = different as f64 / f64::from(size[0] * size[1]);
+    if share > PIXEL_TOLERANCE {
+        write_png(&dir.join(format!("{name}-actual.png")), size, actual).unwrap();
+        write_png(&dir.join(format!("{name}-difference.png")), size, &difference).unwrap();
+        panic!(
+            "{name}: {:.2}% of pixels differ from {} (allowed {:.2}%); wrote {name}-actual.png and \
+             {name}-difference.png beside it",
+            share * 100.0,
+            reference_path.display(),
+            PIXEL_TOLERANCE * 100.0
+        );
+    }
+}
+
+#[test]
+fn every_scene_matches_its_reference_image() {
+    let mut snapshotter = snapshotter();
+    for entry in SCENES {
+        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        lab.run_steps_recorded(STEPS);
+        let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        assert_eq!(image.len(), (SIZE[0] * SIZE[1] * 4) as usize);
+        compare_with_golden(entry.info.name, &image, SIZE);
+    }
+}
+
+#[test]
+fn each_particle_is_drawn_where_the_camera_projects_it() {
+    let mut snapshotter = snapshotter();
+    for entry in SCENES {
+        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        lab.run_steps_recorded(STEPS);
+        let with = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        let world = lab.scene.world();
+        let id = world.particles.id(0);
+        let centre = world.particles.position[0];
+        let screen = lab.camera.project(centre, Vec2::new(SIZE[0] as f32, SIZE[1] as f32)).unwrap();
+        let (x, y) = (screen.x.round() as u32, screen.y.round() as u32);
+        assert!(x < SIZE[0] && y < SIZE[1], "{}: particle 0 is off screen at {screen}", entry.info.name);
+        // Without the particle, the same pixel shows something else (ground or sky).
+        lab.scene.world_mut().remove_particle(id);
+        let without = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        let (a, b) = (pixel(&with, SIZE, x, y), pixel(&without, SIZE, x, y));
+        assert!(
+            differs(a, b, 30),
+            "{}: pixel ({x}, {y}) is {a:?} with and {b:?} without particle 0",
+            entry.info.name
+        );
+    }
+}
+
+#[test]
+fn the_ui_draws_a_panel_over_the_scene() {
+    let mut snapshotter = snapshotter();
+    let size = [900, 600];
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    lab.run_steps_recorded(STEPS);
+    let bare = snapshotter.render(&mut lab, size, false).unwrap();
+    let with_ui = snapshotter.render(&mut lab, size, true).unwrap();
+    // The left panel and the menu bar cover what the bare frame shows there.
+    let mut covered = 0;
+    let mut total = 0;
+    for y in (40..size[1]).step_by(7) {
+        for x in (0..200).step_by(7) {
+            total += 1;
+            if differs(pixel(&bare, size, x, y), pixel(&with_ui, size, x, y), 8) {
+                covered += 1;
+            }
+        }
+    }
+    assert!(covered as f64 > 0.5 * total as f64, "panel covers only {covered} of {total} samples");
+    // The menu bar runs across the top, over the sky.
+    let top = (300..size[0])
+        .step_by(20)
+        .filter(|&x| differs(pixel(&bare, size, x, 8), pixel(&with_ui, size, x, 8), 8));
+    assert!(top.count() > 20, "no menu bar across the top");
+}
+
+fn binary() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+}
+
+#[test]
+fn render_command_writes_a_png_of_any_size() {
+    let dir = std::env::temp_dir().join(format!("particle-lab-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("odd.png");
+    let result = binary()
+        .args([
+            "render",
+            "--scene",
+            "springForces",
+            "--set",
+            "k=50",
+            "--steps",
+            "30",
+            "--size",
+            "333x217",
+            "--ui",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let (pixels, size) = read_png(&out).unwrap();
+    assert_eq!(size, [333, 217]);
+    assert_eq!(pixels.len(), 333 * 217 * 4);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn render_command_rejects_bad_input_with_exit_code_2() {
+    for (args, word) in [
+        (vec!["render", "--scene", "bridge", "--size", "0x100", "--out", "x.png"], "0x100"),
+        (vec!["render", "--scene", "bridge", "--size", "big", "--out", "x.png"], "big"),
+        (vec!["render", "--scene", "bridge", "--out", "x.jpg"], "png"),
+        (vec!["render", "--scene", "nope", "--out", "x.png"], "valid scenes"),
+        (vec!["render", "--scene", "bridge", "--set", "g=-1", "--out", "x.png"], "range"),
+    ] {
+        let result = binary().args(&args).output().unwrap();
+        assert_eq!(result.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.contains(word), "{args:?}: {stderr}");
+    }
+}

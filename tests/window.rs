@@ -1,0 +1,249 @@
+//! End-to-end: the real binary in a real window on a virtual X display (Xvfb, with the
+//! openbox window manager so closing and minimising work as on a desktop), driven with
+//! xdotool the way a person would use it. `bash scripts/test.sh` installs the tools.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+const TIMEOUT: Duration = Duration::from_secs(30);
+
+/// A private X display with a window manager; both are killed on drop.
+struct Display {
+    name: String,
+    server: Child,
+    window_manager: Child,
+}
+
+impl Display {
+    fn start() -> Self {
+        for tool in ["Xvfb", "xdotool", "openbox", "wmctrl", "import"] {
+            let found = Command::new("sh").args(["-c", &format!("command -v {tool}")]).output().unwrap();
+            assert!(found.status.success(), "{tool} is missing; 'bash scripts/test.sh' installs it");
+        }
+        // Xvfb picks a free display number itself and prints it.
+        let mut server = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb starts");
+        let mut number = String::new();
+        std::io::BufRead::read_line(&mut std::io::BufReader::new(server.stdout.take().unwrap()), &mut number)
+            .expect("Xvfb prints its display number");
+        let name = format!(":{}", number.trim());
+        let window_manager = Command::new("openbox")
+            .env("DISPLAY", &name)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("openbox starts");
+        std::thread::sleep(Duration::from_millis(500));
+        Self { name, server, window_manager }
+    }
+
+    fn run(&self, program: &str, args: &[&str]) -> String {
+        let output = Command::new(program).env("DISPLAY", &self.name).args(args).output().unwrap();
+        String::from_utf8_lossy(&output.stdout).into_owned()
+    }
+
+    fn xdotool(&self, args: &[&str]) -> String {
+        self.run("xdotool", args)
+    }
+}
+
+impl Drop for Display {
+    fn drop(&mut self) {
+        let _ = self.window_manager.kill();
+        let _ = self.server.kill();
+        let _ = self.window_manager.wait();
+        let _ = self.server.wait();
+    }
+}
+
+fn wait_until(what: &str, mut done: impl FnMut() -> bool) {
+    let start = Instant::now();
+    while !done() {
+        assert!(start.elapsed() < TIMEOUT, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// The app under test, its log going to a file we can read while it runs.
+struct App {
+    child: Child,
+    log: PathBuf,
+    dir: PathBuf,
+}
+
+impl App {
+    fn start(display: &Display, args: &[&str], tag: &str) -> Self {
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("window-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let log = dir.join("app.log");
+        let child = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+            .args(args)
+            .current_dir(&dir)
+            .env("DISPLAY", &display.name)
+            .env("RUST_LOG", "warn,particle_lab=info")
+            .env_remove("WAYLAND_DISPLAY")
+            .stdout(Stdio::null())
+            .stderr(std::fs::File::create(&log).unwrap())
+            .spawn()
+            .expect("particle-lab starts");
+        Self { child, log, dir }
+    }
+
+    fn log(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+
+    fn expect_log(&mut self, needle: &str) -> String {
+        let start = Instant::now();
+        loop {
+            let log = self.log();
+            if let Some(line) = log.lines().find(|l| l.contains(needle)) {
+                return line.to_string();
+            }
+            if let Ok(Some(status)) = self.child.try_wait() {
+                panic!("particle-lab exited ({status}) before logging '{needle}':\n{log}");
+            }
+            assert!(start.elapsed() < TIMEOUT, "no '{needle}' in the log:\n{log}");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+
+    fn window(&mut self, display: &Display) -> String {
+        let mut id = String::new();
+        wait_until("the window", || {
+            id = display
+                .xdotool(&["search", "--name", "^particle-lab$"])
+                .lines()
+                .next()
+                .unwrap_or("")
+                .to_string();
+            !id.is_empty()
+        });
+        self.expect_log("window open");
+        id
+    }
+
+    fn wait_exit(&mut self) -> ExitStatus {
+        let start = Instant::now();
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return status;
+            }
+            assert!(start.elapsed() < TIMEOUT, "particle-lab did not exit:\n{}", self.log());
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+}
+
+impl Drop for App {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn pause() {
+    std::thread::sleep(Duration::from_millis(600));
+}
+
+#[test]
+fn a_person_switches_scene_drags_a_slider_pauses_resizes_minimises_and_closes() {
+    let display = Display::start();
+    let mut app = App::start(&display, &[], "person");
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+
+    // Scene menu -> bridge.
+    display.xdotool(&["mousemove", "--window", &window, "26", "12", "click", "1"]);
+    pause();
+    display.xdotool(&["mousemove", "--window", &window, "36", "85", "click", "1"]);
+    app.expect_log("scene: bridge");
+
+    // Drag the g slider (4th parameter) to the right, in small steps like a hand.
+    display.xdotool(&["mousemove", "--window", &window, "41", "268", "mousedown", "1"]);
+    for step in 1..=6 {
+        std::thread::sleep(Duration::from_millis(100));
+        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "268"]);
+    }
+    display.xdotool(&["mouseup", "1"]);
+    app.expect_log("set bridge.g = ");
+    pause();
+    let log = app.log();
+    let last = log.lines().filter(|l| l.contains("set bridge.g = ")).last().unwrap();
+    let g: f32 = last.rsplit(' ').next().unwrap().trim().parse().unwrap();
+    assert!(g > 9.81, "dragging right should raise g from 9.81, got {g}");
+
+    // Space pauses; F12 saves a screenshot of the window.
+    display.xdotool(&["key", "space"]);
+    app.expect_log("paused: true");
+    display.xdotool(&["key", "F12"]);
+    let saved = app.expect_log("screenshot saved to ");
+    let path = saved.split("screenshot saved to ").nth(1).unwrap().trim();
+    let (pixels, size) = particle_lab::render::offscreen::read_png(Path::new(path)).unwrap();
+    assert_eq!(size, [1280, 720], "the screenshot has the window's size");
+    let distinct: std::collections::HashSet<&[u8]> = pixels.chunks(4).step_by(97).collect();
+    assert!(distinct.len() > 50, "the screenshot looks blank");
+
+    // A screenshot of the whole screen, as a person would see it (kept for a look).
+    let screen = app.dir.join("screen.png");
+    display.run("import", &["-window", "root", screen.to_str().unwrap()]);
+    assert!(screen.exists());
+
+    // Resize, minimise, restore: it keeps running.
+    display.xdotool(&["windowsize", &window, "900", "600"]);
+    app.expect_log("resized to 900x600");
+    display.xdotool(&["windowminimize", &window]);
+    pause();
+    assert!(app.child.try_wait().unwrap().is_none(), "died when minimised:\n{}", app.log());
+    display.xdotool(&["windowactivate", &window]);
+    pause();
+    assert!(app.child.try_wait().unwrap().is_none(), "died when restored:\n{}", app.log());
+
+    // Close it as a window manager does.
+    display.run("wmctrl", &["-i", "-c", &window]);
+    let status = app.wait_exit();
+    let log = app.log();
+    assert!(status.success(), "exit status {status}:\n{log}");
+    assert!(log.contains("window closed"), "{log}");
+    assert!(!log.contains("panicked"), "{log}");
+    // Passed: the screenshots are only worth keeping when something failed.
+    std::fs::remove_dir_all(&app.dir).ok();
+}
+
+#[test]
+fn opens_on_the_scene_and_settings_given_and_quits_with_ctrl_q() {
+    let display = Display::start();
+    let mut app = App::start(&display, &["--scene", "bridge", "--set", "g=5"], "ctrl-q");
+    let window = app.window(&display);
+    app.expect_log("window open: scene bridge");
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    display.xdotool(&["key", "ctrl+q"]);
+    let status = app.wait_exit();
+    let log = app.log();
+    assert!(status.success(), "exit status {status}:\n{log}");
+    assert!(log.contains("quit"), "{log}");
+    assert!(!log.contains("panicked"), "{log}");
+    std::fs::remove_dir_all(&app.dir).ok();
+}
+
+#[test]
+fn without_a_display_it_says_what_is_missing() {
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let last = stderr.trim_end().lines().last().unwrap_or("");
+    assert!(last.contains("no display") && last.contains("Xvfb"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
