@@ -14,16 +14,20 @@ fn render(c: &mut Criterion) {
             return;
         }
     };
-    let mut group = c.benchmark_group("frame_1280x720_ui");
-    group.sample_size(20);
-    for entry in SCENES {
-        let mut lab = Lab::new(entry.info.name, &[]).expect("default scene");
-        lab.run_steps_recorded(120);
-        group.bench_function(entry.info.name, |b| {
-            b.iter(|| snapshotter.render(&mut lab, [1280, 720], true).expect("frame renders"))
-        });
+    for msaa in [true, false] {
+        let name = if msaa { "frame_1280x720_ui_msaa4" } else { "frame_1280x720_ui_no_msaa" };
+        let mut group = c.benchmark_group(name);
+        group.sample_size(20);
+        for entry in SCENES {
+            let mut lab = Lab::new(entry.info.name, &[]).expect("default scene");
+            lab.view.msaa = msaa;
+            lab.run_steps_recorded(120);
+            group.bench_function(entry.info.name, |b| {
+                b.iter(|| snapshotter.render(&mut lab, [1280, 720], true).expect("frame renders"))
+            });
+        }
+        group.finish();
     }
-    group.finish();
 }
 
 criterion_group!(benches, render);

@@ -192,3 +192,19 @@ fn render_command_rejects_bad_input_with_exit_code_2() {
         assert!(stderr.contains(word), "{args:?}: {stderr}");
     }
 }
+
+#[test]
+fn without_a_gpu_adapter_it_says_what_to_install() {
+    // Ask wgpu for a backend this platform does not have: no adapter at all.
+    let result = binary()
+        .env("WGPU_BACKEND", "dx12")
+        .args(["render", "--scene", "bridge", "--out", "never.png"])
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    let last = stderr.trim_end().lines().last().unwrap_or("");
+    assert!(last.contains("no GPU adapter") && last.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!Path::new("never.png").exists());
+}

@@ -25,7 +25,10 @@ impl OrbitCamera {
     pub const MIN_DISTANCE: f32 = 0.5;
     /// Furthest the eye may get from the target (m).
     pub const MAX_DISTANCE: f32 = 500.0;
-    const PITCH_LIMIT: f32 = 1.55;
+    /// Highest elevation: almost straight down.
+    const PITCH_MAX: f32 = 1.55;
+    /// Lowest elevation: a little below the horizon, not under the ground.
+    const PITCH_MIN: f32 = -0.15;
 
     /// A camera placed as a scene asks.
     #[must_use]
@@ -59,7 +62,7 @@ impl OrbitCamera {
     /// Turns the camera by a drag of `delta` pixels.
     pub fn orbit(&mut self, delta: Vec2) {
         self.yaw -= delta.x * 0.008;
-        self.pitch = (self.pitch + delta.y * 0.008).clamp(-Self::PITCH_LIMIT, Self::PITCH_LIMIT);
+        self.pitch = (self.pitch + delta.y * 0.008).clamp(Self::PITCH_MIN, Self::PITCH_MAX);
     }
 
     /// Moves the target sideways by a drag of `delta` pixels in a view `height` pixels high.

@@ -95,10 +95,12 @@ pub fn link_color(kind: LinkKind) -> [f32; 3] {
     }
 }
 
-/// Blue (no load) through white to red (`tension >= reference`); compression is cyan.
+/// Blue (no load) to red (`tension >= reference`); compression towards cyan. The
+/// square root spreads the colours when one link carries far more than the rest.
 #[must_use]
 pub fn tension_color(tension: f32, reference: f32) -> [f32; 3] {
     let x = (tension / reference.max(1e-6)).clamp(-1.0, 1.0);
+    let x = x.signum() * x.abs().sqrt();
     if x >= 0.0 {
         let (cold, hot) = (Vec3::new(0.15, 0.25, 0.9), Vec3::new(1.0, 0.1, 0.05));
         cold.lerp(hot, x).to_array()

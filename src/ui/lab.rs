@@ -161,6 +161,7 @@ impl Lab {
 
     fn restart(&mut self) {
         self.accumulator = 0.0;
+        self.status.clear();
         self.trails.clear();
         self.energy.clear();
         self.grab = None;
@@ -197,6 +198,13 @@ impl Lab {
         let now = Instant::now();
         let real_dt = self.last_frame.map_or(0.0, |last| now.duration_since(last).as_secs_f64());
         self.last_frame = Some(now);
+        self.advance_by(real_dt);
+    }
+
+    /// Advances the physics by `real_dt` seconds of wall time: as many fixed steps as
+    /// fit (scaled by the time scale), at most [`MAX_STEPS_PER_FRAME`]; after a stall
+    /// longer than [`MAX_FRAME_TIME`] the rest is dropped, not caught up.
+    pub fn advance_by(&mut self, real_dt: f64) {
         if real_dt > 0.0 {
             let smooth = |old: f32, new: f32| if old == 0.0 { new } else { old * 0.9 + new * 0.1 };
             self.stats.frame_ms = smooth(self.stats.frame_ms, (real_dt * 1000.0) as f32);

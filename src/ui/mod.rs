@@ -238,8 +238,12 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
                 ui.monospace(value);
                 ui.end_row();
             };
-            row("FPS", format!("{:.0}", lab.stats.fps));
-            row("frame time", format!("{:.1} ms", lab.stats.frame_ms));
+            if lab.stats.frame_ms > 0.0 {
+                row("FPS", format!("{:.0}", lab.stats.fps));
+                row("frame time", format!("{:.1} ms", lab.stats.frame_ms));
+            } else {
+                row("FPS", "off-screen".into());
+            }
             row("physics / step", format!("{:.1} µs", lab.stats.step_ms * 1000.0));
             row("steps / frame", lab.stats.steps_last_frame.to_string());
             row("particles", world.particles.len().to_string());
@@ -325,9 +329,9 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
 
     lab.hovered = response.hover_pos().and_then(|p| lab.pick(local(p), size));
     if response.drag_started_by(PointerButton::Primary) {
-        if let Some(p) = response.interact_pointer_pos() {
-            // Press on a particle to drag it; anywhere else orbits.
-            let press = p - response.drag_delta();
+        // Press on a particle to drag it; anywhere else orbits. The drag starts only
+        // after the pointer moved a little: pick where the button went down.
+        if let Some(press) = ui.input(|i| i.pointer.press_origin()) {
             lab.start_grab(local(press), size);
         }
     }

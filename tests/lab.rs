@@ -1,0 +1,101 @@
+//! The lab behind the panel: fixed-step timing, picking and dragging particles.
+
+use glam::Vec2;
+use particle_lab::scenes::SceneAction;
+use particle_lab::ui::Lab;
+use particle_lab::ui::lab::MAX_STEPS_PER_FRAME;
+
+#[test]
+fn frames_run_whole_fixed_steps_and_carry_the_remainder() {
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    let dt = f64::from(lab.dt());
+    // 2.5 steps of time: 2 now, the half carried over, so the next 0.5 makes a third.
+    lab.advance_by(2.5 * dt);
+    assert_eq!(lab.scene.world().steps(), 2);
+    lab.advance_by(0.5 * dt);
+    assert_eq!(lab.scene.world().steps(), 3);
+    // The physics rate is independent of the frame rate: 1 s of frames at any rate
+    // gives 240 steps at 240 Hz.
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    for _ in 0..60 {
+        lab.advance_by(1.0 / 60.0);
+    }
+    let steps = lab.scene.world().steps();
+    assert!((239..=240).contains(&steps), "{steps} steps in 1 s at 240 Hz");
+}
+
+#[test]
+fn a_stall_drops_time_instead_of_spiralling() {
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    lab.advance_by(5.0);
+    let steps = lab.scene.world().steps();
+    assert!(steps <= u64::from(MAX_STEPS_PER_FRAME), "ran {steps} steps after a 5 s stall");
+    assert!(steps > 0);
+    assert!(lab.stats.dropped_steps == 0 || lab.stats.steps_last_frame == MAX_STEPS_PER_FRAME);
+    // The next normal frame runs a normal number of steps, not a backlog.
+    lab.advance_by(1.0 / 60.0);
+    assert!(lab.stats.steps_last_frame <= 5, "backlog of {} steps", lab.stats.steps_last_frame);
+}
+
+#[test]
+fn pause_and_time_scale() {
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    lab.paused = true;
+    lab.advance_by(0.5);
+    assert_eq!(lab.scene.world().steps(), 0, "paused");
+    lab.run_steps(1);
+    assert_eq!(lab.scene.world().steps(), 1, "Step runs one step while paused");
+    lab.paused = false;
+    lab.time_scale = 0.5;
+    let dt = f64::from(lab.dt());
+    lab.advance_by(0.05);
+    assert_eq!(lab.scene.world().steps(), 1 + (0.025 / dt).floor() as u64, "half speed");
+}
+
+#[test]
+fn reset_keeps_parameters_and_switching_scenes_works() {
+    let mut lab = Lab::new("projectile", &["g=7".into()]).unwrap();
+    lab.act(SceneAction::Fire);
+    lab.run_steps(10);
+    lab.reset();
+    assert_eq!(lab.scene.world().steps(), 0);
+    assert_eq!(lab.scene.params().get("g"), 7.0, "reset keeps the user's settings");
+    assert_eq!(lab.scene.world().particles.len(), 1);
+    for entry in particle_lab::scenes::SCENES {
+        lab.switch_scene(entry);
+        assert_eq!(lab.entry.info.name, entry.info.name);
+        assert_eq!(lab.view.trails, entry.info.trails);
+    }
+}
+
+#[test]
+fn a_bad_slider_value_is_refused_with_a_message() {
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    lab.set_param("g", 1000.0);
+    assert_eq!(lab.scene.params().get("g"), 9.81);
+    assert!(lab.status.contains("out of range"), "{}", lab.status);
+}
+
+#[test]
+fn picking_finds_the_particle_under_the_pointer_and_dragging_moves_it() {
+    let mut lab = Lab::new("bridge", &["g=0".into()]).unwrap();
+    let size = Vec2::new(800.0, 600.0);
+    let target = lab.scene.world().particles.position[3];
+    let id = lab.scene.world().particles.id(3);
+    let pixel = lab.camera.project(target, size).unwrap();
+    assert_eq!(lab.pick(pixel, size), Some(id));
+    assert_eq!(lab.pick(Vec2::new(5.0, 5.0), size), None, "nothing in the sky corner");
+    assert!(lab.start_grab(pixel, size));
+    // Drag it 60 pixels up the screen and let the physics follow.
+    lab.move_grab(pixel - Vec2::new(0.0, 60.0), size);
+    let goal = lab.grab.unwrap().target;
+    assert!(goal.y > target.y + 0.1, "the drag target rose: {goal}");
+    lab.run_steps(30);
+    let index = lab.scene.world().particles.index(id).unwrap();
+    let now = lab.scene.world().particles.position[index];
+    assert!(now.distance(goal) < now.distance(target) + 1e-3, "it moved towards the pointer: {now}");
+    assert!(now.y > target.y, "{now} vs {target}");
+    lab.end_grab();
+    assert!(lab.grab.is_none());
+    assert!(lab.scene.world().is_finite());
+}
