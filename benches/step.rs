@@ -23,6 +23,7 @@ fn world() -> World {
                 mass: 1.0 + (i % 7) as f32,
                 damping: 0.99,
                 radius: 0.0,
+                immovable: false,
             })
             .expect("valid particle");
     }

@@ -23,8 +23,10 @@ pub struct ParticleDesc {
     pub velocity: Vec3,
     /// Constant acceleration applied every step, usually gravity (m/s²).
     pub acceleration: Vec3,
-    /// Mass (kg); `f32::INFINITY` makes the particle immovable. Must be > 0.
+    /// Mass (kg): finite and > 0. Ignored when `immovable`.
     pub mass: f32,
+    /// An immovable particle has inverse mass 0: nothing moves it.
+    pub immovable: bool,
     /// Fraction of velocity kept per second, in [0, 1]; 1 means no damping.
     pub damping: f32,
     /// Collision radius (m), >= 0.
@@ -38,6 +40,7 @@ impl Default for ParticleDesc {
             velocity: Vec3::ZERO,
             acceleration: Vec3::ZERO,
             mass: 1.0,
+            immovable: false,
             damping: 1.0,
             radius: 0.2,
         }
@@ -53,7 +56,7 @@ impl ParticleDesc {
                 "position, velocity and acceleration must be finite".into(),
             ));
         }
-        let inverse_mass = inverse_mass(self.mass)?;
+        let inverse_mass = if self.immovable { 0.0 } else { inverse_mass(self.mass)? };
         if !(0.0..=1.0).contains(&self.damping) {
             return Err(PhysicsError::InvalidParticle(format!(
                 "damping must be in [0, 1], got {}",
@@ -70,17 +73,13 @@ impl ParticleDesc {
     }
 }
 
-/// Converts a mass to an inverse mass: `INFINITY` gives 0 (immovable); zero, negative
-/// and NaN masses are errors.
+/// Converts a mass to an inverse mass. Zero, negative, infinite and NaN masses are
+/// errors: an immovable particle is asked for with [`ParticleDesc::immovable`].
 pub fn inverse_mass(mass: f32) -> Result<f32, PhysicsError> {
-    if mass == f32::INFINITY {
-        Ok(0.0)
-    } else if mass > 0.0 && mass.is_finite() {
+    if mass > 0.0 && mass.is_finite() {
         Ok(1.0 / mass)
     } else {
-        Err(PhysicsError::InvalidParticle(format!(
-            "mass must be > 0 (or infinite for an immovable particle), got {mass}"
-        )))
+        Err(PhysicsError::InvalidParticle(format!("mass must be a finite number > 0, got {mass}")))
     }
 }
 
@@ -246,9 +245,6 @@ impl Particles {
     pub fn set_mass(&mut self, id: ParticleId, mass: f32) -> Result<(), PhysicsError> {
         let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
         self.inverse_mass[index] = inverse_mass(mass)?;
-        if self.inverse_mass[index] == 0.0 {
-            self.velocity[index] = Vec3::ZERO;
-        }
         Ok(())
     }
 

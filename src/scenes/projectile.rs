@@ -85,6 +85,7 @@ impl Projectile {
             mass: self.params.get("mass"),
             damping: self.params.get("damping"),
             radius: ROUND_RADIUS,
+            immovable: false,
         })?;
         self.rounds.push((id, self.world.time()));
         Ok(id)
