@@ -148,6 +148,36 @@ fn fs_sphere(in: SphereOut) -> SphereFragment {
     return out;
 }
 
+// ---------------------------------------------------------------- shadows
+
+// A soft dark disc on the ground under each sphere: wider and fainter the higher it
+// is, so heights read at a glance.
+struct ShadowOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) local: vec2<f32>,
+    @location(1) strength: f32,
+};
+
+@vertex
+fn vs_shadow(@builtin(vertex_index) index: u32, sphere: SphereIn) -> ShadowOut {
+    let corner = vec2<f32>(f32(index & 1u) * 2.0 - 1.0, f32((index >> 1u) & 1u) * 2.0 - 1.0);
+    let height = max(sphere.center.y - sphere.radius, 0.0);
+    let size = sphere.radius * (1.1 + height * 0.12);
+    let world = vec3<f32>(sphere.center.x + corner.x * size, 0.0, sphere.center.z + corner.y * size);
+    var out: ShadowOut;
+    out.clip = globals.view_proj * vec4<f32>(world, 1.0);
+    out.local = corner;
+    // Nothing under the ground casts a shadow on it.
+    out.strength = select(0.65 * clamp(1.0 - height / 15.0, 0.0, 1.0), 0.0, sphere.center.y < 0.0);
+    return out;
+}
+
+@fragment
+fn fs_shadow(in: ShadowOut) -> @location(0) vec4<f32> {
+    let falloff = 1.0 - smoothstep(0.2, 1.0, length(in.local));
+    return vec4<f32>(0.0, 0.0, 0.0, in.strength * falloff);
+}
+
 // ---------------------------------------------------------------- segments
 
 struct SegmentIn {

@@ -67,6 +67,7 @@ pub struct Renderer {
     globals: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     ground: wgpu::RenderPipeline,
+    shadows: wgpu::RenderPipeline,
     spheres: wgpu::RenderPipeline,
     segments: wgpu::RenderPipeline,
     water: wgpu::RenderPipeline,
@@ -119,7 +120,7 @@ impl Renderer {
                     buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
                     topology: wgpu::PrimitiveTopology,
                     blend: Option<wgpu::BlendState>,
-                    depth_write: bool,
+                    depth: (bool, wgpu::CompareFunction),
                     alpha_to_coverage: bool| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
@@ -133,8 +134,8 @@ impl Renderer {
                 primitive: wgpu::PrimitiveState { topology, cull_mode: None, ..Default::default() },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    depth_write_enabled: Some(depth.0),
+                    depth_compare: Some(depth.1),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
@@ -181,22 +182,19 @@ impl Renderer {
             attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
         };
 
+        use wgpu::CompareFunction::{Always, LessEqual};
         use wgpu::PrimitiveTopology::{TriangleList, TriangleStrip};
+        let (opaque, transparent) = ((true, LessEqual), (false, LessEqual));
         Self {
             color_format,
             sample_count,
-            ground: make("ground", "ground", &[], TriangleList, None, true, false),
-            spheres: make("spheres", "sphere", &[Some(sphere_layout)], TriangleStrip, None, true, true),
-            segments: make(
-                "segments",
-                "segment",
-                &[Some(segment_layout)],
-                TriangleList,
-                alpha_blend,
-                true,
-                false,
-            ),
-            water: make("water", "water", &[Some(water_layout)], TriangleList, alpha_blend, false, false),
+            ground: make("ground", "ground", &[], TriangleList, None, opaque, false),
+            // Drawn straight after the ground, over it only: no depth test needed, and
+            // none of the ground's depth precision trouble at a distance.
+            shadows: make("shadows", "shadow", &[Some(sphere_layout.clone())], TriangleStrip, alpha_blend, (false, Always), false),
+            spheres: make("spheres", "sphere", &[Some(sphere_layout)], TriangleStrip, None, opaque, true),
+            segments: make("segments", "segment", &[Some(segment_layout)], TriangleList, alpha_blend, opaque, false),
+            water: make("water", "water", &[Some(water_layout)], TriangleList, alpha_blend, transparent, false),
             sphere_buffer: GrowingBuffer::new(device, "spheres", 64 * 1024),
             segment_buffer: GrowingBuffer::new(device, "segments", 64 * 1024),
             water_buffer: GrowingBuffer::new(device, "water", std::mem::size_of::<WaterQuad>() as u64),
@@ -313,9 +311,12 @@ impl Renderer {
         pass.set_pipeline(&self.ground);
         pass.draw(0..6, 0..1);
         if !frame.spheres.is_empty() {
-            pass.set_pipeline(&self.spheres);
+            let count = frame.spheres.len() as u32;
             pass.set_vertex_buffer(0, self.sphere_buffer.buffer.slice(..));
-            pass.draw(0..4, 0..frame.spheres.len() as u32);
+            pass.set_pipeline(&self.shadows);
+            pass.draw(0..4, 0..count);
+            pass.set_pipeline(&self.spheres);
+            pass.draw(0..4, 0..count);
         }
         if !frame.segments.is_empty() {
             pass.set_pipeline(&self.segments);

@@ -152,7 +152,7 @@ impl Scene for SpringForces {
     }
 
     fn camera(&self) -> CameraHint {
-        CameraHint { target: Vec3::new(2.5, 4.0, 0.0), distance: 24.0, yaw: 0.0, pitch: 0.2 }
+        CameraHint { target: Vec3::new(2.5, 3.5, 0.0), distance: 19.0, yaw: 0.0, pitch: 0.3 }
     }
 
     fn readouts(&self, dt: f32) -> Vec<(String, String)> {
