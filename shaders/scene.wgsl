@@ -4,7 +4,7 @@ struct Globals {
     view_proj: mat4x4<f32>,
     // xyz: eye position (m).
     eye: vec4<f32>,
-    // x, y: viewport size (px); z: 1 when the grid is on.
+    // x, y: viewport size (px); z: 1 when the grid is on; w: near plane distance (m).
     viewport: vec4<f32>,
     // xyz: unit direction towards the light.
     light: vec4<f32>,
@@ -14,6 +14,11 @@ struct Globals {
 
 const SKY: vec3<f32> = vec3<f32>(0.55, 0.65, 0.80);
 const GROUND_BOUNCE: vec3<f32> = vec3<f32>(0.20, 0.18, 0.15);
+
+// How much of the background a point this far from the eye shows through (0..1).
+fn fog(world: vec3<f32>) -> f32 {
+    return clamp((length(world - globals.eye.xyz) - 60.0) / 250.0, 0.0, 1.0);
+}
 
 fn depth_of(world: vec3<f32>) -> f32 {
     let clip = globals.view_proj * vec4<f32>(world, 1.0);
@@ -68,9 +73,7 @@ fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
         color = mix(color, vec3<f32>(0.12, 0.25, 0.65), axis_z);
     }
     // Fade into the background with distance.
-    let distance = length(in.world - globals.eye.xyz);
-    let fog = clamp((distance - 60.0) / 250.0, 0.0, 1.0);
-    return vec4<f32>(mix(color, vec3<f32>(0.045, 0.05, 0.065), fog), 1.0);
+    return vec4<f32>(mix(color, vec3<f32>(0.045, 0.05, 0.065), fog(in.world)), 1.0);
 }
 
 // ---------------------------------------------------------------- spheres
@@ -91,20 +94,24 @@ struct SphereOut {
 
 @vertex
 fn vs_sphere(@builtin(vertex_index) index: u32, sphere: SphereIn) -> SphereOut {
-    // A square facing the eye, placed at the sphere's front. Half-size r at distance
-    // d - r subtends atan(r / (d - r)) >= asin(r / d), the silhouette's angle.
+    // A square facing the eye, in front of the sphere, just covering its silhouette:
+    // at distance q its half-size is q tan(asin(r / d)) = q r / sqrt(d² - r²). The square
+    // stays beyond the near plane; with the eye inside the sphere it collapses.
     let corner = vec2<f32>(f32(index & 1u) * 2.0 - 1.0, f32((index >> 1u) & 1u) * 2.0 - 1.0);
     let to_center = sphere.center - globals.eye.xyz;
-    let forward = normalize(to_center);
+    let d = length(to_center);
+    let forward = to_center / max(d, 1e-6);
     var up = vec3<f32>(0.0, 1.0, 0.0);
     if (abs(forward.y) > 0.999) {
         up = vec3<f32>(1.0, 0.0, 0.0);
     }
     let right = normalize(cross(forward, up));
     let up2 = cross(right, forward);
+    let q = max(d - sphere.radius, globals.viewport.w * 1.01);
+    let tangent = sphere.radius / sqrt(max(d * d - sphere.radius * sphere.radius, 1e-12));
     // A little margin so the anti-aliased edge has room.
-    let half_size = sphere.radius * 1.08;
-    let world = sphere.center - forward * sphere.radius + (right * corner.x + up2 * corner.y) * half_size;
+    let half_size = select(q * tangent * 1.08, 0.0, d <= sphere.radius);
+    let world = globals.eye.xyz + forward * q + (right * corner.x + up2 * corner.y) * half_size;
     var out: SphereOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
     out.world = world;
@@ -167,8 +174,9 @@ fn vs_shadow(@builtin(vertex_index) index: u32, sphere: SphereIn) -> ShadowOut {
     var out: ShadowOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
     out.local = corner;
-    // Nothing under the ground casts a shadow on it.
-    out.strength = select(0.65 * clamp(1.0 - height / 15.0, 0.0, 1.0), 0.0, sphere.center.y < 0.0);
+    // Nothing under the ground casts a shadow on it; far away it fades with the ground.
+    let strength = 0.65 * clamp(1.0 - height / 15.0, 0.0, 1.0) * (1.0 - fog(world));
+    out.strength = select(strength, 0.0, sphere.center.y < 0.0);
     return out;
 }
 
@@ -202,12 +210,20 @@ fn clip_to_front(p: vec4<f32>, other: vec4<f32>) -> vec4<f32> {
     return mix(p, other, t);
 }
 
-@vertex
-fn vs_segment(@builtin(vertex_index) index: u32, segment: SegmentIn) -> SegmentOut {
+// Expands one segment into a quad `width` pixels wide; `extend` lengthens the ends by
+// half a width so the joints of a chain meet.
+fn expand_segment(index: u32, segment: SegmentIn, extend: f32) -> SegmentOut {
     var ends = array<f32, 6>(0.0, 1.0, 1.0, 0.0, 1.0, 0.0);
     var sides = array<f32, 6>(-1.0, -1.0, 1.0, -1.0, 1.0, 1.0);
+    var out: SegmentOut;
+    out.color = segment.color;
     let a0 = globals.view_proj * vec4<f32>(segment.from_point, 1.0);
     let b0 = globals.view_proj * vec4<f32>(segment.to_point, 1.0);
+    if (a0.w < 1e-3 && b0.w < 1e-3) {
+        // Wholly behind the eye: a degenerate quad draws nothing.
+        out.clip = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+        return out;
+    }
     let a = clip_to_front(a0, b0);
     let b = clip_to_front(b0, a0);
     let half_viewport = globals.viewport.xy * 0.5;
@@ -221,17 +237,31 @@ fn vs_segment(@builtin(vertex_index) index: u32, segment: SegmentIn) -> SegmentO
     let normal = vec2<f32>(-direction.y, direction.x);
     let end = ends[index];
     var p = mix(a, b, end);
-    // Widen in pixels, and extend the ends by half a width so joints meet.
-    let offset_px = normal * sides[index] * segment.width * 0.5 + direction * (end * 2.0 - 1.0) * segment.width * 0.5;
+    let offset_px = normal * sides[index] * segment.width * 0.5
+        + direction * (end * 2.0 - 1.0) * segment.width * 0.5 * extend;
     p = vec4<f32>(p.xy + offset_px / half_viewport * p.w, p.z, p.w);
-    var out: SegmentOut;
     out.clip = p;
-    out.color = segment.color;
     return out;
+}
+
+@vertex
+fn vs_segment(@builtin(vertex_index) index: u32, segment: SegmentIn) -> SegmentOut {
+    return expand_segment(index, segment, 1.0);
+}
+
+// Trails: translucent, so ends must not overlap (they would blend twice).
+@vertex
+fn vs_trail(@builtin(vertex_index) index: u32, segment: SegmentIn) -> SegmentOut {
+    return expand_segment(index, segment, 0.0);
 }
 
 @fragment
 fn fs_segment(in: SegmentOut) -> @location(0) vec4<f32> {
+    return in.color;
+}
+
+@fragment
+fn fs_trail(in: SegmentOut) -> @location(0) vec4<f32> {
     return in.color;
 }
 

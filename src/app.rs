@@ -58,6 +58,9 @@ struct WindowState {
     egui: egui::Context,
     egui_winit: egui_winit::State,
     screenshot_target: Option<OffscreenTarget>,
+    /// False while minimised (size 0) or hidden: no frames are drawn or requested then,
+    /// so the loop waits for events instead of spinning.
+    visible: bool,
 }
 
 impl App {
@@ -94,7 +97,16 @@ impl ApplicationHandler for App {
                 log::info!("window closed");
                 event_loop.exit();
             }
-            WindowEvent::Resized(size) => state.resize(size.width, size.height),
+            WindowEvent::Resized(size) => {
+                state.visible = size.width > 0 && size.height > 0;
+                state.resize(size.width, size.height);
+                state.window.request_redraw();
+            }
+            WindowEvent::Occluded(hidden) => {
+                log::info!("occluded: {hidden}");
+                state.visible = !hidden;
+                state.window.request_redraw();
+            }
             WindowEvent::RedrawRequested => {
                 if let Err(message) = state.frame(&mut self.lab) {
                     self.fail(event_loop, message);
@@ -111,7 +123,9 @@ impl ApplicationHandler for App {
 
     fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
         if let Some(state) = &self.window {
-            state.window.request_redraw();
+            if state.visible {
+                state.window.request_redraw();
+            }
         }
     }
 }
@@ -125,23 +139,31 @@ impl WindowState {
         let window = Arc::new(
             event_loop.create_window(attributes).map_err(|e| format!("cannot create the window: {e}"))?,
         );
-        let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
+        let instance = wgpu::Instance::new(crate::render::gpu::instance_descriptor(Some(Box::new(
             event_loop.owned_display_handle(),
-        ));
-        let instance = wgpu::Instance::new(descriptor);
+        ))));
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| GpuError::Surface(e.to_string()).to_string())?;
         let gpu = Gpu::with_instance(instance, Some(&surface)).map_err(|e| e.to_string())?;
         let capabilities = surface.get_capabilities(&gpu.adapter);
-        // egui wants a non-sRGB surface; the 3D pass draws through an sRGB view of it.
-        let format = capabilities
-            .formats
-            .iter()
-            .copied()
-            .find(|f| !f.is_srgb())
-            .or_else(|| capabilities.formats.first().map(|f| f.remove_srgb_suffix()))
-            .ok_or_else(|| GpuError::Surface("the GPU cannot present to this window".into()).to_string())?;
+        // egui wants a gamma-space 8-bit surface; the 3D pass draws through its sRGB twin.
+        let preferred = [wgpu::TextureFormat::Bgra8Unorm, wgpu::TextureFormat::Rgba8Unorm];
+        let format = preferred
+            .into_iter()
+            .find(|f| capabilities.formats.iter().any(|c| c.remove_srgb_suffix() == *f))
+            .ok_or_else(|| {
+                GpuError::Surface(format!(
+                    "the window offers no 8-bit RGBA or BGRA format (only {:?})",
+                    capabilities.formats
+                ))
+                .to_string()
+            })?;
+        let alpha_mode = if capabilities.alpha_modes.contains(&wgpu::CompositeAlphaMode::Opaque) {
+            wgpu::CompositeAlphaMode::Opaque
+        } else {
+            capabilities.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto)
+        };
         let size = window.inner_size();
         let config = wgpu::SurfaceConfiguration {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
@@ -151,7 +173,7 @@ impl WindowState {
             height: size.height.max(1),
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
-            alpha_mode: capabilities.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            alpha_mode,
             view_formats: vec![format.add_srgb_suffix()],
         };
         if size.width > 0 && size.height > 0 {
@@ -168,7 +190,17 @@ impl WindowState {
             None,
             Some(max_texture_side),
         );
-        Ok(Self { window, surface, config, gpu, painter, egui, egui_winit, screenshot_target: None })
+        Ok(Self {
+            window,
+            surface,
+            config,
+            gpu,
+            painter,
+            egui,
+            egui_winit,
+            screenshot_target: None,
+            visible: true,
+        })
     }
 
     /// Reconfigures the surface for a new size; a minimised window (size 0) waits.

@@ -97,22 +97,33 @@ fn each_particle_is_drawn_where_the_camera_projects_it() {
     for entry in SCENES {
         let mut lab = Lab::new(entry.info.name, &[]).unwrap();
         lab.run_steps_recorded(STEPS);
-        let with = snapshotter.render(&mut lab, SIZE, false).unwrap();
         let world = lab.scene.world();
-        let id = world.particles.id(0);
-        let centre = world.particles.position[0];
-        let screen = lab.camera.project(centre, Vec2::new(SIZE[0] as f32, SIZE[1] as f32)).unwrap();
+        let (id, centre, radius) =
+            (world.particles.id(0), world.particles.position[0], world.particles.radius[0]);
+        let size = Vec2::new(SIZE[0] as f32, SIZE[1] as f32);
+        let screen = lab.camera.project(centre, size).unwrap();
         let (x, y) = (screen.x.round() as u32, screen.y.round() as u32);
         assert!(x < SIZE[0] && y < SIZE[1], "{}: particle 0 is off screen at {screen}", entry.info.name);
-        // Without the particle, the same pixel shows something else (ground or sky).
-        lab.scene.world_mut().remove_particle(id);
-        let without = snapshotter.render(&mut lab, SIZE, false).unwrap();
-        let (a, b) = (pixel(&with, SIZE, x, y), pixel(&without, SIZE, x, y));
+        // Only the particle's own colour changes when it is highlighted (yellow), so a
+        // pixel that turns yellow at its projected centre is the sphere itself.
+        let plain = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        lab.hovered = Some(id);
+        let lit = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        lab.hovered = None;
+        let (before, after) = (pixel(&plain, SIZE, x, y), pixel(&lit, SIZE, x, y));
+        assert!(differs(before, after, 30), "{}: ({x}, {y}) is {before:?} either way", entry.info.name);
         assert!(
-            differs(a, b, 30),
-            "{}: pixel ({x}, {y}) is {a:?} with and {b:?} without particle 0",
+            after[0] > 120 && after[1] > 100 && after[2] + 40 < after[0],
+            "{}: not yellow: {after:?}",
             entry.info.name
         );
+        // Well outside the highlighted sphere (1.15 r) nothing changed colour.
+        let edge = lab.camera.project(centre + lab.camera.right() * radius * 3.0, size).unwrap();
+        let (ex, ey) = (edge.x.round() as u32, edge.y.round() as u32);
+        if ex < SIZE[0] && ey < SIZE[1] {
+            let (b, a) = (pixel(&plain, SIZE, ex, ey), pixel(&lit, SIZE, ex, ey));
+            assert!(!differs(b, a, 8), "{}: ({ex}, {ey}) outside the sphere changed", entry.info.name);
+        }
     }
 }
 

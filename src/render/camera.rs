@@ -50,10 +50,16 @@ impl OrbitCamera {
         self.target + self.distance * Vec3::new(cos_pitch * sin_yaw, sin_pitch, cos_pitch * cos_yaw)
     }
 
+    /// Distance of the near clipping plane (m): scales with the orbit distance.
+    #[must_use]
+    pub fn near(&self) -> f32 {
+        (self.distance * 0.01).clamp(0.01, 0.5)
+    }
+
     /// World to clip space for a viewport of this aspect ratio (width / height).
     #[must_use]
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
-        let near = (self.distance * 0.01).clamp(0.01, 0.5);
+        let near = self.near();
         // wgpu's clip space is DirectX's: depth 0..1, y up.
         let projection = rh::proj::directx::perspective(self.fov_y, aspect.max(1e-3), near, 2000.0);
         projection * rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
@@ -63,20 +69,40 @@ impl OrbitCamera {
     pub fn orbit(&mut self, delta: Vec2) {
         self.yaw -= delta.x * 0.008;
         self.pitch = (self.pitch + delta.y * 0.008).clamp(Self::PITCH_MIN, Self::PITCH_MAX);
+        self.keep_above_ground();
+    }
+
+    /// Lowest the eye may be (m): the ground is opaque from below.
+    const MIN_EYE_HEIGHT: f32 = 0.05;
+
+    /// Raises the target to the ground and the pitch until the eye is above it.
+    fn keep_above_ground(&mut self) {
+        self.target.y = self.target.y.max(0.0);
+        let lowest = ((Self::MIN_EYE_HEIGHT - self.target.y) / self.distance).clamp(-1.0, 1.0).asin();
+        self.pitch = self.pitch.max(lowest).min(Self::PITCH_MAX);
+    }
+
+    /// The screen's rightward direction in the world (unit, horizontal).
+    #[must_use]
+    pub fn right(&self) -> Vec3 {
+        let (sin_yaw, cos_yaw) = self.yaw.sin_cos();
+        Vec3::new(cos_yaw, 0.0, -sin_yaw)
     }
 
     /// Moves the target sideways by a drag of `delta` pixels in a view `height` pixels high.
     pub fn pan(&mut self, delta: Vec2, height: f32) {
         let forward = (self.target - self.eye()).normalize_or_zero();
-        let right = forward.cross(Vec3::Y).normalize_or_zero();
+        let right = self.right();
         let up = right.cross(forward);
         let metres_per_pixel = 2.0 * self.distance * (self.fov_y * 0.5).tan() / height.max(1.0);
         self.target += (-right * delta.x + up * delta.y) * metres_per_pixel;
+        self.keep_above_ground();
     }
 
     /// Zooms by wheel `steps` (positive zooms in).
     pub fn zoom(&mut self, steps: f32) {
         self.distance = (self.distance * 0.9f32.powf(steps)).clamp(Self::MIN_DISTANCE, Self::MAX_DISTANCE);
+        self.keep_above_ground();
     }
 
     /// The ray through a pixel: origin and unit direction. `pixel` is from the top left

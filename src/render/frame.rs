@@ -52,8 +52,10 @@ pub struct WaterQuad {
 pub struct FrameData {
     /// Particles and markers.
     pub spheres: Vec<SphereInstance>,
-    /// Links, trails and guides.
+    /// Links and the pool's edges.
     pub segments: Vec<SegmentInstance>,
+    /// Fading trails, drawn translucent after everything else.
+    pub trails: Vec<SegmentInstance>,
     /// A pool, if the scene has one.
     pub water: Option<WaterQuad>,
     /// Draw the ground's grid lines.
@@ -203,6 +205,7 @@ impl FrameBuilder {
         let frame = &mut self.frame;
         frame.spheres.clear();
         frame.segments.clear();
+        frame.trails.clear();
         frame.grid = options.grid;
         let world = scene.world();
         let particles = &world.particles;
@@ -289,7 +292,7 @@ impl FrameBuilder {
             for trail in trails.points.values() {
                 for ((a, _), (b, tb)) in trail.iter().zip(trail.iter().skip(1)) {
                     let fade = (1.0 - (now - tb) / Trails::LIFETIME).clamp(0.0, 1.0) as f32;
-                    frame.segments.push(SegmentInstance {
+                    frame.trails.push(SegmentInstance {
                         from: a.to_array(),
                         width: 2.5,
                         to: b.to_array(),

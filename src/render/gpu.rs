@@ -11,6 +11,8 @@ pub enum GpuError {
     NoDevice(String),
     /// The window's surface could not be created.
     Surface(String),
+    /// The adapter lacks something the renderer needs.
+    Unsupported(String),
 }
 
 impl fmt::Display for GpuError {
@@ -23,6 +25,11 @@ impl fmt::Display for GpuError {
             ),
             Self::NoDevice(why) => write!(f, "the GPU adapter could not create a device: {why}"),
             Self::Surface(why) => write!(f, "cannot draw into the window: {why}"),
+            Self::Unsupported(why) => write!(
+                f,
+                "the GPU adapter cannot run particle-lab: {why}; install a Vulkan driver (for a \
+                 software GPU the Debian/Ubuntu packages mesa-vulkan-drivers and libvulkan1)"
+            ),
         }
     }
 }
@@ -44,8 +51,7 @@ pub struct Gpu {
 impl Gpu {
     /// A device for off-screen rendering; needs no display.
     pub fn headless() -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        Self::with_instance(instance, None)
+        Self::with_instance(wgpu::Instance::new(instance_descriptor(None)), None)
     }
 
     /// A device from `instance` that can present to `surface`, if given.
@@ -62,6 +68,19 @@ impl Gpu {
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         log::info!("GPU adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
+        // The 3D pass draws through an sRGB view of a gamma-space texture that egui
+        // also draws into; that needs view formats (missing on some GL drivers).
+        let flags = adapter.get_downlevel_capabilities().flags;
+        let mut needed = wgpu::DownlevelFlags::VIEW_FORMATS;
+        if surface.is_some() {
+            needed |= wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS;
+        }
+        if !flags.contains(needed) {
+            return Err(GpuError::Unsupported(format!(
+                "{} ({:?}) cannot view textures in another format",
+                info.name, info.backend
+            )));
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("particle-lab"),
             required_features: wgpu::Features::empty(),
@@ -71,4 +90,18 @@ impl Gpu {
         .map_err(|e| GpuError::NoDevice(e.to_string()))?;
         Ok(Self { instance, adapter, device, queue })
     }
+}
+
+/// Instance settings: the modern backends (Vulkan, Metal, DX12) unless the
+/// `WGPU_BACKEND` environment variable asks for others; `display` for a window.
+#[must_use]
+pub fn instance_descriptor(
+    display: Option<Box<dyn wgpu::wgt::WgpuHasDisplayHandle>>,
+) -> wgpu::InstanceDescriptor {
+    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+    descriptor.backends = wgpu::Backends::PRIMARY;
+    if let Some(display) = display {
+        descriptor = descriptor.with_display_handle(display);
+    }
+    descriptor.with_env()
 }

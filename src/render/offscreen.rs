@@ -17,6 +17,9 @@ pub struct OffscreenTarget {
     pub view: wgpu::TextureView,
     /// Width and height (px).
     pub size: [u32; 2],
+    /// Where copies land for the CPU to read, rows padded to 256 bytes.
+    readback: wgpu::Buffer,
+    padded_row: u32,
 }
 
 impl OffscreenTarget {
@@ -46,27 +49,27 @@ impl OffscreenTarget {
             ..Default::default()
         });
         let view = texture.create_view(&Default::default());
-        Self { texture, srgb_view, view, size }
+        // Rows in a copy must be a multiple of 256 bytes apart.
+        let padded_row =
+            (size[0] * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: u64::from(padded_row) * u64::from(size[1]),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        Self { texture, srgb_view, view, size, readback, padded_row }
     }
 
     /// Copies the texture back to the CPU as tightly packed RGBA rows.
     pub fn read_rgba(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<u8>, String> {
         let [width, height] = self.size;
-        // Rows in a copy must be a multiple of 256 bytes apart.
-        let row = width * 4;
-        let padded_row =
-            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: u64::from(padded_row) * u64::from(height),
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
+        let (row, padded_row, buffer) = (width * 4, self.padded_row, &self.readback);
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.copy_texture_to_buffer(
             self.texture.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
+                buffer,
                 layout: wgpu::TexelCopyBufferLayout {
                     offset: 0,
                     bytes_per_row: Some(padded_row),

@@ -70,9 +70,11 @@ pub struct Renderer {
     shadows: wgpu::RenderPipeline,
     spheres: wgpu::RenderPipeline,
     segments: wgpu::RenderPipeline,
+    trails: wgpu::RenderPipeline,
     water: wgpu::RenderPipeline,
     sphere_buffer: GrowingBuffer,
     segment_buffer: GrowingBuffer,
+    trail_buffer: GrowingBuffer,
     water_buffer: GrowingBuffer,
     attachments: Option<Attachments>,
 }
@@ -151,7 +153,12 @@ impl Renderer {
                     targets: &[Some(wgpu::ColorTargetState {
                         format: color_format,
                         blend,
-                        write_mask: wgpu::ColorWrites::ALL,
+                        // Coverage goes to the samples, not into the image's alpha.
+                        write_mask: if alpha_to_coverage {
+                            wgpu::ColorWrites::COLOR
+                        } else {
+                            wgpu::ColorWrites::ALL
+                        },
                     })],
                 }),
                 multiview_mask: None,
@@ -191,12 +198,46 @@ impl Renderer {
             ground: make("ground", "ground", &[], TriangleList, None, opaque, false),
             // Drawn straight after the ground, over it only: no depth test needed, and
             // none of the ground's depth precision trouble at a distance.
-            shadows: make("shadows", "shadow", &[Some(sphere_layout.clone())], TriangleStrip, alpha_blend, (false, Always), false),
+            shadows: make(
+                "shadows",
+                "shadow",
+                &[Some(sphere_layout.clone())],
+                TriangleStrip,
+                alpha_blend,
+                (false, Always),
+                false,
+            ),
             spheres: make("spheres", "sphere", &[Some(sphere_layout)], TriangleStrip, None, opaque, true),
-            segments: make("segments", "segment", &[Some(segment_layout)], TriangleList, alpha_blend, opaque, false),
-            water: make("water", "water", &[Some(water_layout)], TriangleList, alpha_blend, transparent, false),
+            segments: make(
+                "segments",
+                "segment",
+                &[Some(segment_layout.clone())],
+                TriangleList,
+                alpha_blend,
+                opaque,
+                false,
+            ),
+            trails: make(
+                "trails",
+                "trail",
+                &[Some(segment_layout)],
+                TriangleList,
+                alpha_blend,
+                transparent,
+                false,
+            ),
+            water: make(
+                "water",
+                "water",
+                &[Some(water_layout)],
+                TriangleList,
+                alpha_blend,
+                transparent,
+                false,
+            ),
             sphere_buffer: GrowingBuffer::new(device, "spheres", 64 * 1024),
             segment_buffer: GrowingBuffer::new(device, "segments", 64 * 1024),
+            trail_buffer: GrowingBuffer::new(device, "trails", 64 * 1024),
             water_buffer: GrowingBuffer::new(device, "water", std::mem::size_of::<WaterQuad>() as u64),
             globals,
             bind_group,
@@ -267,12 +308,13 @@ impl Renderer {
         let globals = Globals {
             view_proj: camera.view_projection(aspect).to_cols_array_2d(),
             eye: camera.eye().extend(1.0).to_array(),
-            viewport: [width, height, if frame.grid { 1.0 } else { 0.0 }, 0.0],
+            viewport: [width, height, if frame.grid { 1.0 } else { 0.0 }, camera.near()],
             light: light.extend(0.0).to_array(),
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         self.sphere_buffer.write(device, queue, bytemuck::cast_slice(&frame.spheres));
         self.segment_buffer.write(device, queue, bytemuck::cast_slice(&frame.segments));
+        self.trail_buffer.write(device, queue, bytemuck::cast_slice(&frame.trails));
         if let Some(water) = &frame.water {
             self.water_buffer.write(device, queue, bytemuck::bytes_of(water));
         }
@@ -327,6 +369,12 @@ impl Renderer {
             pass.set_pipeline(&self.water);
             pass.set_vertex_buffer(0, self.water_buffer.buffer.slice(..));
             pass.draw(0..6, 0..1);
+        }
+        // Last: translucent and writing no depth, so nothing behind them is cut away.
+        if !frame.trails.is_empty() {
+            pass.set_pipeline(&self.trails);
+            pass.set_vertex_buffer(0, self.trail_buffer.buffer.slice(..));
+            pass.draw(0..6, 0..frame.trails.len() as u32);
         }
     }
 }

@@ -304,6 +304,9 @@ impl Lab {
         let particles = &self.scene.world().particles;
         let mut best: Option<(f32, ParticleId)> = None;
         for (i, &id) in particles.ids().iter().enumerate() {
+            if particles.inverse_mass[i] == 0.0 {
+                continue; // nothing moves an immovable particle: a press there orbits
+            }
             // A little larger than drawn, so small particles are easy to catch.
             let radius = particles.radius[i].max(0.05) * 1.3 + 0.05;
             let to_center = particles.position[i] - origin;
@@ -329,6 +332,8 @@ impl Lab {
     }
 
     /// Moves the drag target to where the ray through `pixel` meets the drag plane.
+    /// While paused the particle goes straight there (at rest); running, the physics
+    /// steps carry it.
     pub fn move_grab(&mut self, pixel: Vec2, viewport: Vec2) {
         let Some(grab) = &mut self.grab else { return };
         let (origin, direction) = self.camera.ray(pixel, viewport);
@@ -337,6 +342,14 @@ impl Lab {
             let t = (grab.plane_point - origin).dot(grab.plane_normal) / facing;
             if t > 0.0 {
                 grab.target = origin + direction * t;
+            }
+        }
+        if self.paused {
+            let (id, target) = (grab.id, grab.target);
+            let particles = &mut self.scene.world_mut().particles;
+            if let Some(i) = particles.index(id) {
+                particles.position[i] = target;
+                particles.velocity[i] = Vec3::ZERO;
             }
         }
     }
