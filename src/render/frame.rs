@@ -168,18 +168,6 @@ impl Trails {
     pub fn clear(&mut self) {
         self.points.clear();
     }
-
-    /// Number of points held.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.points.values().map(VecDeque::len).sum()
-    }
-
-    /// True when no points are held.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
 }
 
 /// Builds [`FrameData`] from a scene, reusing its storage from frame to frame.

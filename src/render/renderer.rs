@@ -251,12 +251,6 @@ impl Renderer {
         self.sample_count
     }
 
-    /// The format of the views this renderer draws into.
-    #[must_use]
-    pub fn color_format(&self) -> wgpu::TextureFormat {
-        self.color_format
-    }
-
     fn attachments(&mut self, device: &wgpu::Device, size: [u32; 2]) -> &Attachments {
         if self.attachments.as_ref().is_none_or(|a| a.size != size) {
             let sample_count = self.sample_count;

@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 
 use crate::physics::ParticleId;
 use crate::render::{OrbitCamera, Trails, ViewOptions};
-use crate::scenes::{self, SCENES, Scene, SceneAction, SceneEntry};
+use crate::scenes::{self, Scene, SceneAction, SceneEntry};
 
 /// Real time one frame may add to the physics (s): after a stall the rest is dropped
 /// instead of running hundreds of catch-up steps.
@@ -362,11 +362,5 @@ impl Lab {
     /// Points the camera where the scene asks.
     pub fn frame_scene(&mut self) {
         self.camera = OrbitCamera::from_hint(self.scene.camera());
-    }
-
-    /// Index of the current scene in the registry.
-    #[must_use]
-    pub fn scene_index(&self) -> usize {
-        SCENES.iter().position(|e| std::ptr::eq(e, self.entry)).unwrap_or(0)
     }
 }
