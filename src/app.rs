@@ -24,8 +24,8 @@ pub enum AppError {
 }
 
 /// Opens the window on `scene` with `KEY=VALUE` settings and runs until it is closed.
-pub fn run(scene: &str, assignments: &[String]) -> Result<(), AppError> {
-    let lab = Lab::new(scene, assignments).map_err(AppError::Usage)?;
+pub fn run(scene: &str, assignments: &[String], solver: crate::physics::SolverSettings) -> Result<(), AppError> {
+    let lab = Lab::with_solver(scene, assignments, solver).map_err(AppError::Usage)?;
     let event_loop = EventLoop::new().map_err(|e| {
         AppError::Fatal(format!(
             "cannot open a window: no display ({e}); run it on a desktop, or under a virtual \

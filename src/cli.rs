@@ -6,7 +6,7 @@ use std::io::{self, Write};
 use clap::{Parser, Subcommand, ValueEnum};
 use serde::Serialize;
 
-use crate::physics::{LinkEnd, LinkState, World};
+use crate::physics::{LinkEnd, LinkState, SolverKind, SolverSettings, World, solver::SUBSTEP_RANGE};
 use crate::scenes::{self, SCENES, Scene};
 
 /// Exit code for input the user can fix.
@@ -25,6 +25,37 @@ pub struct Cli {
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Solver choice for the window.
+    #[command(flatten)]
+    pub solver: SolverArgs,
+}
+
+/// The solver flags shared by the window, `simulate` and `render`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SolverArgs {
+    /// Constraint solver: soft (substepped soft contacts with friction, the default) or
+    /// paper (the paper's worst-first resolver).
+    #[arg(long, value_name = "NAME", default_value = "soft")]
+    pub solver: String,
+    /// Substeps per physics step for the soft solver, 1 to 64.
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    pub substeps: u32,
+}
+
+impl SolverArgs {
+    /// The settings these flags ask for, or a one-line reason they are refused.
+    pub fn settings(&self) -> Result<SolverSettings, String> {
+        let kind = SolverKind::parse(&self.solver)?;
+        if !SUBSTEP_RANGE.contains(&self.substeps) {
+            return Err(format!(
+                "--substeps {} is out of range; valid range: {} to {}",
+                self.substeps,
+                SUBSTEP_RANGE.start(),
+                SUBSTEP_RANGE.end()
+            ));
+        }
+        Ok(SolverSettings { kind, substeps: self.substeps, ..SolverSettings::default() })
+    }
 }
 
 /// Subcommands.
@@ -51,6 +82,9 @@ pub struct RenderArgs {
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Solver choice.
+    #[command(flatten)]
+    pub solver: SolverArgs,
     /// Physics steps to run before the frame, at the scene's own rate.
     #[arg(long, default_value_t = 120)]
     pub steps: u64,
@@ -84,7 +118,8 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     if args.out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
         return Err((2, format!("--out {} must name a .png file", args.out.display())));
     }
-    let mut lab = crate::ui::Lab::new(&args.scene, &args.set).map_err(|e| (2, e))?;
+    let solver = args.solver.settings().map_err(|e| (2, e))?;
+    let mut lab = crate::ui::Lab::with_solver(&args.scene, &args.set, solver).map_err(|e| (2, e))?;
     lab.run_steps_recorded(args.steps);
     let mut snapshotter = crate::snapshot::Snapshotter::new().map_err(|e| (1, e))?;
     let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
@@ -117,6 +152,9 @@ pub struct SimulateArgs {
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Solver choice.
+    #[command(flatten)]
+    pub solver: SolverArgs,
     /// Physics steps to run [default: the scene's own].
     #[arg(long)]
     pub steps: Option<u64>,
@@ -252,7 +290,9 @@ pub struct RunPlan {
 
 /// Builds the scene and checks the numbers of a `simulate` run.
 pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String> {
-    let scene = scenes::build(&args.scene, &args.set)?;
+    let solver = args.solver.settings()?;
+    let mut scene = scenes::build(&args.scene, &args.set)?;
+    scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
     let info = scene.info();
     let dt = args.dt.unwrap_or(info.dt);
     if !(dt > 0.0 && dt <= 1.0) {
@@ -373,7 +413,7 @@ fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<Link
         t: world.time(),
         particles,
         links,
-        contacts: world.contacts().len(),
+        contacts: world.contact_count(),
         resolver: ResolverJson {
             iterations: world.last_report().iterations(),
             max_penetration: world.last_report().max_penetration,

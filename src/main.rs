@@ -33,7 +33,12 @@ fn main() -> ExitCode {
                 ExitCode::from(code)
             }
         },
-        None => match app::run(args.scene.as_deref().unwrap_or("projectile"), &args.set) {
+        None => match args
+            .solver
+            .settings()
+            .map_err(AppError::Usage)
+            .and_then(|solver| app::run(args.scene.as_deref().unwrap_or("projectile"), &args.set, solver))
+        {
             Ok(()) => ExitCode::SUCCESS,
             Err(AppError::Usage(message)) => usage_error(&message),
             Err(AppError::Fatal(message)) => {

@@ -20,14 +20,14 @@ fn scenes_lists_every_scene_in_text_and_json() {
     let text = run(&["scenes"]);
     assert!(text.status.success());
     let text = String::from_utf8_lossy(&text.stdout);
-    for name in ["projectile", "springForces", "bridge"] {
+    for name in ["projectile", "springForces", "bridge", "pile"] {
         assert!(text.contains(name), "{name} missing from:\n{text}");
     }
     let json = run(&["scenes", "--format", "json"]);
     assert!(json.status.success());
     let list: Value = serde_json::from_slice(&json.stdout).unwrap();
     let list = list.as_array().unwrap();
-    assert_eq!(list.len(), 3);
+    assert_eq!(list.len(), 4);
     let projectile = list.iter().find(|s| s["name"] == "projectile").unwrap();
     let g = projectile["params"].as_array().unwrap().iter().find(|p| p["name"] == "g").unwrap();
     assert_eq!(g["default"], 20.0);
@@ -78,35 +78,40 @@ fn simulate_spring_forces_lists_every_spring_kind() {
     }
 }
 
-#[test]
-fn simulate_applies_set_and_dt() {
-    let out = run(&[
-        "simulate",
-        "--scene",
-        "projectile",
-        "--set",
-        "speed=10",
-        "--set",
-        "angle=90",
-        "--set",
-        "g=10",
-        "--set",
-        "damping=1",
-        "--dt",
-        "0.01",
-        "--steps",
-        "100",
-        "--every",
-        "100",
-    ]);
+/// Straight up at 10 m/s under 10 m/s² for 1 s in steps of 0.01 s with the given solver
+/// flags; returns (step-0 velocity, height at the end).
+fn straight_up(solver: &[&str]) -> (serde_json::Value, f64) {
+    let mut args = vec![
+        "simulate", "--scene", "projectile", "--set", "speed=10", "--set", "angle=90", "--set", "g=10", "--set",
+        "damping=1", "--dt", "0.01", "--steps", "100", "--every", "100",
+    ];
+    args.extend_from_slice(solver);
+    let out = run(&args);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let lines = json_lines(&out);
-    let v0 = &lines[0]["particles"][0]["v"];
+    (lines[0]["particles"][0]["v"].clone(), lines[1]["particles"][0]["p"][1].as_f64().unwrap())
+}
+
+#[test]
+fn simulate_applies_set_and_dt() {
+    // Semi-implicit Euler's closed form after m steps of h: y0 + v0 m h - g h² m(m+1)/2.
+    let closed_form = |h: f64, m: f64| 1.5 + 10.0 * m * h - 10.0 * h * h * m * (m + 1.0) / 2.0;
+    let (v0, y) = straight_up(&["--solver", "paper"]);
     assert!(v0[0].as_f64().unwrap().abs() < 1e-5 && (v0[1].as_f64().unwrap() - 10.0).abs() < 1e-5);
-    // Straight up at 10 m/s under 10 m/s²: after 1 s it is at the top, 1.5 + 5 - 0.05 m.
-    let y = lines[1]["particles"][0]["p"][1].as_f64().unwrap();
-    let expected = 1.5 + 10.0 * 1.0 - 10.0 * 0.01 * 0.01 * 100.0 * 101.0 / 2.0;
-    assert!((y - expected).abs() < 1e-3, "y {y} vs {expected}");
+    assert!((y - closed_form(0.01, 100.0)).abs() < 1e-3, "paper: y {y}");
+    // The soft solver integrates in substeps: 4 of 0.0025 s per step by default, 8 here.
+    let (_, y) = straight_up(&[]);
+    assert!((y - closed_form(0.0025, 400.0)).abs() < 1e-3, "soft: y {y}");
+    let (_, y) = straight_up(&["--solver", "soft", "--substeps", "8"]);
+    assert!((y - closed_form(0.00125, 800.0)).abs() < 1e-3, "soft, 8 substeps: y {y}");
+}
+
+#[test]
+fn bad_solver_flags_get_one_line() {
+    assert_usage_error(&["simulate", "--scene", "bridge", "--solver", "pgs"], &["unknown solver 'pgs'", "soft, paper"]);
+    assert_usage_error(&["simulate", "--scene", "bridge", "--substeps", "0"], &["--substeps 0", "1 to 64"]);
+    assert_usage_error(&["render", "--scene", "bridge", "--substeps", "65", "--out", "x.png"], &["--substeps 65"]);
+    assert_usage_error(&["--solver", "nope"], &["unknown solver 'nope'"]);
 }
 
 fn assert_usage_error(args: &[&str], expected: &[&str]) {

@@ -148,7 +148,7 @@ fn head_on(mass_ratio: f32, restitution: f32) -> (f32, f32, Vec3, Vec3, Vec3, Ve
         .add_particle(ParticleDesc { radius: 0.5, ..particle(Vec3::new(-0.505, 0.0, 0.0), va, ma) })
         .unwrap();
     world.add_particle(ParticleDesc { radius: 0.5, ..particle(Vec3::new(0.505, 0.0, 0.0), vb, mb) }).unwrap();
-    world.add_contact_generator(SphereCollisions { restitution });
+    world.add_contact_generator(SphereCollisions::elastic(restitution));
     for _ in 0..5 {
         world.step(0.01).unwrap();
     }
@@ -182,7 +182,7 @@ fn interpenetration_is_removed_in_proportion_to_inverse_mass() {
     world
         .add_particle(ParticleDesc { radius: 1.0, ..particle(Vec3::new(1.0, 0.0, 0.0), Vec3::ZERO, 3.0) })
         .unwrap();
-    world.add_contact_generator(SphereCollisions { restitution: 0.5 });
+    world.add_contact_generator(SphereCollisions::elastic(0.5));
     world.step(1e-3).unwrap();
     let (a, b) = (world.particles.position[0].x, world.particles.position[1].x);
     let slop = world.resolver.slop;

@@ -49,7 +49,7 @@ proptest! {
         world.add_force(Buoyancy { target: a, surface: 0.5, half_height: radius, volume: 0.1, density: 1000.0, g: 9.81 });
         world.add_force(StiffSpring::new(b, pa, k.max(1.0), zeta));
         world.add_contact_generator(GroundPlane { height: 0.0, restitution });
-        world.add_contact_generator(SphereCollisions { restitution });
+        world.add_contact_generator(SphereCollisions::elastic(restitution));
         world.add_contact_generator(Constraint::rod(a, b, rest));
         world.add_contact_generator(Constraint::cable(a, b, rest, restitution));
         world.add_contact_generator(Constraint::support_rod(a, pb, rest));
@@ -85,7 +85,7 @@ proptest! {
         };
         add(pa, va, ma);
         add(Vec3::ZERO, vb, mb);
-        world.add_contact_generator(SphereCollisions { restitution });
+        world.add_contact_generator(SphereCollisions::elastic(restitution));
         let before = world.energy().kinetic;
         world.step(1e-3).unwrap();
         let after = world.energy().kinetic;

@@ -1,4 +1,13 @@
-//! Contacts and the iterative impulse resolver.
+//! Contacts and the paper's iterative impulse resolver.
+//!
+//! This is the resolver the paper describes, kept as the `paper` solver so the lab can
+//! show why the soft step exists. It handles one contact at a time, always the worst:
+//! each pass scans every contact, so a step costs iterations x contacts and a large
+//! pile stops at the iteration cap before it converges (it never comes to rest). Its
+//! known behaviour: restitution is applied against the step-end closing speed (an
+//! `e = 1` bounce loses a little height each time), rods and cables are corrected by
+//! moving positions, which takes energy out of a swinging chain, and nothing stops a
+//! fast particle passing through another within a step.
 
 use glam::Vec3;
 
@@ -140,6 +149,8 @@ pub struct ResolveReport {
     pub position_iterations: usize,
     /// Largest penetration left after resolution (m); 0 if none.
     pub max_penetration: f32,
+    /// Contacts handled (with the soft solver, speculative ones included).
+    pub contacts: usize,
 }
 
 impl ResolveReport {

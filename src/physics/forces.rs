@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use super::links::{LinkEnd, LinkKind, LinkSpec};
+use super::links::{LinkEnd, LinkKind, LinkSpec, direction_or_zero, end_position};
 use super::particles::{ParticleId, Particles};
 
 /// Something that adds forces to particles every step.
@@ -110,28 +110,6 @@ impl ForceRegistry {
     /// Iterates over the generators.
     pub fn iter(&self) -> impl Iterator<Item = &dyn ForceGenerator> {
         self.entries.iter().map(|(_, g)| g.as_ref())
-    }
-}
-
-/// Unit vector of `d`, or zero when `d` is (nearly) zero: coincident ends exert no
-/// directed force instead of producing NaN.
-#[inline]
-#[must_use]
-pub fn direction_or_zero(d: Vec3) -> (Vec3, f32) {
-    let length = d.length();
-    if length > 1e-12 && length.is_finite() {
-        (d / length, length)
-    } else {
-        (Vec3::ZERO, length.min(f32::MAX))
-    }
-}
-
-/// Position of a link end: a particle's position or a fixed anchor.
-#[inline]
-pub(crate) fn end_position(particles: &Particles, end: LinkEnd) -> Option<Vec3> {
-    match end {
-        LinkEnd::Particle(id) => particles.index(id).map(|i| particles.position[i]),
-        LinkEnd::Anchor(p) => Some(p),
     }
 }
 

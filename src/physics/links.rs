@@ -1,13 +1,36 @@
-//! Contact generators: the ground, particle-particle collisions, rods and cables.
+//! Links between two points: what they are (kinds, ends, specs, states), and rods and
+//! cables, which are constraints rather than forces.
 //!
-//! Rods and cables are not forces: each step they check their length and, when it is
-//! off, emit a contact that the resolver treats like a collision.
+//! With the paper's resolver a rod or cable checks its length each step and, when it is
+//! off, emits a contact that the resolver treats like a collision. The soft-step solver
+//! reads the same [`Constraint`] and solves it on the exact geometry every substep.
 
 use glam::Vec3;
 
 use super::contacts::Contact;
-use super::forces::{direction_or_zero, end_position};
 use super::particles::{ParticleId, Particles};
+
+/// Unit vector of `d` and its length, or zero and the length when `d` is (nearly) zero:
+/// coincident ends exert no directed force instead of producing NaN.
+#[inline]
+#[must_use]
+pub fn direction_or_zero(d: Vec3) -> (Vec3, f32) {
+    let length = d.length();
+    if length > 1e-12 && length.is_finite() {
+        (d / length, length)
+    } else {
+        (Vec3::ZERO, length.min(f32::MAX))
+    }
+}
+
+/// Position of a link end: a particle's position or a fixed anchor.
+#[inline]
+pub(crate) fn end_position(particles: &Particles, end: LinkEnd) -> Option<Vec3> {
+    match end {
+        LinkEnd::Particle(id) => particles.index(id).map(|i| particles.position[i]),
+        LinkEnd::Anchor(p) => Some(p),
+    }
+}
 
 /// What a link between two points is, for output and drawing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -82,81 +105,9 @@ pub struct LinkState {
     pub tension: f32,
 }
 
-/// Something that looks at the particles each step and emits contacts.
-pub trait ContactGenerator {
-    /// Appends this step's contacts. `source` is this generator's index in the world,
-    /// to be stored in contacts that belong to a link.
-    fn generate(&self, particles: &Particles, source: u32, out: &mut Vec<Contact>);
-
-    /// Whether this generator refers to the particle.
-    fn involves(&self, _id: ParticleId) -> bool {
-        false
-    }
-
-    /// The generator seen as a link, if it is one.
-    fn link(&self) -> Option<LinkSpec> {
-        None
-    }
-}
-
-/// The horizontal plane `y = height`: every movable particle rests on it by its radius.
-#[derive(Clone, Debug)]
-pub struct GroundPlane {
-    /// Height of the plane (m).
-    pub height: f32,
-    /// Coefficient of restitution against the ground.
-    pub restitution: f32,
-}
-
-impl ContactGenerator for GroundPlane {
-    fn generate(&self, particles: &Particles, _source: u32, out: &mut Vec<Contact>) {
-        let positions = particles.position.iter().zip(&particles.radius);
-        for (i, ((p, &r), &inverse_mass)) in positions.zip(&particles.inverse_mass).enumerate() {
-            let penetration = self.height + r - p.y;
-            if penetration > 0.0 && inverse_mass > 0.0 {
-                out.push(Contact::new(i, None, Vec3::Y, penetration, self.restitution));
-            }
-        }
-    }
-}
-
-/// Sphere-sphere collisions between every pair of particles with a radius (all pairs:
-/// fine for the scenes' few dozen particles).
-#[derive(Clone, Debug)]
-pub struct SphereCollisions {
-    /// Coefficient of restitution between particles.
-    pub restitution: f32,
-}
-
-impl ContactGenerator for SphereCollisions {
-    fn generate(&self, particles: &Particles, _source: u32, out: &mut Vec<Contact>) {
-        let n = particles.len();
-        for a in 0..n {
-            let (pa, ra) = (particles.position[a], particles.radius[a]);
-            if ra <= 0.0 {
-                continue;
-            }
-            for b in a + 1..n {
-                let reach = ra + particles.radius[b];
-                let d = pa - particles.position[b];
-                if particles.radius[b] <= 0.0 || d.length_squared() >= reach * reach {
-                    continue;
-                }
-                if particles.inverse_mass[a] + particles.inverse_mass[b] <= 0.0 {
-                    continue;
-                }
-                let (normal, distance) = direction_or_zero(d);
-                // Coincident centres have no direction: separate them vertically.
-                let normal = if normal == Vec3::ZERO { Vec3::Y } else { normal };
-                out.push(Contact::new(a, Some(b), normal, reach - distance, self.restitution));
-            }
-        }
-    }
-}
-
 /// A rod (fixed length) or cable (maximum length) from a particle to another particle
 /// or to a fixed anchor.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Constraint {
     /// First end.
     pub a: ParticleId,
@@ -196,8 +147,16 @@ impl Constraint {
     }
 }
 
-impl ContactGenerator for Constraint {
-    fn generate(&self, particles: &Particles, source: u32, out: &mut Vec<Contact>) {
+impl Constraint {
+    /// True for a link to a fixed anchor.
+    #[must_use]
+    pub fn is_support(&self) -> bool {
+        matches!(self.b, LinkEnd::Anchor(_))
+    }
+
+    /// Emits the paper resolver's contact when the link is too long (or, for a rod, too
+    /// short). `source` is this link's generator index, kept for its tension.
+    pub fn generate(&self, particles: &Particles, source: u32, out: &mut Vec<Contact>) {
         let Some(a) = particles.index(self.a) else { return };
         let (b, other) = match self.b {
             LinkEnd::Particle(id) => match particles.index(id) {
@@ -222,18 +181,22 @@ impl ContactGenerator for Constraint {
         out.push(Contact { source, pulls: too_long, ..Contact::new(a, b, normal, error.abs(), restitution) });
     }
 
-    fn involves(&self, id: ParticleId) -> bool {
+    /// Whether this link refers to the particle.
+    #[must_use]
+    pub fn involves(&self, id: ParticleId) -> bool {
         self.a == id || self.b == LinkEnd::Particle(id)
     }
 
-    fn link(&self) -> Option<LinkSpec> {
+    /// The link's declaration.
+    #[must_use]
+    pub fn spec(&self) -> LinkSpec {
         let kind = match (self.rigid, self.b) {
             (true, LinkEnd::Particle(_)) => LinkKind::Rod,
             (false, LinkEnd::Particle(_)) => LinkKind::Cable,
             (true, LinkEnd::Anchor(_)) => LinkKind::SupportRod,
             (false, LinkEnd::Anchor(_)) => LinkKind::SupportCable,
         };
-        Some(LinkSpec { kind, a: self.a, b: self.b, rest: self.length })
+        LinkSpec { kind, a: self.a, b: self.b, rest: self.length }
     }
 }
 

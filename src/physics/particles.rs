@@ -308,6 +308,46 @@ impl Particles {
         }
     }
 
+    /// The velocity half of a substep: `v = (v + (a + F/m) h) damping^h` for every
+    /// movable particle. [`Particles::prepare_damping`] must have been called with `h`.
+    pub(crate) fn integrate_velocities(&mut self, h: f32, parallel: bool) {
+        let kick = |(v, ((&a, &f), (&inverse_mass, &damp))): (&mut Vec3, ((&Vec3, &Vec3), (&f32, &f32)))| {
+            if inverse_mass > 0.0 {
+                *v = (*v + (a + f * inverse_mass) * h) * damp;
+            }
+        };
+        let inputs = self.acceleration.iter().zip(&self.force).zip(self.inverse_mass.iter().zip(&self.damping_per_step));
+        if parallel {
+            use rayon::prelude::*;
+            let inputs = self
+                .acceleration
+                .par_iter()
+                .zip(&self.force)
+                .zip(self.inverse_mass.par_iter().zip(&self.damping_per_step));
+            self.velocity.par_iter_mut().zip(inputs).with_min_len(4096).for_each(kick);
+        } else {
+            self.velocity.iter_mut().zip(inputs).for_each(kick);
+        }
+    }
+
+    /// The position half of a substep: `p += v h` for every movable particle, adding the
+    /// move to `delta` too.
+    pub(crate) fn integrate_positions(&mut self, h: f32, delta: &mut [Vec3], parallel: bool) {
+        let drift = |((p, d), (&v, &inverse_mass)): ((&mut Vec3, &mut Vec3), (&Vec3, &f32))| {
+            if inverse_mass > 0.0 {
+                *p += v * h;
+                *d += v * h;
+            }
+        };
+        if parallel {
+            use rayon::prelude::*;
+            let inputs = self.velocity.par_iter().zip(&self.inverse_mass);
+            self.position.par_iter_mut().zip(delta).zip(inputs).with_min_len(4096).for_each(drift);
+        } else {
+            self.position.iter_mut().zip(delta).zip(self.velocity.iter().zip(&self.inverse_mass)).for_each(drift);
+        }
+    }
+
     /// Acceleration the particle at `index` received this step: constant part plus
     /// accumulated force over mass (m/s²). Zero for immovable particles.
     #[inline]

@@ -2,11 +2,17 @@
 
 use glam::Vec3;
 
+use std::time::Instant;
+
 use super::PhysicsError;
+use super::broad_phase::BroadPhase;
+use super::collisions::{ContactGenerator, Scratch};
 use super::contacts::{Contact, ContactResolver, NO_SOURCE, ResolveReport};
 use super::forces::{ForceGenerator, ForceId, ForceRegistry};
-use super::links::{ContactGenerator, LinkState, link_geometry};
+use super::links::{LinkState, link_geometry};
 use super::particles::{ParticleDesc, ParticleId, Particles};
+use super::soft_step::SoftStep;
+use super::solver::{SolverKind, SolverSettings};
 
 /// Handle to a registered contact generator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -22,6 +28,19 @@ pub struct Energy {
     pub potential: f32,
 }
 
+/// Wall time of the stages of the last step (ms), for the panel and the benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Profile {
+    /// Finding candidate sphere pairs (the grid).
+    pub broad_phase_ms: f32,
+    /// Turning pairs, planes and links into contacts.
+    pub narrow_phase_ms: f32,
+    /// Solving contacts and links (with the paper's resolver: resolving them).
+    pub solve_ms: f32,
+    /// The whole step.
+    pub total_ms: f32,
+}
+
 /// A mass-aggregate world.
 #[derive(Default)]
 pub struct World {
@@ -29,9 +48,14 @@ pub struct World {
     pub particles: Particles,
     /// Force generators, applied every step in order.
     pub forces: ForceRegistry,
-    /// Settings of the contact resolver.
+    /// Settings of the paper's resolver (used when the solver is [`SolverKind::Paper`]).
     pub resolver: ContactResolver,
-    contact_generators: Vec<(ContactGeneratorId, Box<dyn ContactGenerator>)>,
+    solver: SolverSettings,
+    contact_generators: Vec<(ContactGeneratorId, ContactGenerator)>,
+    broad_phase: BroadPhase,
+    scratch: Scratch,
+    soft: SoftStep,
+    profile: Profile,
     next_contact_generator: u32,
     contacts: Vec<Contact>,
     /// Contacts regenerated for the extra position passes.
@@ -69,6 +93,7 @@ impl World {
         self.contact_generators.retain(|(_, g)| !g.involves(id));
         // Contact indices refer to the old dense order; drop them until the next step.
         self.contacts.clear();
+        self.soft.forget();
         self.link_tension.clear();
         true
     }
@@ -78,14 +103,11 @@ impl World {
         self.forces.add(Box::new(generator))
     }
 
-    /// Registers a contact generator (ground, collisions, rod, cable, ...).
-    pub fn add_contact_generator(
-        &mut self,
-        generator: impl ContactGenerator + 'static,
-    ) -> ContactGeneratorId {
+    /// Registers a contact generator (plane, sphere collisions, rod, cable, ...).
+    pub fn add_contact_generator(&mut self, generator: impl Into<ContactGenerator>) -> ContactGeneratorId {
         let id = ContactGeneratorId(self.next_contact_generator);
         self.next_contact_generator += 1;
-        self.contact_generators.push((id, Box::new(generator)));
+        self.contact_generators.push((id, generator.into()));
         self.link_tension.clear();
         id
     }
@@ -96,51 +118,133 @@ impl World {
         self.contact_generators.retain(|(entry, _)| *entry != id);
         self.link_tension.clear();
         self.contacts.clear();
+        self.soft.forget();
         before != self.contact_generators.len()
     }
 
-    /// Advances the world by `dt` seconds: clear forces, apply force generators,
-    /// integrate, generate contacts, resolve them.
+    /// The contact generators, in the order they run.
+    pub fn contact_generators(&self) -> impl Iterator<Item = &ContactGenerator> {
+        self.contact_generators.iter().map(|(_, g)| g)
+    }
+
+    /// The solver and its settings.
+    #[must_use]
+    pub fn solver(&self) -> &SolverSettings {
+        &self.solver
+    }
+
+    /// Changes the solver or its settings; refused (world unchanged) if a setting is
+    /// out of range.
+    pub fn set_solver(&mut self, settings: SolverSettings) -> Result<(), PhysicsError> {
+        settings.validate()?;
+        if settings.kind != self.solver.kind {
+            self.soft.forget();
+            self.contacts.clear();
+        }
+        self.solver = settings;
+        Ok(())
+    }
+
+    /// Advances the world by `dt` seconds with the chosen solver.
     pub fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(PhysicsError::InvalidTimeStep(dt));
         }
+        self.link_tension.clear();
+        self.link_tension.resize(self.contact_generators.len(), 0.0);
+        self.last_report = match self.solver.kind {
+            SolverKind::Soft => self.step_soft(dt),
+            SolverKind::Paper => self.step_paper(dt),
+        };
+        self.time += f64::from(dt);
+        self.steps += 1;
+        Ok(self.last_report)
+    }
+
+    /// The soft step: see [`super::soft_step`].
+    fn step_soft(&mut self, dt: f32) -> ResolveReport {
+        self.contacts.clear();
+        let report = self.soft.step(
+            &self.solver,
+            &mut self.particles,
+            &mut self.forces,
+            &self.contact_generators,
+            &mut self.broad_phase,
+            &mut self.scratch,
+            dt,
+            &mut self.link_tension,
+            &mut self.profile,
+        );
+        ResolveReport {
+            velocity_iterations: 2 * self.solver.substeps as usize,
+            position_iterations: 0,
+            max_penetration: report.max_penetration,
+            contacts: report.contacts,
+        }
+    }
+
+    /// The paper's step: clear forces, apply force generators, integrate, generate
+    /// contacts, resolve them worst first, then a few position passes on fresh contacts.
+    fn step_paper(&mut self, dt: f32) -> ResolveReport {
+        let started = Instant::now();
         // Before the generators: the stiff spring reads this step's damping factor.
         self.particles.prepare_damping(dt);
         self.particles.clear_forces();
         self.forces.apply(&mut self.particles, dt);
         self.particles.integrate(dt);
 
-        self.contacts.clear();
-        for (source, (_, generator)) in self.contact_generators.iter().enumerate() {
-            generator.generate(&self.particles, source as u32, &mut self.contacts);
-        }
-        self.last_report = self.resolver.resolve(&mut self.contacts, &mut self.particles, dt);
+        let collide = Instant::now();
+        self.generate_paper_contacts(false);
+        let solve = Instant::now();
+        let mut report = self.resolver.resolve(&mut self.contacts, &mut self.particles, dt);
         for _ in 0..self.position_passes {
-            self.pass_contacts.clear();
-            for (source, (_, generator)) in self.contact_generators.iter().enumerate() {
-                generator.generate(&self.particles, source as u32, &mut self.pass_contacts);
-            }
+            self.generate_paper_contacts(true);
             let (iterations, left) =
                 self.resolver.resolve_positions(&mut self.pass_contacts, &mut self.particles);
-            self.last_report.position_iterations += iterations;
-            self.last_report.max_penetration = left;
+            report.position_iterations += iterations;
+            report.max_penetration = left;
             if iterations == 0 {
                 break;
             }
         }
+        report.contacts = self.contacts.len();
 
-        self.link_tension.clear();
-        self.link_tension.resize(self.contact_generators.len(), 0.0);
         for contact in &self.contacts {
             if contact.source != NO_SOURCE {
                 let sign = if contact.pulls { 1.0 } else { -1.0 };
                 self.link_tension[contact.source as usize] += sign * contact.impulse / dt;
             }
         }
-        self.time += f64::from(dt);
-        self.steps += 1;
-        Ok(self.last_report)
+        let done = Instant::now();
+        let ms = |d: std::time::Duration| d.as_secs_f32() * 1000.0;
+        self.profile = Profile {
+            broad_phase_ms: 0.0,
+            narrow_phase_ms: ms(solve - collide),
+            solve_ms: ms(done - solve),
+            total_ms: ms(done - started),
+        };
+        report
+    }
+
+    /// Fills `contacts` (or, for a position pass, `pass_contacts`) from every generator.
+    fn generate_paper_contacts(&mut self, pass: bool) {
+        let out = if pass { &mut self.pass_contacts } else { &mut self.contacts };
+        out.clear();
+        for (source, (_, generator)) in self.contact_generators.iter().enumerate() {
+            generator.generate(&self.particles, source as u32, &mut self.broad_phase, &mut self.scratch, out);
+        }
+    }
+
+    /// Wall time of the last step's stages.
+    #[must_use]
+    pub fn profile(&self) -> Profile {
+        self.profile
+    }
+
+    /// Contacts the last step solved (with the soft solver, speculative ones too).
+    #[must_use]
+    pub fn contact_count(&self) -> usize {
+        self.last_report.contacts
     }
 
     /// Simulated time so far (s).
@@ -155,7 +259,8 @@ impl World {
         self.steps
     }
 
-    /// Contacts found and resolved in the last step.
+    /// Contacts the paper's resolver handled in the last step (empty with the soft
+    /// solver; see [`World::contact_count`]).
     #[must_use]
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts

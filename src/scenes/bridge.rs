@@ -41,6 +41,7 @@ static INFO: SceneInfo = SceneInfo {
     presets: &[],
     actions: ACTIONS,
     trails: false,
+    color_by_speed: false,
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };

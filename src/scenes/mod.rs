@@ -4,6 +4,7 @@
 
 mod bridge;
 mod params;
+pub mod pile;
 mod projectile;
 mod spring_forces;
 
@@ -33,6 +34,9 @@ pub struct SceneInfo {
     pub actions: &'static [ActionInfo],
     /// Whether trails help here (they clutter a scene that barely moves).
     pub trails: bool,
+    /// Whether particles are best coloured by speed (many alike particles, where what
+    /// matters is which still move).
+    pub color_by_speed: bool,
 }
 
 /// Something a user can do to a running scene besides changing parameters.
@@ -155,7 +159,7 @@ impl SceneEntry {
 }
 
 /// Every scene, in menu order.
-pub static SCENES: &[SceneEntry] = &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY];
+pub static SCENES: &[SceneEntry] = &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY, pile::ENTRY];
 
 /// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works).
 pub fn find(name: &str) -> Result<&'static SceneEntry, String> {

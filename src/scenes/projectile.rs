@@ -47,13 +47,14 @@ static INFO: SceneInfo = SceneInfo {
     presets: PRESETS,
     actions: ACTIONS,
     trails: true,
+    color_by_speed: false,
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let mut world = World::new();
-    world.add_contact_generator(SphereCollisions { restitution: 0.8 });
+    world.add_contact_generator(SphereCollisions::elastic(0.8));
     let mut scene = Projectile { world, params, rounds: Vec::new() };
     scene.fire().expect("default parameters describe a valid round");
     Box::new(scene)

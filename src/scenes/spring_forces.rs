@@ -41,6 +41,7 @@ static INFO: SceneInfo = SceneInfo {
     presets: &[],
     actions: &[],
     trails: true,
+    color_by_speed: false,
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
@@ -88,7 +89,7 @@ impl SpringForces {
         let float_force = world.add_force(float_buoyancy(float, g));
         world.add_force(StiffSpring::new(stiff, STIFF_ANCHOR, params.get("stiff_k"), 0.05));
         world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 });
-        world.add_contact_generator(SphereCollisions { restitution: 0.5 });
+        world.add_contact_generator(SphereCollisions::elastic(0.5));
         Ok(Self { world, params, bob, float_force, float })
     }
 }
@@ -138,7 +139,11 @@ impl Scene for SpringForces {
                 self.params = params;
             }
             // Spring constants and lengths shape the whole scene: start it again.
-            _ => *self = Self::build(params).expect("parameter ranges keep every particle valid"),
+            _ => {
+                let solver = *self.world.solver();
+                *self = Self::build(params).expect("parameter ranges keep every particle valid");
+                self.world.set_solver(solver).expect("the running world's settings were valid");
+            }
         }
         Ok(())
     }

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 
-use crate::physics::ParticleId;
+use crate::physics::{ParticleId, SolverSettings};
 use crate::render::{OrbitCamera, Trails, ViewOptions};
 use crate::scenes::{self, Scene, SceneAction, SceneEntry};
 
@@ -83,6 +83,8 @@ pub struct Lab {
     pub time_scale: f32,
     /// Physics steps per simulated second (Hz).
     pub physics_rate: f32,
+    /// The solver every scene built here uses; kept across resets and scene changes.
+    solver: SolverSettings,
     accumulator: f64,
     /// View toggles.
     pub view: ViewOptions,
@@ -110,9 +112,16 @@ pub struct Lab {
 impl Lab {
     /// A lab on `name` with `KEY=VALUE` settings, validated like `simulate`'s.
     pub fn new(name: &str, assignments: &[String]) -> Result<Self, String> {
+        Self::with_solver(name, assignments, SolverSettings::default())
+    }
+
+    /// A lab on `name` with `KEY=VALUE` settings and the given solver.
+    pub fn with_solver(name: &str, assignments: &[String], solver: SolverSettings) -> Result<Self, String> {
         let entry = scenes::find(name)?;
-        let scene = scenes::build(name, assignments)?;
+        let mut scene = scenes::build(name, assignments)?;
+        scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
         let mut lab = Self {
+            solver,
             camera: OrbitCamera::from_hint(scene.camera()),
             physics_rate: 1.0 / entry.info.dt,
             scene,
@@ -159,7 +168,27 @@ impl Lab {
         self.restart();
     }
 
+    /// The solver in use.
+    #[must_use]
+    pub fn solver(&self) -> SolverSettings {
+        self.solver
+    }
+
+    /// Switches solver or its settings for the running scene and every later one; a
+    /// refusal goes to the status line and changes nothing.
+    pub fn set_solver(&mut self, solver: SolverSettings) {
+        match self.scene.world_mut().set_solver(solver) {
+            Ok(()) => {
+                log::info!("solver: {} with {} substeps", solver.kind.name(), solver.substeps);
+                self.solver = solver;
+            }
+            Err(error) => self.status = error.to_string(),
+        }
+    }
+
     fn restart(&mut self) {
+        // A new world starts with the default solver: give it the lab's.
+        self.scene.world_mut().set_solver(self.solver).expect("the lab's solver settings were validated");
         self.accumulator = 0.0;
         self.status.clear();
         self.trails.clear();
@@ -172,7 +201,11 @@ impl Lab {
     /// Changes a parameter of the running scene; a refusal goes to the status line.
     pub fn set_param(&mut self, name: &str, value: f32) {
         match self.scene.set_param(name, value) {
-            Ok(()) => log::info!("set {}.{name} = {value}", self.entry.info.name),
+            Ok(()) => {
+                // Some parameters rebuild the world, which then has the default solver.
+                self.scene.world_mut().set_solver(self.solver).expect("validated when chosen");
+                log::info!("set {}.{name} = {value}", self.entry.info.name);
+            }
             Err(error) => self.status = error.to_string(),
         }
     }

@@ -247,7 +247,7 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             row("physics / step", format!("{:.1} µs", lab.stats.step_ms * 1000.0));
             row("steps / frame", lab.stats.steps_last_frame.to_string());
             row("particles", world.particles.len().to_string());
-            row("contacts", world.contacts().len().to_string());
+            row("contacts", world.contact_count().to_string());
             row("resolver iterations", report.iterations().to_string());
             row("kinetic energy", format!("{:.2} J", energy.kinetic));
             row("potential energy", format!("{:.2} J", energy.potential));

@@ -1,0 +1,290 @@
+//! Broad phase: which pairs of spheres are close enough to need a closer look.
+//!
+//! A hashed uniform grid, rebuilt every step. Each sphere goes into the one cell that
+//! holds its centre; cells are hashed into a table twice the size of the particle
+//! count, so the world has no bounds. The table is filled with a counting sort (count
+//! per bucket, prefix sum, scatter) into buffers that are kept between steps: once
+//! warm, a step allocates nothing.
+//!
+//! The cell edge is the largest reach diameter among ordinary spheres, so a pair that
+//! touches always lies in neighbouring cells (the 3x3x3 block around a centre). A
+//! sphere much larger than the rest would make every cell huge; such "oversized"
+//! spheres (diameter more than [`OVERSIZED_FACTOR`] times the mean) stay out of the
+//! grid and are tested against every sphere instead, so mixed radii are always found.
+//!
+//! Pairs come out as `(a, b)` with `a < b`, sorted by `a` then `b`, whatever the thread
+//! count: the work is split into chunks of particles whose size depends only on the
+//! input, and the chunks' results are joined in order. That order is what the solver
+//! colours contacts by, so 1 thread and N threads give the same bits.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// A sphere whose reach diameter is more than this times the mean is kept out of the
+/// grid and tested against every other sphere.
+pub const OVERSIZED_FACTOR: f32 = 4.0;
+
+/// Particles per chunk of the pair search (one rayon task each).
+const CHUNK: usize = 2048;
+
+/// Particles below which the search runs on the calling thread (threads cost more than
+/// they save).
+const PARALLEL_FROM: usize = 4096;
+
+/// Grid coordinates are clamped to this many cells either side of the origin so that
+/// they pack into 21 bits each; far-away spheres share a border cell, which costs time
+/// but never misses a pair.
+const COORD_LIMIT: i32 = (1 << 20) - 1;
+
+const NOT_IN_GRID: u64 = u64::MAX;
+
+/// Scratch for the grid, reused every step.
+#[derive(Clone, Debug, Default)]
+pub struct BroadPhase {
+    /// Edge of a grid cell (m), from the last build.
+    cell_size: f32,
+    /// Per particle: packed cell coordinates, or `NOT_IN_GRID`.
+    cell_keys: Vec<u64>,
+    /// Per bucket + 1: start of the bucket in `entries` (prefix sums).
+    starts: Vec<u32>,
+    /// Fill cursors for the scatter.
+    cursors: Vec<u32>,
+    /// Particle indices sorted by bucket.
+    entries: Vec<u32>,
+    /// The packed cell of each entry, to skip other cells that share a bucket.
+    entry_keys: Vec<u64>,
+    /// Spheres kept out of the grid.
+    oversized: Vec<u32>,
+    /// Pairs found per chunk, joined in chunk order.
+    chunk_pairs: Vec<Vec<(u32, u32)>>,
+    /// Candidate partners of one particle, per chunk.
+    chunk_scratch: Vec<Vec<u32>>,
+}
+
+impl BroadPhase {
+    /// Empty scratch.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Cell edge used by the last [`BroadPhase::find_pairs`] (m); 0 before any.
+    #[must_use]
+    pub fn cell_size(&self) -> f32 {
+        self.cell_size
+    }
+
+    /// Spheres the last search kept out of the grid because they are much larger than
+    /// the rest.
+    #[must_use]
+    pub fn oversized_count(&self) -> usize {
+        self.oversized.len()
+    }
+
+    /// Writes into `out` (cleared first) every pair `(a, b)`, `a < b`, whose centres are
+    /// closer than `reach[a] + reach[b]`, sorted by `a` then `b`. A particle with a reach
+    /// of 0 or less (or not finite) takes part in no pair.
+    ///
+    /// # Panics
+    /// If `positions` and `reach` differ in length.
+    pub fn find_pairs(&mut self, positions: &[Vec3], reach: &[f32], out: &mut Vec<(u32, u32)>) {
+        assert_eq!(positions.len(), reach.len(), "one reach per position");
+        out.clear();
+        let n = positions.len();
+        self.build(positions, reach);
+        if n == 0 {
+            return;
+        }
+        let chunks = n.div_ceil(CHUNK);
+        if self.chunk_pairs.len() < chunks {
+            self.chunk_pairs.resize_with(chunks, Vec::new);
+            self.chunk_scratch.resize_with(chunks, Vec::new);
+        }
+        let grid = GridView {
+            cell_size: self.cell_size,
+            cell_keys: &self.cell_keys,
+            starts: &self.starts,
+            entries: &self.entries,
+            entry_keys: &self.entry_keys,
+            oversized: &self.oversized,
+            positions,
+            reach,
+        };
+        let (pairs, scratch) = (&mut self.chunk_pairs[..chunks], &mut self.chunk_scratch[..chunks]);
+        if n >= PARALLEL_FROM {
+            pairs.par_iter_mut().zip(scratch.par_iter_mut()).enumerate().for_each(|(chunk, (pairs, scratch))| {
+                grid.search_chunk(chunk, pairs, scratch);
+            });
+        } else {
+            for (chunk, (pairs, scratch)) in pairs.iter_mut().zip(scratch.iter_mut()).enumerate() {
+                grid.search_chunk(chunk, pairs, scratch);
+            }
+        }
+        for pairs in &self.chunk_pairs[..chunks] {
+            out.extend_from_slice(pairs);
+        }
+    }
+
+    /// Sizes the cells and sorts particles into buckets.
+    fn build(&mut self, positions: &[Vec3], reach: &[f32]) {
+        let n = positions.len();
+        let usable = |r: f32| r > 0.0 && r.is_finite();
+        let (mut count, mut sum, mut largest) = (0usize, 0.0f64, 0.0f32);
+        for &r in reach {
+            if usable(r) {
+                count += 1;
+                sum += f64::from(r);
+                largest = largest.max(r);
+            }
+        }
+        let mean = if count > 0 { (sum / count as f64) as f32 } else { 0.0 };
+        let limit = mean * OVERSIZED_FACTOR;
+        // The cell edge is the largest diameter that is not oversized.
+        let cell_radius = if largest <= limit {
+            largest
+        } else {
+            reach.iter().copied().filter(|&r| usable(r) && r <= limit).fold(0.0, f32::max)
+        };
+        self.cell_size = (2.0 * cell_radius).max(f32::MIN_POSITIVE);
+        let inverse_cell = 1.0 / self.cell_size;
+
+        self.oversized.clear();
+        self.cell_keys.clear();
+        self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
+            if usable(r) && r <= cell_radius { pack(cell_of(*p, inverse_cell)) } else { NOT_IN_GRID }
+        }));
+        for (i, &r) in reach.iter().enumerate() {
+            if usable(r) && r > cell_radius {
+                self.oversized.push(i as u32);
+            }
+        }
+
+        let buckets = (2 * n).next_power_of_two().max(64);
+        let bits = buckets.trailing_zeros();
+        self.starts.clear();
+        self.starts.resize(buckets + 1, 0);
+        for &key in &self.cell_keys {
+            if key != NOT_IN_GRID {
+                self.starts[bucket(key, bits) + 1] += 1;
+            }
+        }
+        for b in 0..buckets {
+            self.starts[b + 1] += self.starts[b];
+        }
+        let total = self.starts[buckets] as usize;
+        self.cursors.clear();
+        self.cursors.extend_from_slice(&self.starts[..buckets]);
+        self.entries.clear();
+        self.entries.resize(total, 0);
+        self.entry_keys.clear();
+        self.entry_keys.resize(total, 0);
+        for (i, &key) in self.cell_keys.iter().enumerate() {
+            if key != NOT_IN_GRID {
+                let slot = &mut self.cursors[bucket(key, bits)];
+                self.entries[*slot as usize] = i as u32;
+                self.entry_keys[*slot as usize] = key;
+                *slot += 1;
+            }
+        }
+    }
+}
+
+/// The built grid, shared read-only by the search tasks.
+#[derive(Clone, Copy)]
+struct GridView<'a> {
+    cell_size: f32,
+    cell_keys: &'a [u64],
+    starts: &'a [u32],
+    entries: &'a [u32],
+    entry_keys: &'a [u64],
+    oversized: &'a [u32],
+    positions: &'a [Vec3],
+    reach: &'a [f32],
+}
+
+impl GridView<'_> {
+    /// Finds the pairs whose first particle lies in chunk `chunk`.
+    fn search_chunk(&self, chunk: usize, pairs: &mut Vec<(u32, u32)>, partners: &mut Vec<u32>) {
+        pairs.clear();
+        let n = self.positions.len();
+        let bits = (self.starts.len() - 1).trailing_zeros();
+        let inverse_cell = 1.0 / self.cell_size;
+        for a in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
+            let ra = self.reach[a];
+            if !(ra > 0.0 && ra.is_finite()) {
+                continue;
+            }
+            partners.clear();
+            let pa = self.positions[a];
+            let touches = |b: usize| {
+                let rb = self.reach[b];
+                let reach = ra + rb;
+                rb > 0.0 && rb.is_finite() && (pa - self.positions[b]).length_squared() < reach * reach
+            };
+            if self.cell_keys[a] == NOT_IN_GRID {
+                // Oversized: against everything after it.
+                partners.extend((a + 1..n).filter(|&b| touches(b)).map(|b| b as u32));
+            } else {
+                let [x, y, z] = cell_of(pa, inverse_cell);
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let key = pack([x + dx, y + dy, z + dz]);
+                            let bucket = bucket(key, bits);
+                            let range = self.starts[bucket] as usize..self.starts[bucket + 1] as usize;
+                            for (&b, &entry_key) in self.entries[range.clone()].iter().zip(&self.entry_keys[range]) {
+                                if entry_key == key && b as usize > a && touches(b as usize) {
+                                    partners.push(b);
+                                }
+                            }
+                        }
+                    }
+                }
+                partners.extend(self.oversized.iter().copied().filter(|&b| b as usize > a && touches(b as usize)));
+            }
+            partners.sort_unstable();
+            // Cells clamped at the coordinate limit can be visited twice.
+            partners.dedup();
+            pairs.extend(partners.iter().map(|&b| (a as u32, b)));
+        }
+    }
+}
+
+/// Integer cell coordinates of a point, clamped so they pack; a non-finite point lands
+/// in some cell rather than panicking.
+#[inline]
+fn cell_of(p: Vec3, inverse_cell: f32) -> [i32; 3] {
+    let c = (p * inverse_cell).floor();
+    [c.x, c.y, c.z].map(|v| (v as i32).clamp(-COORD_LIMIT, COORD_LIMIT))
+}
+
+/// Packs clamped cell coordinates into 63 bits (21 each, offset to be non-negative).
+#[inline]
+fn pack([x, y, z]: [i32; 3]) -> u64 {
+    let field = |v: i32| (v.clamp(-COORD_LIMIT - 1, COORD_LIMIT) + (1 << 20)) as u64;
+    (field(x) << 42) | (field(y) << 21) | field(z)
+}
+
+/// Fibonacci hashing: the top `bits` bits of the key times 2^64/φ.
+#[inline]
+fn bucket(key: u64, bits: u32) -> usize {
+    (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - bits)) as usize
+}
+
+/// The reference the grid is tested against: every pair `(a, b)`, `a < b`, closer than
+/// `reach[a] + reach[b]`, by testing all of them. O(n²); for tests and tiny worlds.
+pub fn all_pairs(positions: &[Vec3], reach: &[f32], out: &mut Vec<(u32, u32)>) {
+    out.clear();
+    let usable = |r: f32| r > 0.0 && r.is_finite();
+    for a in 0..positions.len() {
+        if !usable(reach[a]) {
+            continue;
+        }
+        for b in a + 1..positions.len() {
+            let r = reach[a] + reach[b];
+            if usable(reach[b]) && (positions[a] - positions[b]).length_squared() < r * r {
+                out.push((a as u32, b as u32));
+            }
+        }
+    }
+}

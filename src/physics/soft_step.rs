@@ -1,0 +1,713 @@
+//! The soft step: a substepped solver with soft contacts, friction and restitution.
+//!
+//! The shape is Box2D v3's "soft step" (Erin Catto, "Solver2D", 2024) applied to
+//! particles, with the substepping argument of Macklin et al. 2019 ("Small Steps in
+//! Physics Simulation"): many small steps of one iteration beat one big step of many.
+//!
+//! Stages, each finished before the next begins:
+//! 1. **Collide** once per step: the broad phase's pairs and the planes give contacts
+//!    whose gap is below a speculative margin (a pair that may touch within the step
+//!    gets its contact now). Each contact stores its separation and closing speed at
+//!    the start of the step, and picks up last step's impulses (warm starting).
+//! 2. **Colour** the contacts so that no two of one colour share a movable particle;
+//!    a colour is then solved in parallel with the same result as in order.
+//! 3. **Substeps**, `n` of them, each of `h = dt / n`: apply force generators (springs
+//!    too) and integrate velocities; warm start; solve every contact and link with soft
+//!    position feedback; integrate positions; relax (solve again without feedback, so
+//!    pushing overlaps apart adds no energy).
+//! 4. **Restitution** once, from the closing speed each contact had before anything
+//!    moved: contacts that closed faster than a threshold leave at `e` times it.
+//! 5. **Store** impulses for the next step's warm start.
+//!
+//! A contact's separation during the substeps is its start separation plus how far its
+//! two particles have moved along the normal since, so contacts are found once a step.
+//! Rods and cables are few and are solved on their exact geometry every substep.
+
+use std::time::Instant;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::broad_phase::BroadPhase;
+use super::collisions::{ContactGenerator, Plane, Scratch, SphereCollisions};
+use super::forces::ForceRegistry;
+use super::links::{Constraint, LinkEnd, direction_or_zero};
+use super::particles::Particles;
+use super::solver::{SolverSettings, Softness};
+use super::world::{ContactGeneratorId, Profile};
+
+/// "No second particle" (a plane contact, or a link to an anchor).
+pub const NONE: u32 = u32::MAX;
+
+/// Colours solved in parallel; contacts that find no free colour go to one more,
+/// solved in order.
+const COLORS: usize = 24;
+const OVERFLOW: usize = COLORS;
+
+/// A colour with at least this many contacts is split across threads.
+const PARALLEL_CONTACTS: usize = 2048;
+/// Contacts per parallel task.
+const TASK: usize = 512;
+/// Particles from which the integration loops run on several threads.
+pub(crate) const PARALLEL_PARTICLES: usize = 16_384;
+
+/// A contact between a particle and another particle or a plane, as the soft solver
+/// keeps it over one step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SoftContact {
+    /// Dense index of the particle pushed along `normal`.
+    pub a: u32,
+    /// Dense index of the other particle, or [`NONE`] for a plane.
+    pub b: u32,
+    /// Unit normal, pointing the way `a` is pushed.
+    pub normal: Vec3,
+    /// Gap at the start of the step (m); negative is overlap.
+    pub separation: f32,
+    /// Coefficient of restitution.
+    pub restitution: f32,
+    /// Coulomb friction coefficient.
+    pub friction: f32,
+    /// Effective mass along any direction, `1 / (1/m_a + 1/m_b)` (kg).
+    pub mass: f32,
+    /// Separating speed at the start of the step (m/s), negative when closing.
+    pub relative_velocity: f32,
+    /// Normal impulse of the current substep (N·s), >= 0.
+    pub normal_impulse: f32,
+    /// Largest normal impulse applied in the step: restitution only acts on a contact
+    /// that actually pushed.
+    pub max_normal_impulse: f32,
+    /// Friction impulse of the current substep (N·s), in the tangent plane.
+    pub tangent_impulse: Vec3,
+    /// Index in generation order, for storing the warm start.
+    origin: u32,
+}
+
+/// A rod or cable as the soft solver keeps it over one step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SoftLink {
+    a: u32,
+    b: u32,
+    anchor: Vec3,
+    length: f32,
+    rigid: bool,
+    restitution: f32,
+    mass: f32,
+    relative_velocity: f32,
+    impulse: f32,
+    max_impulse: f32,
+    generator: u32,
+}
+
+/// What the soft solver keeps of a contact for the next step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Warm {
+    key: u64,
+    normal_impulse: f32,
+    tangent_impulse: Vec3,
+}
+
+/// Scratch and warm-start memory of the soft solver. Nothing here needs saving: a new
+/// one only starts cold.
+#[derive(Clone, Debug, Default)]
+pub struct SoftStep {
+    /// Contacts in generation order (per generator, sorted by particle pair).
+    fresh: Vec<SoftContact>,
+    /// Keys of `fresh`, for warm starting.
+    fresh_keys: Vec<u64>,
+    /// Generator id and range of `fresh` each generator made.
+    fresh_groups: Vec<(ContactGeneratorId, std::ops::Range<usize>)>,
+    /// Contacts in colour order: what the substeps solve.
+    contacts: Vec<SoftContact>,
+    /// Start of each colour in `contacts`, and the end.
+    color_starts: [usize; COLORS + 2],
+    colors: Vec<u8>,
+    masks: Vec<u32>,
+    links: Vec<SoftLink>,
+    /// Last step's contacts, in generation order, with their groups.
+    warm: Vec<Warm>,
+    warm_groups: Vec<(ContactGeneratorId, std::ops::Range<usize>)>,
+    /// Last step's link impulses by generator index (cleared by [`SoftStep::forget`]
+    /// whenever indices shift).
+    warm_links: Vec<(u32, f32)>,
+    /// Movement of each particle since the start of the step (m).
+    delta: Vec<Vec3>,
+    /// Speculative margin of each particle (m).
+    margin: Vec<f32>,
+}
+
+/// What a soft step did, for reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SoftReport {
+    /// Contacts solved (speculative ones included).
+    pub contacts: usize,
+    /// Largest overlap left at the end of the step (m), from the contacts.
+    pub max_penetration: f32,
+    /// Colours the contacts needed (the last one is solved in order).
+    pub colors: usize,
+}
+
+/// Velocities shared by the tasks solving one colour.
+#[derive(Clone, Copy)]
+struct SharedVelocities {
+    ptr: *mut Vec3,
+    len: usize,
+}
+
+// SAFETY: the pointer is only used while the solver holds the `&mut` to the velocity
+// array it came from; see `get` and `set` for why tasks never touch the same element.
+unsafe impl Send for SharedVelocities {}
+unsafe impl Sync for SharedVelocities {}
+
+impl SharedVelocities {
+    fn new(velocities: &mut [Vec3]) -> Self {
+        Self { ptr: velocities.as_mut_ptr(), len: velocities.len() }
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> Vec3 {
+        assert!(i < self.len);
+        // SAFETY: in bounds (checked above). Within one colour, an element is written
+        // only by the one contact of that colour that involves its (movable) particle,
+        // so no other task writes it while this one reads; immovable particles' velocities
+        // are never written during the solve.
+        unsafe { *self.ptr.add(i) }
+    }
+
+    #[inline]
+    fn set(&self, i: usize, v: Vec3) {
+        assert!(i < self.len);
+        // SAFETY: in bounds; only called for movable particles, and the colouring gives
+        // each movable particle at most one contact per colour (see `get`).
+        unsafe { *self.ptr.add(i) = v }
+    }
+}
+
+/// Per-substep constants handed to every contact (Box2D's step context).
+#[derive(Clone, Copy)]
+struct Context {
+    inv_h: f32,
+    max_push: f32,
+    soft: Softness,
+    use_bias: bool,
+}
+
+impl SoftStep {
+    /// Forgets warm-start memory (after particles or generators were removed, when
+    /// dense indices no longer mean what they did).
+    pub fn forget(&mut self) {
+        self.warm.clear();
+        self.warm_groups.clear();
+        self.warm_links.clear();
+    }
+
+    /// Contacts of the last step, in colour order.
+    #[must_use]
+    pub fn contacts(&self) -> &[SoftContact] {
+        &self.contacts
+    }
+
+    /// Advances the particles by `dt`: the whole soft step. `link_tension` receives the
+    /// tension of every link by generator index (N).
+    #[allow(clippy::too_many_arguments)]
+    pub fn step(
+        &mut self,
+        settings: &SolverSettings,
+        particles: &mut Particles,
+        forces: &mut ForceRegistry,
+        generators: &[(ContactGeneratorId, ContactGenerator)],
+        broad_phase: &mut BroadPhase,
+        scratch: &mut Scratch,
+        dt: f32,
+        link_tension: &mut [f32],
+        profile: &mut Profile,
+    ) -> SoftReport {
+        let substeps = settings.substeps.max(1);
+        let h = dt / substeps as f32;
+        let started = Instant::now();
+        self.collide(settings, particles, generators, broad_phase, scratch, dt, profile);
+        let collided = Instant::now();
+        self.warm_start_from_last_step();
+        self.color(particles);
+
+        let contact_hertz = settings.contact_hertz.min(0.25 / h);
+        let joint_hertz = settings.joint_hertz.min(0.25 / h);
+        let bias = |soft| Context { inv_h: 1.0 / h, max_push: settings.max_push_speed, soft, use_bias: true };
+        let contact_context = bias(Softness::new(contact_hertz, settings.contact_damping_ratio, h));
+        let joint_context = bias(Softness::new(joint_hertz, settings.joint_damping_ratio, h));
+        let relax = Context { soft: Softness::RIGID, use_bias: false, ..contact_context };
+
+        self.delta.clear();
+        self.delta.resize(particles.len(), Vec3::ZERO);
+        particles.prepare_damping(h);
+        let parallel = particles.len() >= PARALLEL_PARTICLES;
+        for _ in 0..substeps {
+            particles.clear_forces();
+            forces.apply(particles, h);
+            particles.integrate_velocities(h, parallel);
+            self.warm_start(particles);
+            self.solve(particles, contact_context, joint_context);
+            particles.integrate_positions(h, &mut self.delta, parallel);
+            self.solve(particles, relax, relax);
+        }
+        self.restitution(particles, settings.restitution_threshold);
+        self.store(h, link_tension);
+        let max_penetration = self.deepest_overlap();
+        let solved = Instant::now();
+        profile.solve_ms = ms(solved - collided);
+        profile.total_ms = ms(solved - started);
+        SoftReport { contacts: self.contacts.len(), max_penetration, colors: self.color_count() }
+    }
+
+    /// Stage 1: contacts from every generator, with speculative margins.
+    #[allow(clippy::too_many_arguments)]
+    fn collide(
+        &mut self,
+        settings: &SolverSettings,
+        particles: &Particles,
+        generators: &[(ContactGeneratorId, ContactGenerator)],
+        broad_phase: &mut BroadPhase,
+        scratch: &mut Scratch,
+        dt: f32,
+        profile: &mut Profile,
+    ) {
+        // How far each particle can move this step, plus the fixed margin.
+        self.margin.clear();
+        self.margin.extend(particles.velocity.iter().zip(&particles.acceleration).map(|(v, a)| {
+            settings.speculative_distance + (v.length() + a.length() * dt) * dt
+        }));
+        self.fresh.clear();
+        self.fresh_keys.clear();
+        self.fresh_groups.clear();
+        self.links.clear();
+        profile.broad_phase_ms = 0.0;
+        let started = Instant::now();
+        for (source, (id, generator)) in generators.iter().enumerate() {
+            let start = self.fresh.len();
+            match generator {
+                ContactGenerator::Plane(plane) => self.collide_plane(plane, particles),
+                ContactGenerator::Spheres(spheres) => {
+                    let broad = Instant::now();
+                    scratch.reach.clear();
+                    scratch.reach.extend(particles.radius.iter().zip(&self.margin).map(|(&r, &m)| {
+                        if r > 0.0 { r + m } else { 0.0 }
+                    }));
+                    broad_phase.find_pairs(&particles.position, &scratch.reach, &mut scratch.pairs);
+                    profile.broad_phase_ms += ms(broad.elapsed());
+                    self.collide_spheres(spheres, particles, &scratch.pairs);
+                }
+                ContactGenerator::Link(link) => self.add_link(link, particles, source as u32),
+            }
+            if self.fresh.len() > start {
+                self.fresh_groups.push((*id, start..self.fresh.len()));
+            }
+        }
+        profile.narrow_phase_ms = ms(started.elapsed()) - profile.broad_phase_ms;
+    }
+
+    fn collide_plane(&mut self, plane: &Plane, particles: &Particles) {
+        let positions = particles.position.iter().zip(&particles.radius);
+        let bodies = particles.inverse_mass.iter().zip(&particles.velocity).zip(&self.margin);
+        for (i, ((&p, &r), ((&w, &v), &margin))) in positions.zip(bodies).enumerate() {
+            let separation = plane.distance(p) - r;
+            if w > 0.0 && separation < margin {
+                self.fresh_keys.push(key(i as u32, NONE));
+                self.fresh.push(SoftContact {
+                    a: i as u32,
+                    b: NONE,
+                    normal: plane.normal,
+                    separation,
+                    restitution: plane.restitution,
+                    friction: plane.friction,
+                    mass: 1.0 / w,
+                    relative_velocity: v.dot(plane.normal),
+                    ..SoftContact::default()
+                });
+            }
+        }
+    }
+
+    fn collide_spheres(&mut self, spheres: &SphereCollisions, particles: &Particles, pairs: &[(u32, u32)]) {
+        let (p, w, v, r) = (&particles.position, &particles.inverse_mass, &particles.velocity, &particles.radius);
+        for &(a, b) in pairs {
+            let (i, j) = (a as usize, b as usize);
+            let total = w[i] + w[j];
+            if total <= 0.0 {
+                continue;
+            }
+            let (normal, distance) = direction_or_zero(p[i] - p[j]);
+            // Coincident centres have no direction: separate them vertically.
+            let normal = if normal == Vec3::ZERO { Vec3::Y } else { normal };
+            self.fresh_keys.push(key(a, b));
+            self.fresh.push(SoftContact {
+                a,
+                b,
+                normal,
+                separation: distance - r[i] - r[j],
+                restitution: spheres.restitution,
+                friction: spheres.friction,
+                mass: 1.0 / total,
+                relative_velocity: (v[i] - v[j]).dot(normal),
+                ..SoftContact::default()
+            });
+        }
+    }
+
+    fn add_link(&mut self, link: &Constraint, particles: &Particles, generator: u32) {
+        let Some(a) = particles.index(link.a) else { return };
+        let (b, anchor) = match link.b {
+            LinkEnd::Particle(id) => match particles.index(id) {
+                Some(b) if b != a => (b as u32, Vec3::ZERO),
+                _ => return, // gone, or a link to itself, which constrains nothing
+            },
+            LinkEnd::Anchor(point) => (NONE, point),
+        };
+        let w = particles.inverse_mass[a] + if b == NONE { 0.0 } else { particles.inverse_mass[b as usize] };
+        if w <= 0.0 {
+            return;
+        }
+        let mut soft = SoftLink {
+            a: a as u32,
+            b,
+            anchor,
+            length: link.length,
+            rigid: link.rigid,
+            restitution: link.restitution,
+            mass: 1.0 / w,
+            relative_velocity: 0.0,
+            impulse: 0.0,
+            max_impulse: 0.0,
+            generator,
+        };
+        let (_, _, vrel) = soft.geometry(&particles.position, |i| particles.velocity[i]);
+        // As a cable pulls along -u, its separating speed is the shortening speed.
+        soft.relative_velocity = -vrel;
+        self.links.push(soft);
+    }
+
+    /// Copies last step's impulses into this step's matching contacts and links.
+    fn warm_start_from_last_step(&mut self) {
+        for (id, range) in &self.fresh_groups {
+            let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else { continue };
+            let (old_keys, new_keys) = (&self.warm[old.clone()], &self.fresh_keys[range.clone()]);
+            let contacts = &mut self.fresh[range.clone()];
+            // Both runs are sorted by key: walk them together.
+            let mut j = 0;
+            for (contact, &k) in contacts.iter_mut().zip(new_keys) {
+                while j < old_keys.len() && old_keys[j].key < k {
+                    j += 1;
+                }
+                if j < old_keys.len() && old_keys[j].key == k {
+                    let warm = old_keys[j];
+                    contact.normal_impulse = warm.normal_impulse;
+                    // The normal turned a little since: keep the tangential part.
+                    let t = warm.tangent_impulse;
+                    contact.tangent_impulse = t - contact.normal * t.dot(contact.normal);
+                }
+            }
+        }
+        for link in &mut self.links {
+            let id = link.generator;
+            if let Some(&(_, impulse)) = self.warm_links.iter().find(|(g, _)| *g == id) {
+                link.impulse = impulse;
+            }
+        }
+    }
+
+    /// Stage 2: greedy colouring in generation order, then a counting sort into
+    /// `contacts`. Depends on the contacts alone, never on the thread count.
+    fn color(&mut self, particles: &Particles) {
+        let w = &particles.inverse_mass;
+        self.masks.clear();
+        self.masks.resize(particles.len(), 0);
+        self.colors.clear();
+        let mut counts = [0usize; COLORS + 1];
+        for contact in &self.fresh {
+            let (a, b) = (contact.a as usize, contact.b as usize);
+            let movable_a = w[a] > 0.0;
+            let movable_b = contact.b != NONE && w[b] > 0.0;
+            let mut used = if movable_a { self.masks[a] } else { 0 };
+            if movable_b {
+                used |= self.masks[b];
+            }
+            let color = (!used).trailing_zeros() as usize;
+            let color = if color < COLORS {
+                let bit = 1u32 << color;
+                if movable_a {
+                    self.masks[a] |= bit;
+                }
+                if movable_b {
+                    self.masks[b] |= bit;
+                }
+                color
+            } else {
+                OVERFLOW
+            };
+            self.colors.push(color as u8);
+            counts[color] += 1;
+        }
+        self.color_starts[0] = 0;
+        for c in 0..=COLORS {
+            self.color_starts[c + 1] = self.color_starts[c] + counts[c];
+        }
+        let mut cursor = self.color_starts;
+        self.contacts.clear();
+        self.contacts.resize(self.fresh.len(), SoftContact::default());
+        for (origin, (contact, &color)) in self.fresh.iter().zip(&self.colors).enumerate() {
+            let slot = &mut cursor[color as usize];
+            self.contacts[*slot] = SoftContact { origin: origin as u32, ..*contact };
+            *slot += 1;
+        }
+    }
+
+    fn color_count(&self) -> usize {
+        (0..=COLORS).filter(|&c| self.color_starts[c + 1] > self.color_starts[c]).count()
+    }
+
+    /// Runs `f` on every contact, colour by colour; large colours across threads.
+    fn for_each_contact(&mut self, f: impl Fn(&mut SoftContact) + Sync) {
+        for_each_contact(&mut self.contacts, &self.color_starts, f);
+    }
+
+
+    fn warm_start(&mut self, particles: &mut Particles) {
+        let velocities = SharedVelocities::new(&mut particles.velocity);
+        let w = &particles.inverse_mass;
+        self.for_each_contact(|c| {
+            let impulse = c.normal * c.normal_impulse + c.tangent_impulse;
+            apply(velocities, w, c.a, c.b, impulse);
+        });
+        let velocities = &mut particles.velocity;
+        for link in &self.links {
+            // Warm start along the link's start-of-step direction is close enough; the
+            // solve corrects it on the exact geometry.
+            let (u, _, _) = link.geometry(&particles.position, |i| velocities[i]);
+            let p = u * link.impulse * if link.rigid { 1.0 } else { -1.0 };
+            velocities[link.a as usize] += p * w[link.a as usize];
+            if link.b != NONE {
+                velocities[link.b as usize] -= p * w[link.b as usize];
+            }
+        }
+    }
+
+    fn solve(&mut self, particles: &mut Particles, contacts: Context, joints: Context) {
+        let velocities = SharedVelocities::new(&mut particles.velocity);
+        let (w, delta) = (&particles.inverse_mass, &self.delta);
+        for_each_contact(&mut self.contacts, &self.color_starts, |c| solve_contact(c, velocities, w, delta, contacts));
+        for link in &mut self.links {
+            link.solve(&particles.position, &mut particles.velocity, w, joints);
+        }
+    }
+
+    /// Stage 4: bounce contacts that were closing fast and actually pushed.
+    fn restitution(&mut self, particles: &mut Particles, threshold: f32) {
+        let velocities = SharedVelocities::new(&mut particles.velocity);
+        let w = &particles.inverse_mass;
+        self.for_each_contact(|c| {
+            if c.restitution == 0.0 || c.relative_velocity > -threshold || c.max_normal_impulse == 0.0 {
+                return;
+            }
+            let vn = relative(velocities, c.a, c.b).dot(c.normal);
+            let impulse = -c.mass * (vn + c.restitution * c.relative_velocity);
+            let total = (c.normal_impulse + impulse).max(0.0);
+            let applied = total - c.normal_impulse;
+            c.normal_impulse = total;
+            apply(velocities, w, c.a, c.b, c.normal * applied);
+        });
+        for link in &mut self.links {
+            if link.rigid
+                || link.restitution == 0.0
+                || link.relative_velocity > -threshold
+                || link.max_impulse == 0.0
+            {
+                continue;
+            }
+            let velocities = &mut particles.velocity;
+            let (u, _, vrel) = link.geometry(&particles.position, |i| velocities[i]);
+            let impulse = -link.mass * (-vrel + link.restitution * link.relative_velocity);
+            let total = (link.impulse + impulse).max(0.0);
+            let applied = total - link.impulse;
+            link.impulse = total;
+            velocities[link.a as usize] -= u * (applied * w[link.a as usize]);
+            if link.b != NONE {
+                velocities[link.b as usize] += u * (applied * w[link.b as usize]);
+            }
+        }
+    }
+
+    /// Stage 5: keep impulses for the next step; report link tensions.
+    fn store(&mut self, h: f32, link_tension: &mut [f32]) {
+        self.warm.clear();
+        self.warm.resize(self.fresh.len(), Warm::default());
+        for contact in &self.contacts {
+            let origin = contact.origin as usize;
+            self.warm[origin] = Warm {
+                key: self.fresh_keys[origin],
+                normal_impulse: contact.normal_impulse,
+                tangent_impulse: contact.tangent_impulse,
+            };
+        }
+        std::mem::swap(&mut self.warm_groups, &mut self.fresh_groups);
+        self.warm_links.clear();
+        for link in &self.links {
+            self.warm_links.push((link.generator, link.impulse));
+            // Rods pull with a negative impulse, cables with a positive one.
+            let tension = if link.rigid { -link.impulse } else { link.impulse } / h;
+            if let Some(slot) = link_tension.get_mut(link.generator as usize) {
+                *slot = tension;
+            }
+        }
+    }
+
+    /// Deepest overlap at the end of the step, from the contacts' start separations and
+    /// how far their particles moved (m).
+    fn deepest_overlap(&self) -> f32 {
+        let delta = &self.delta;
+        self.contacts
+            .iter()
+            .map(|c| {
+                let mut d = delta[c.a as usize];
+                if c.b != NONE {
+                    d -= delta[c.b as usize];
+                }
+                -(c.separation + d.dot(c.normal))
+            })
+            .fold(0.0, f32::max)
+    }
+}
+
+impl SoftLink {
+    /// Direction from the far end to `a` (unit), length, and the rate the length grows.
+    fn geometry(&self, positions: &[Vec3], velocity: impl Fn(usize) -> Vec3) -> (Vec3, f32, f32) {
+        let (pb, vb) = if self.b == NONE {
+            (self.anchor, Vec3::ZERO)
+        } else {
+            (positions[self.b as usize], velocity(self.b as usize))
+        };
+        let (u, length) = direction_or_zero(positions[self.a as usize] - pb);
+        // Coincident ends: any fixed axis will do to push them apart.
+        let u = if u == Vec3::ZERO { Vec3::Y } else { u };
+        (u, length, (velocity(self.a as usize) - vb).dot(u))
+    }
+
+    fn solve(&mut self, positions: &[Vec3], velocities: &mut [Vec3], w: &[f32], context: Context) {
+        let (u, length, vrel) = self.geometry(positions, |i| velocities[i]);
+        let applied = if self.rigid {
+            // Bilateral: drive C = length - rest to zero; a negative impulse pulls.
+            let error = length - self.length;
+            let (bias, mass_scale, impulse_scale) = if context.use_bias {
+                (context.soft.bias_rate * error, context.soft.mass_scale, context.soft.impulse_scale)
+            } else {
+                (0.0, 1.0, 0.0)
+            };
+            let impulse = -self.mass * mass_scale * (vrel + bias) - impulse_scale * self.impulse;
+            self.impulse += impulse;
+            impulse
+        } else {
+            // A cable is a contact whose normal is -u and whose gap is the slack.
+            let slack = self.length - length;
+            let (bias, mass_scale, impulse_scale) = contact_terms(slack, context);
+            let impulse = -self.mass * mass_scale * (-vrel + bias) - impulse_scale * self.impulse;
+            let total = (self.impulse + impulse).max(0.0);
+            let applied = total - self.impulse;
+            self.impulse = total;
+            self.max_impulse = self.max_impulse.max(applied);
+            -applied
+        };
+        velocities[self.a as usize] += u * (applied * w[self.a as usize]);
+        if self.b != NONE {
+            velocities[self.b as usize] -= u * (applied * w[self.b as usize]);
+        }
+    }
+}
+
+/// Runs `f` on every contact, colour by colour; a large colour is split across threads
+/// (its contacts share no movable particle, so the order within it does not matter).
+fn for_each_contact(contacts: &mut [SoftContact], starts: &[usize; COLORS + 2], f: impl Fn(&mut SoftContact) + Sync) {
+    for color in 0..=COLORS {
+        let slice = &mut contacts[starts[color]..starts[color + 1]];
+        if color != OVERFLOW && slice.len() >= PARALLEL_CONTACTS {
+            slice.par_chunks_mut(TASK).for_each(|chunk| chunk.iter_mut().for_each(&f));
+        } else {
+            slice.iter_mut().for_each(&f);
+        }
+    }
+}
+
+/// Bias velocity, mass scale and impulse scale of a one-sided constraint with gap `s`:
+/// a positive gap may close by `s` this substep (speculative), an overlap is pushed out
+/// softly (no faster than `max_push`) when feedback is on.
+#[inline]
+fn contact_terms(s: f32, context: Context) -> (f32, f32, f32) {
+    if s > 0.0 {
+        (s * context.inv_h, 1.0, 0.0)
+    } else if context.use_bias {
+        let soft = context.soft;
+        ((soft.bias_rate * s).max(-context.max_push), soft.mass_scale, soft.impulse_scale)
+    } else {
+        (0.0, 1.0, 0.0)
+    }
+}
+
+#[inline]
+fn relative(velocities: SharedVelocities, a: u32, b: u32) -> Vec3 {
+    let va = velocities.get(a as usize);
+    if b == NONE { va } else { va - velocities.get(b as usize) }
+}
+
+/// Adds `impulse` to `a` and its opposite to `b`, each divided by its mass.
+#[inline]
+fn apply(velocities: SharedVelocities, w: &[f32], a: u32, b: u32, impulse: Vec3) {
+    let (a, wa) = (a as usize, w[a as usize]);
+    if wa > 0.0 {
+        velocities.set(a, velocities.get(a) + impulse * wa);
+    }
+    if b != NONE {
+        let (b, wb) = (b as usize, w[b as usize]);
+        if wb > 0.0 {
+            velocities.set(b, velocities.get(b) - impulse * wb);
+        }
+    }
+}
+
+/// One contact: the normal impulse with soft feedback, then Coulomb friction clamped to
+/// `μ` times it (a disc, since a particle's tangent plane has two directions).
+#[inline]
+fn solve_contact(c: &mut SoftContact, velocities: SharedVelocities, w: &[f32], delta: &[Vec3], context: Context) {
+    let mut moved = delta[c.a as usize];
+    if c.b != NONE {
+        moved -= delta[c.b as usize];
+    }
+    let s = c.separation + moved.dot(c.normal);
+    let (bias, mass_scale, impulse_scale) = contact_terms(s, context);
+    let vn = relative(velocities, c.a, c.b).dot(c.normal);
+    let impulse = -c.mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
+    let total = (c.normal_impulse + impulse).max(0.0);
+    let applied = total - c.normal_impulse;
+    c.normal_impulse = total;
+    c.max_normal_impulse = c.max_normal_impulse.max(applied);
+    apply(velocities, w, c.a, c.b, c.normal * applied);
+
+    if c.friction > 0.0 {
+        let v = relative(velocities, c.a, c.b);
+        let tangential = v - c.normal * v.dot(c.normal);
+        let old = c.tangent_impulse;
+        let mut total = old - tangential * c.mass;
+        let limit = c.friction * c.normal_impulse;
+        let squared = total.length_squared();
+        if squared > limit * limit {
+            total *= limit / squared.sqrt();
+        }
+        c.tangent_impulse = total;
+        apply(velocities, w, c.a, c.b, total - old);
+    }
+}
+
+/// Sort key of a contact within its generator's run.
+#[inline]
+fn key(a: u32, b: u32) -> u64 {
+    (u64::from(a) << 32) | u64::from(b)
+}
+
+fn ms(duration: std::time::Duration) -> f32 {
+    duration.as_secs_f32() * 1000.0
+}

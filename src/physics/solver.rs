@@ -1,0 +1,221 @@
+//! Which solver a world uses, and its settings: one struct, documented once, validated.
+
+use super::PhysicsError;
+
+/// The constraint solvers a world can use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SolverKind {
+    /// Substepped soft-constraint solver (the default): contacts with friction and
+    /// restitution, rods, cables and springs all inside substeps. See
+    /// [`super::soft_step`].
+    #[default]
+    Soft,
+    /// The paper's resolver: one contact at a time, worst first, then interpenetration.
+    /// Kept to show why the soft solver exists; see [`super::contacts`].
+    Paper,
+}
+
+impl SolverKind {
+    /// Every solver, in menu order.
+    pub const ALL: [Self; 2] = [Self::Soft, Self::Paper];
+
+    /// The name on the command line and in the panel.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Soft => "soft",
+            Self::Paper => "paper",
+        }
+    }
+
+    /// One line saying what it is.
+    #[must_use]
+    pub fn summary(self) -> &'static str {
+        match self {
+            Self::Soft => "substepped soft contacts with friction, warm started (Box2D v3's soft step)",
+            Self::Paper => "the paper's resolver: worst contact first, then interpenetration",
+        }
+    }
+
+    /// Looks a solver up by name.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        Self::ALL.into_iter().find(|kind| kind.name().eq_ignore_ascii_case(name.trim())).ok_or_else(|| {
+            let names: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
+            format!("unknown solver '{name}'; valid solvers: {}", names.join(", "))
+        })
+    }
+}
+
+/// Smallest and largest substep count.
+pub const SUBSTEP_RANGE: std::ops::RangeInclusive<u32> = 1..=64;
+
+/// Settings of a world's solver. Every field says its unit, default and valid range;
+/// [`SolverSettings::validate`] checks them and names the field that is off.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverSettings {
+    /// Which solver. Default [`SolverKind::Soft`].
+    pub kind: SolverKind,
+    /// Substeps per step for the soft solver, 1 to 64. Default 4: each substep
+    /// integrates, solves every contact and link once with position feedback, and once
+    /// without ("relax"). More substeps make stiff links and tall piles converge better.
+    pub substeps: u32,
+    /// Stiffness of contacts (Hz), > 0. Default 30. Clamped to a quarter of the substep
+    /// rate, where a soft constraint stays stable.
+    pub contact_hertz: f32,
+    /// Damping ratio of contacts, >= 0. Default 10: heavily damped, so a pushed-out
+    /// overlap does not bounce.
+    pub contact_damping_ratio: f32,
+    /// Stiffness of rods and cables (Hz), > 0. Default 60, clamped like contacts'.
+    pub joint_hertz: f32,
+    /// Damping ratio of rods and cables, >= 0. Default 2.
+    pub joint_damping_ratio: f32,
+    /// Fastest speed at which an overlap is pushed out (m/s), > 0. Default 3: deep
+    /// overlaps come apart without launching anything.
+    pub max_push_speed: f32,
+    /// Closing speeds below this do not bounce (m/s), >= 0. Default 0.1: resting
+    /// contacts are not resting if gravity's step-by-step speed makes them bounce.
+    pub restitution_threshold: f32,
+    /// Gap below which two spheres (or a sphere and a plane) get a contact before they
+    /// touch (m), >= 0. Default 0.02. To it is added how far each particle can move in
+    /// the step, so fast particles are caught before they pass through.
+    pub speculative_distance: f32,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self {
+            kind: SolverKind::Soft,
+            substeps: 4,
+            contact_hertz: 60.0,
+            contact_damping_ratio: 10.0,
+            joint_hertz: 60.0,
+            joint_damping_ratio: 2.0,
+            max_push_speed: 3.0,
+            restitution_threshold: 0.1,
+            speculative_distance: 0.02,
+        }
+    }
+}
+
+impl SolverSettings {
+    /// Checks every field; the error names the first that is out of range.
+    pub fn validate(&self) -> Result<(), PhysicsError> {
+        let bad = |field: &str, value: f32, range: &str| {
+            Err(PhysicsError::InvalidSetting(format!("solver {field} = {value} is out of range; valid range: {range}")))
+        };
+        if !SUBSTEP_RANGE.contains(&self.substeps) {
+            return bad("substeps", self.substeps as f32, "1 to 64");
+        }
+        let positive = |v: f32| v > 0.0 && v.is_finite();
+        let non_negative = |v: f32| v >= 0.0 && v.is_finite();
+        for (field, value) in [
+            ("contact_hertz", self.contact_hertz),
+            ("joint_hertz", self.joint_hertz),
+            ("max_push_speed", self.max_push_speed),
+        ] {
+            if !positive(value) {
+                return bad(field, value, "a finite number > 0");
+            }
+        }
+        for (field, value) in [
+            ("contact_damping_ratio", self.contact_damping_ratio),
+            ("joint_damping_ratio", self.joint_damping_ratio),
+            ("restitution_threshold", self.restitution_threshold),
+            ("speculative_distance", self.speculative_distance),
+        ] {
+            if !non_negative(value) {
+                return bad(field, value, "a finite number >= 0");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The coefficients of a soft constraint for one substep.
+///
+/// A constraint error `C` is driven to zero like a damped spring of natural frequency
+/// `ω = 2π hertz` and damping ratio `ζ`, solved implicitly over the substep `h`. Working
+/// through the implicit Euler update of `m C'' = -k C - c C'` with `k = m ω²` and
+/// `c = 2 m ζ ω` gives an impulse `λ = -m_eff (massScale (C' + biasRate C)) -
+/// impulseScale λ_acc`, where
+/// `biasRate = ω / (2ζ + hω)`, `massScale = hω(2ζ + hω) / (1 + hω(2ζ + hω))` and
+/// `impulseScale = 1 / (1 + hω(2ζ + hω))`.
+/// As `hω` grows, `massScale → 1` and `impulseScale → 0` (a rigid constraint) and
+/// `biasRate → 1/h` (all the error removed in one substep): stable for any stiffness,
+/// which is why stiffness is still clamped to keep the feedback gentle (Box2D v3 and
+/// rapier derive the same three numbers).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Softness {
+    /// Velocity bias per metre of error (1/s).
+    pub bias_rate: f32,
+    /// Fraction of the rigid impulse applied.
+    pub mass_scale: f32,
+    /// Fraction of the accumulated impulse taken back (the spring's give).
+    pub impulse_scale: f32,
+}
+
+impl Softness {
+    /// Coefficients for stiffness `hertz` (Hz), damping ratio `zeta` and substep `h` (s).
+    #[must_use]
+    pub fn new(hertz: f32, zeta: f32, h: f32) -> Self {
+        if hertz <= 0.0 {
+            return Self { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0 };
+        }
+        let omega = std::f32::consts::TAU * hertz;
+        let a1 = 2.0 * zeta + h * omega;
+        let a2 = h * omega * a1;
+        let a3 = 1.0 / (1.0 + a2);
+        Self { bias_rate: omega / a1, mass_scale: a2 * a3, impulse_scale: a3 }
+    }
+
+    /// A rigid constraint with no position feedback (the relax pass).
+    pub const RIGID: Self = Self { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0 };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_passes_validation_and_matches_its_docs() {
+        let s = SolverSettings::default();
+        s.validate().unwrap();
+        assert_eq!((s.kind, s.substeps), (SolverKind::Soft, 4));
+        assert_eq!((s.contact_hertz, s.contact_damping_ratio), (30.0, 10.0));
+        assert_eq!((s.joint_hertz, s.joint_damping_ratio), (60.0, 2.0));
+        assert_eq!((s.max_push_speed, s.restitution_threshold, s.speculative_distance), (3.0, 0.1, 0.02));
+    }
+
+    #[test]
+    fn each_bad_field_is_named() {
+        let cases: [(&str, fn(&mut SolverSettings)); 5] = [
+            ("substeps", |s| s.substeps = 0),
+            ("contact_hertz", |s| s.contact_hertz = f32::NAN),
+            ("joint_damping_ratio", |s| s.joint_damping_ratio = -1.0),
+            ("max_push_speed", |s| s.max_push_speed = 0.0),
+            ("speculative_distance", |s| s.speculative_distance = f32::INFINITY),
+        ];
+        for (field, spoil) in cases {
+            let mut s = SolverSettings::default();
+            spoil(&mut s);
+            let message = s.validate().unwrap_err().to_string();
+            assert!(message.contains(field), "{message}");
+        }
+    }
+
+    #[test]
+    fn softness_tends_to_rigid_as_stiffness_grows() {
+        let soft = Softness::new(1e6, 1.0, 1.0 / 240.0);
+        assert!(soft.mass_scale > 0.999 && soft.impulse_scale < 1e-3);
+        assert!((soft.bias_rate * (1.0 / 240.0) - 1.0).abs() < 1e-2);
+        assert_eq!(Softness::new(0.0, 1.0, 0.01), Softness::RIGID);
+    }
+
+    #[test]
+    fn solver_names_round_trip() {
+        for kind in SolverKind::ALL {
+            assert_eq!(SolverKind::parse(kind.name()), Ok(kind));
+        }
+        assert!(SolverKind::parse("pgs").unwrap_err().contains("soft, paper"));
+    }
+}

@@ -1,0 +1,262 @@
+//! pile: many spheres dropped into an open box, falling, piling up and coming to rest.
+//! The scene the broad phase and the soft step were built for.
+//!
+//! `count` spheres start on a jittered grid (a fixed seed, so every run is the same)
+//! above the ground and fall into a box whose inner walls stand at x, z = ±width/2 on
+//! the ground plane y = 0, open at the top.
+
+use glam::Vec3;
+
+use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
+use crate::physics::{ParticleDesc, PhysicsError, Plane, ResolveReport, SphereCollisions, World};
+
+/// Gap between neighbours on the starting grid, as a fraction of the diameter.
+const GRID_GAP: f32 = 0.1;
+/// Largest random offset of a starting position, as a fraction of the radius.
+const JITTER: f32 = 0.2;
+/// Seed of the starting jitter.
+const SEED: u64 = 0x5EED_0F_91_1E;
+
+#[rustfmt::skip]
+static PARAMS: &[Param] = &[
+    Param { name: "count", unit: "", default: 2000.0, min: 1.0, max: 200_000.0, help: "Number of spheres (rounded to a whole number)", logarithmic: true },
+    Param { name: "radius", unit: "m", default: 0.5, min: 0.05, max: 2.0, help: "Radius of every sphere", logarithmic: false },
+    Param { name: "mass", unit: "kg", default: 1.0, min: 0.01, max: 100.0, help: "Mass of every sphere", logarithmic: true },
+    Param { name: "width", unit: "m", default: 16.0, min: 1.0, max: 1000.0, help: "Inner width of the box (its walls stand at ±width/2)", logarithmic: true },
+    Param { name: "restitution", unit: "", default: 0.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between spheres, walls and ground", logarithmic: false },
+    Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between spheres, walls and ground", logarithmic: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
+];
+
+static INFO: SceneInfo = SceneInfo {
+    name: "pile",
+    summary: "Spheres dropped into an open box pile up and come to rest",
+    dt: 1.0 / 60.0,
+    default_steps: 600,
+    params: PARAMS,
+    presets: &[],
+    actions: &[],
+    trails: false,
+    color_by_speed: true,
+};
+
+pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+
+fn create(params: ParamValues) -> Box<dyn Scene> {
+    Box::new(Pile { world: build_world(&params), params })
+}
+
+/// The number of spheres the parameters ask for.
+fn count(params: &ParamValues) -> usize {
+    params.get("count").round().max(1.0) as usize
+}
+
+/// Builds the pile's world: the box, the collisions and the spheres on their grid.
+fn build_world(params: &ParamValues) -> World {
+    let (radius, mass, width) = (params.get("radius"), params.get("mass"), params.get("width"));
+    let (restitution, friction, g) = (params.get("restitution"), params.get("friction"), params.get("g"));
+    let mut world = World::new();
+    let half = width / 2.0;
+    let walls = [
+        (Vec3::Y, Vec3::ZERO),
+        (Vec3::X, Vec3::new(-half, 0.0, 0.0)),
+        (Vec3::NEG_X, Vec3::new(half, 0.0, 0.0)),
+        (Vec3::Z, Vec3::new(0.0, 0.0, -half)),
+        (Vec3::NEG_Z, Vec3::new(0.0, 0.0, half)),
+    ];
+    for (normal, point) in walls {
+        let plane = Plane::new(normal, point, restitution, friction).expect("parameter ranges keep planes valid");
+        world.add_contact_generator(plane);
+    }
+    world.add_contact_generator(SphereCollisions { restitution, friction });
+    for position in starting_grid(count(params), radius, width) {
+        world
+            .add_particle(ParticleDesc {
+                position,
+                acceleration: Vec3::new(0.0, -g, 0.0),
+                mass,
+                radius,
+                damping: 1.0,
+                ..ParticleDesc::default()
+            })
+            .expect("parameter ranges keep every sphere valid");
+    }
+    world
+}
+
+/// `count` positions on a jittered grid filling the box's floor layer by layer, the
+/// lowest layer just above the ground. Odd layers sit over the hollows of the layer
+/// below (one row and column fewer), so the spheres fall into a packed pile instead of
+/// stacking in columns.
+#[must_use]
+pub fn starting_grid(count: usize, radius: f32, width: f32) -> Vec<Vec3> {
+    let spacing = 2.0 * radius * (1.0 + GRID_GAP);
+    // Columns that fit between the walls with the jitter (at least one).
+    let room = width - 2.0 * radius * (1.0 + JITTER);
+    let columns = ((room / spacing).floor() as usize + 1).max(1);
+    let mut random = SplitMix64(SEED);
+    let mut positions = Vec::with_capacity(count);
+    let mut layer = 0;
+    while positions.len() < count {
+        let across = if layer % 2 == 1 && columns > 1 { columns - 1 } else { columns };
+        let span = (across - 1) as f32 * spacing;
+        let y = radius * (1.0 + GRID_GAP) + layer as f32 * spacing;
+        for row in 0..across {
+            for column in 0..across {
+                if positions.len() == count {
+                    break;
+                }
+                let mut jitter = || (random.unit() * 2.0 - 1.0) * JITTER * radius;
+                let (dx, dz) = (jitter(), jitter());
+                let x = column as f32 * spacing - span / 2.0 + dx;
+                let z = row as f32 * spacing - span / 2.0 + dz;
+                positions.push(Vec3::new(x, y, z));
+            }
+        }
+        layer += 1;
+    }
+    positions
+}
+
+/// A tiny, well-mixed random number generator (Steele, Lea and Flood's SplitMix64):
+/// the same seed gives the same pile on every machine.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// How settled a pile is: what the tests, the benchmark and the panel report.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PileQuality {
+    /// Median speed of the spheres (m/s).
+    pub median_speed: f32,
+    /// Fastest sphere (m/s).
+    pub max_speed: f32,
+    /// Deepest overlap between two spheres, or a sphere and a wall or the ground (m),
+    /// measured on the positions (not the solver's own estimate).
+    pub deepest_overlap: f32,
+    /// Spheres whose centre is outside the box or below the ground.
+    pub escaped: usize,
+}
+
+/// Measures a pile in a box of inner width `width` on the ground `y = 0`.
+#[must_use]
+pub fn quality(world: &World, width: f32) -> PileQuality {
+    let p = &world.particles;
+    let mut speeds: Vec<f32> = p.velocity.iter().map(|v| v.length()).collect();
+    let max_speed = speeds.iter().copied().fold(0.0, f32::max);
+    let median_speed = if speeds.is_empty() {
+        0.0
+    } else {
+        let middle = speeds.len() / 2;
+        *speeds.select_nth_unstable_by(middle, f32::total_cmp).1
+    };
+    let half = width / 2.0;
+    let mut deepest = 0.0f32;
+    let mut escaped = 0;
+    for (&c, &r) in p.position.iter().zip(&p.radius) {
+        let gaps = [c.y, half - c.x, c.x + half, half - c.z, c.z + half];
+        if gaps.iter().any(|&gap| gap < 0.0) {
+            escaped += 1;
+        }
+        for gap in gaps {
+            deepest = deepest.max(r - gap);
+        }
+    }
+    let mut pairs = Vec::new();
+    crate::physics::BroadPhase::new().find_pairs(&p.position, &p.radius, &mut pairs);
+    for (a, b) in pairs {
+        let (a, b) = (a as usize, b as usize);
+        let overlap = p.radius[a] + p.radius[b] - p.position[a].distance(p.position[b]);
+        deepest = deepest.max(overlap);
+    }
+    PileQuality { median_speed, max_speed, deepest_overlap: deepest, escaped }
+}
+
+struct Pile {
+    world: World,
+    params: ParamValues,
+}
+
+impl Scene for Pile {
+    fn info(&self) -> &'static SceneInfo {
+        &INFO
+    }
+
+    fn world(&self) -> &World {
+        &self.world
+    }
+
+    fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    fn params(&self) -> &ParamValues {
+        &self.params
+    }
+
+    fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
+        self.params.set(name, value)?;
+        if name == "g" {
+            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
+        } else {
+            // Everything else shapes the pile from the start: drop it again.
+            let solver = *self.world.solver();
+            self.world = build_world(&self.params);
+            self.world.set_solver(solver).expect("the running world's settings were valid");
+        }
+        Ok(())
+    }
+
+    fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
+        self.world.step(dt)
+    }
+
+    fn camera(&self) -> CameraHint {
+        let width = self.params.get("width");
+        let spacing = 2.0 * self.params.get("radius") * (1.0 + GRID_GAP);
+        let per_layer = ((width / spacing).max(1.0)).powi(2);
+        let start_height = (count(&self.params) as f32 / per_layer).ceil() * spacing;
+        let target = Vec3::new(0.0, (start_height * 0.3).min(width * 0.6), 0.0);
+        CameraHint { target, distance: width * 1.9 + start_height * 0.5, yaw: 0.6, pitch: 0.45 }
+    }
+
+    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+        let quality = quality(&self.world, self.params.get("width"));
+        vec![
+            ("spheres".into(), self.world.particles.len().to_string()),
+            ("median speed".into(), format!("{:.4} m/s", quality.median_speed)),
+            ("fastest sphere".into(), format!("{:.3} m/s", quality.max_speed)),
+            ("deepest overlap".into(), format!("{:.4} m", quality.deepest_overlap)),
+            ("outside the box".into(), quality.escaped.to_string()),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_fits_the_box_and_is_reproducible() {
+        let a = starting_grid(500, 0.5, 6.0);
+        assert_eq!(a, starting_grid(500, 0.5, 6.0));
+        assert!(a.iter().all(|p| p.x.abs() <= 3.0 - 0.5 && p.z.abs() <= 3.0 - 0.5 && p.y >= 0.5), "{a:?}");
+        // No two start overlapping.
+        let mut pairs = Vec::new();
+        crate::physics::broad_phase::all_pairs(&a, &[0.5; 500], &mut pairs);
+        assert!(pairs.is_empty(), "{} overlapping pairs", pairs.len());
+    }
+}
