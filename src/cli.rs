@@ -345,6 +345,10 @@ struct ParticleJson {
     id: u32,
     p: [f32; 3],
     v: [f32; 3],
+    /// Radius (m).
+    r: f32,
+    /// Mass (kg); `null` for an immovable particle.
+    m: Option<f32>,
 }
 
 #[derive(Serialize)]
@@ -385,7 +389,13 @@ struct ResolverJson {
 fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<LinkState>) -> io::Result<()> {
     let p = &world.particles;
     let mut particles: Vec<ParticleJson> = (0..p.len())
-        .map(|i| ParticleJson { id: p.id(i).0, p: p.position[i].to_array(), v: p.velocity[i].to_array() })
+        .map(|i| ParticleJson {
+            id: p.id(i).0,
+            p: p.position[i].to_array(),
+            v: p.velocity[i].to_array(),
+            r: p.radius[i],
+            m: (p.inverse_mass[i] > 0.0).then(|| p.mass(i)),
+        })
         .collect();
     particles.sort_by_key(|particle| particle.id);
     world.links_into(links);
@@ -421,4 +431,27 @@ fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<Link
         energy: EnergyJson { kinetic: energy.kinetic, potential: energy.potential },
     };
     serde_json::to_writer(out, &state).map_err(io::Error::other)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::physics::ParticleDesc;
+
+    #[test]
+    fn particles_carry_radius_and_mass_and_immovable_ones_null() {
+        let mut world = World::new();
+        let desc = ParticleDesc { mass: 2.5, radius: 0.3, ..ParticleDesc::default() };
+        world.add_particle(desc).unwrap();
+        world.add_particle(ParticleDesc { immovable: true, position: Vec3::X, ..desc }).unwrap();
+        let mut line = Vec::new();
+        write_state(&mut line, 0, &world, &mut Vec::new()).unwrap();
+        let state: serde_json::Value = serde_json::from_slice(&line).unwrap();
+        let particles = state["particles"].as_array().unwrap();
+        assert_eq!(particles[0]["m"].as_f64(), Some(2.5));
+        assert!((particles[0]["r"].as_f64().unwrap() - 0.3).abs() < 1e-6, "{}", particles[0]);
+        assert!(particles[1]["m"].is_null(), "{}", particles[1]);
+    }
 }

@@ -52,6 +52,11 @@ fn simulate_prints_the_documented_schema() {
     assert_eq!(particles[0]["id"], 0);
     assert_eq!(particles[0]["p"].as_array().unwrap().len(), 3);
     assert_eq!(particles[0]["v"].as_array().unwrap().len(), 3);
+    // Radius and mass, so the state can be rebuilt elsewhere: the bridge's deck
+    // particles are 0.2 m and 1 kg plus their share of the 10 kg load.
+    assert!((particles[0]["r"].as_f64().unwrap() - 0.2).abs() < 1e-6, "{}", particles[0]);
+    let total: f64 = particles.iter().map(|p| p["m"].as_f64().unwrap()).sum();
+    assert!((total - 22.0).abs() < 1e-3, "12 x 1 kg + 10 kg load, got {total}");
     let links = first["links"].as_array().unwrap();
     let count = |kind: &str| links.iter().filter(|l| l["kind"] == kind).count();
     assert_eq!((count("rod"), count("cable"), count("support_cable")), (6, 10, 12));

@@ -10,23 +10,38 @@ fn particle(position: Vec3, velocity: Vec3, mass: f32) -> ParticleDesc {
     ParticleDesc { position, velocity, mass, ..ParticleDesc::default() }
 }
 
+/// An empty world using the given solver.
+fn world_on(kind: SolverKind) -> World {
+    let mut world = World::new();
+    world.set_solver(SolverSettings { kind, ..SolverSettings::default() }).unwrap();
+    world
+}
+
 #[test]
 fn free_fall_equals_the_closed_form_of_semi_implicit_euler() {
+    for (kind, substeps) in [(SolverKind::Paper, 1.0), (SolverKind::Soft, 4.0)] {
+        free_fall(kind, substeps);
+    }
+}
+
+/// Semi-implicit Euler in steps of h = dt / substeps is exact in closed form.
+fn free_fall(kind: SolverKind, substeps: f64) {
     let (y0, v0, dt) = (100.0_f64, 3.0_f64, 1.0 / 60.0_f64);
-    let mut world = World::new();
+    let mut world = world_on(kind);
     world
         .add_particle(ParticleDesc {
             acceleration: Vec3::new(0.0, -G, 0.0),
             ..particle(Vec3::new(0.0, y0 as f32, 0.0), Vec3::new(0.0, v0 as f32, 0.0), 1.0)
         })
         .unwrap();
+    let h = dt / substeps;
     for n in 1..=120_u32 {
         world.step(dt as f32).unwrap();
-        let n = f64::from(n);
-        // y_n = y0 + v0 n dt - g dt² n(n+1)/2: the new velocity moves the position.
-        let expected = y0 + v0 * n * dt - f64::from(G) * dt * dt * n * (n + 1.0) / 2.0;
+        let n = f64::from(n) * substeps;
+        // y_n = y0 + v0 n h - g h² n(n+1)/2: the new velocity moves the position.
+        let expected = y0 + v0 * n * h - f64::from(G) * h * h * n * (n + 1.0) / 2.0;
         let got = f64::from(world.particles.position[0].y);
-        assert!((got - expected).abs() < 1e-3, "step {n}: {got} vs {expected}");
+        assert!((got - expected).abs() < 1e-3, "{kind:?} substep {n}: {got} vs {expected}");
     }
 }
 
@@ -140,10 +155,10 @@ fn undamped_spring_keeps_its_energy() {
 
 /// Two spheres of radius 0.5 approaching head-on along x; returns the world after the
 /// collision has been resolved and the masses.
-fn head_on(mass_ratio: f32, restitution: f32) -> (f32, f32, Vec3, Vec3, Vec3, Vec3) {
+fn head_on(kind: SolverKind, mass_ratio: f32, restitution: f32) -> (f32, f32, Vec3, Vec3, Vec3, Vec3) {
     let (ma, mb) = (1.0, mass_ratio);
     let (va, vb) = (Vec3::new(3.0, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0));
-    let mut world = World::new();
+    let mut world = world_on(kind);
     world
         .add_particle(ParticleDesc { radius: 0.5, ..particle(Vec3::new(-0.505, 0.0, 0.0), va, ma) })
         .unwrap();
@@ -157,27 +172,34 @@ fn head_on(mass_ratio: f32, restitution: f32) -> (f32, f32, Vec3, Vec3, Vec3, Ve
 
 #[test]
 fn head_on_collisions_conserve_momentum_and_apply_restitution() {
-    for ratio in [1.0, 10.0, 100.0] {
-        for e in [0.0, 0.5, 1.0] {
-            let (ma, mb, ua, ub, va, vb) = head_on(ratio, e);
+    for (kind, ratio, e) in solvers_ratios_restitutions() {
+        {
+            let (ma, mb, ua, ub, va, vb) = head_on(kind, ratio, e);
             let before = ua * ma + ub * mb;
             let after = va * ma + vb * mb;
             let relative = (after - before).length() / before.length();
-            assert!(relative < 1e-5, "ratio {ratio} e {e}: momentum off by {relative}");
+            assert!(relative < 1e-5, "{kind:?} ratio {ratio} e {e}: momentum off by {relative}");
             let closing = (ua - ub).x; // 4 m/s
             let separating = (vb - va).x;
             assert!(
                 (separating - e * closing).abs() < 0.02,
-                "ratio {ratio} e {e}: separating {separating}, expected {}",
+                "{kind:?} ratio {ratio} e {e}: separating {separating}, expected {}",
                 e * closing
             );
         }
     }
 }
 
+fn solvers_ratios_restitutions() -> impl Iterator<Item = (SolverKind, f32, f32)> {
+    SolverKind::ALL.into_iter().flat_map(|kind| {
+        [1.0, 10.0, 100.0].into_iter().flat_map(move |ratio| [0.0, 0.5, 1.0].map(|e| (kind, ratio, e)))
+    })
+}
+
 #[test]
 fn interpenetration_is_removed_in_proportion_to_inverse_mass() {
-    let mut world = World::new();
+    // The paper's resolver moves positions at once.
+    let mut world = world_on(SolverKind::Paper);
     world.add_particle(ParticleDesc { radius: 1.0, ..particle(Vec3::ZERO, Vec3::ZERO, 1.0) }).unwrap();
     world
         .add_particle(ParticleDesc { radius: 1.0, ..particle(Vec3::new(1.0, 0.0, 0.0), Vec3::ZERO, 3.0) })
@@ -189,11 +211,34 @@ fn interpenetration_is_removed_in_proportion_to_inverse_mass() {
     // Overlap 1 m (less the slop): the 1 kg sphere moves 3/4 of it, the 3 kg one 1/4.
     assert!((a + 0.75 * (1.0 - slop)).abs() < 1e-4, "a moved to {a}");
     assert!((b - 1.0 - 0.25 * (1.0 - slop)).abs() < 1e-4, "b moved to {b}");
+
+    // The soft solver pushes apart with velocity (no faster than its push speed), so the
+    // overlap is gone after a while, the moves still 3 : 1, momentum zero throughout.
+    let mut world = world_on(SolverKind::Soft);
+    world.add_particle(ParticleDesc { radius: 1.0, ..particle(Vec3::ZERO, Vec3::ZERO, 1.0) }).unwrap();
+    world
+        .add_particle(ParticleDesc { radius: 1.0, ..particle(Vec3::new(1.0, 0.0, 0.0), Vec3::ZERO, 3.0) })
+        .unwrap();
+    world.add_contact_generator(SphereCollisions::elastic(0.5));
+    for _ in 0..240 {
+        world.step(1.0 / 240.0).unwrap();
+        let momentum = world.particles.velocity[0] + 3.0 * world.particles.velocity[1];
+        assert!(momentum.length() < 1e-4, "momentum {momentum}");
+    }
+    let (a, b) = (world.particles.position[0].x, world.particles.position[1].x);
+    assert!(b - a >= 2.0 - 1e-3, "still overlapping: {}", 2.0 - (b - a));
+    assert!((a / (b - 1.0) + 3.0).abs() < 1e-3, "moves {a} and {} are not 3 : 1", b - 1.0);
 }
 
 #[test]
 fn ball_comes_to_rest_on_the_ground_without_jitter() {
-    let mut world = World::new();
+    for kind in SolverKind::ALL {
+        ball_rests(kind);
+    }
+}
+
+fn ball_rests(kind: SolverKind) {
+    let mut world = world_on(kind);
     world
         .add_particle(ParticleDesc {
             acceleration: Vec3::new(0.0, -G, 0.0),
@@ -208,18 +253,24 @@ fn ball_comes_to_rest_on_the_ground_without_jitter() {
         first_bounce_speed = first_bounce_speed.max(world.particles.velocity[0].y);
     }
     // It bounced (restitution), then settled: at rest, resting on its radius.
-    assert!(first_bounce_speed > 2.0, "never bounced: {first_bounce_speed}");
+    assert!(first_bounce_speed > 2.0, "{kind:?} never bounced: {first_bounce_speed}");
     for _ in 0..240 {
         world.step(1.0 / 240.0).unwrap();
         let (p, v) = (world.particles.position[0], world.particles.velocity[0]);
-        assert!(v.length() < 1e-3, "resting ball moves at {v:?}");
-        assert!((p.y - 0.5).abs() < 1e-3, "resting ball at height {}", p.y);
+        assert!(v.length() < 1e-3, "{kind:?}: resting ball moves at {v:?}");
+        assert!((p.y - 0.5).abs() < 1e-3, "{kind:?}: resting ball at height {}", p.y);
     }
 }
 
 #[test]
 fn rods_keep_their_length_and_cables_never_overstretch() {
-    let mut world = World::new();
+    for kind in SolverKind::ALL {
+        swinging_chain(kind);
+    }
+}
+
+fn swinging_chain(kind: SolverKind) {
+    let mut world = world_on(kind);
     let gravity = Vec3::new(0.0, -G, 0.0);
     let mut add = |position: Vec3, velocity: Vec3| {
         world
@@ -239,9 +290,9 @@ fn rods_keep_their_length_and_cables_never_overstretch() {
             let strain = (link.length - link.spec.rest) / link.spec.rest;
             match link.spec.kind {
                 LinkKind::Rod | LinkKind::SupportRod => {
-                    assert!(strain.abs() < 1e-3, "step {step}: rod strain {strain}")
+                    assert!(strain.abs() < 1e-3, "{kind:?} step {step}: rod strain {strain}")
                 }
-                LinkKind::Cable => assert!(strain < 0.01, "step {step}: cable stretched {strain}"),
+                LinkKind::Cable => assert!(strain < 0.01, "{kind:?} step {step}: cable stretched {strain}"),
                 other => panic!("unexpected link {other:?}"),
             }
         }
@@ -251,20 +302,21 @@ fn rods_keep_their_length_and_cables_never_overstretch() {
 #[test]
 fn bridge_with_load_settles_and_stays_up() {
     // Cyclone's damping 0.9 lets the deck sway for a while: give it 80 s.
-    for load in [("load_x", "2.5"), ("load_x", "0")] {
+    for (kind, load) in SolverKind::ALL.into_iter().flat_map(|k| [(k, ("load_x", "2.5")), (k, ("load_x", "0"))]) {
         let mut scene =
             scenes::build("bridge", &[format!("{}={}", load.0, load.1), "load_mass=30".into()]).unwrap();
+        scene.world_mut().set_solver(SolverSettings { kind, ..SolverSettings::default() }).unwrap();
         for _ in 0..(240 * 80) {
             scene.step(1.0 / 240.0).unwrap();
         }
         let world = scene.world();
         let fastest = world.particles.velocity.iter().map(|v| v.length()).fold(0.0, f32::max);
         let lowest = world.particles.position.iter().map(|p| p.y).fold(f32::MAX, f32::min);
-        assert!(fastest < 0.02, "{load:?}: still moving at {fastest} m/s");
-        assert!(lowest > 1.5, "{load:?}: deck fell to {lowest} m");
+        assert!(fastest < 0.02, "{kind:?} {load:?}: still moving at {fastest} m/s");
+        assert!(lowest > 1.5, "{kind:?} {load:?}: deck fell to {lowest} m");
         for link in world.links() {
             let strain = (link.length - link.spec.rest) / link.spec.rest;
-            assert!(strain < 0.01, "{load:?}: {:?} stretched by {strain}", link.spec.kind);
+            assert!(strain < 0.01, "{kind:?} {load:?}: {:?} stretched by {strain}", link.spec.kind);
         }
     }
 }

@@ -52,8 +52,12 @@ fn drag_is_linear_plus_quadratic_against_velocity() {
     let v = Vec3::new(3.0, 4.0, 0.0);
     let (mut world, ids) = world_with(&[Vec3::ZERO], &[v], 1.0);
     let mut drag = Drag { k1: 0.5, k2: 0.1, targets: ids };
+    assert!(close(drag.force(v), Vec3::new(-3.0, -4.0, 0.0), 1e-5), "{:?}", drag.force(v));
+    // Over a step of 0.01 s the generator applies the backward-Euler force: with
+    // a = k1/m = 0.5, b = k2/m = 0.1, t = 0.01, the new speed s solves
+    // 0.001 s² + 1.005 s - 5 = 0, s = 4.950737, so F = (4.950737 - 5) / 0.01 = -4.9263 N.
     let f = forces_of(&mut world, &mut drag);
-    assert!(close(f[0], Vec3::new(-3.0, -4.0, 0.0), 1e-5), "{f:?}");
+    assert!(close(f[0], Vec3::new(3.0, 4.0, 0.0) / 5.0 * -4.9263, 1e-3), "{f:?}");
     // At rest: no force and no NaN.
     world.particles.velocity[0] = Vec3::ZERO;
     assert_eq!(forces_of(&mut world, &mut drag)[0], Vec3::ZERO);
@@ -186,7 +190,10 @@ fn stiff_spring_first_step_lands_on_the_closed_form_despite_damping() {
     let anchor = Vec3::ZERO;
     let start = Vec3::new(0.5, 0.0, 0.0);
     let (k, dt) = (400.0_f32, 0.01_f32);
+    // Solved in one piece per step: the paper's solver. (The soft solver solves it per
+    // substep, where damping acts between substeps; see the test below.)
     let mut world = World::new();
+    world.set_solver(SolverSettings { kind: SolverKind::Paper, ..SolverSettings::default() }).unwrap();
     let id = world
         .add_particle(ParticleDesc { position: start, damping: 0.5, ..ParticleDesc::default() })
         .unwrap();
@@ -242,4 +249,70 @@ fn stiff_spring_lands_the_particle_on_the_closed_form() {
     }
     let got = world.particles.position[0] - anchor;
     assert!((got.as_dvec3() - expected).length() < 1e-4, "got {got:?}, expected {expected:?}");
+}
+
+#[test]
+fn stiff_spring_in_substeps_composes_to_the_closed_form() {
+    // Undamped particle: four substeps of the exact solution are the exact solution.
+    let (anchor, start, k) = (Vec3::ZERO, Vec3::new(0.5, 0.0, 0.0), 400.0_f32);
+    let mut world = World::new();
+    let id = world.add_particle(ParticleDesc { position: start, ..ParticleDesc::default() }).unwrap();
+    world.add_force(StiffSpring::new(id, anchor, k, 0.1));
+    for step in 1..=50 {
+        world.step(0.01).unwrap();
+        let t = 0.01 * f64::from(step);
+        let (expected, _) = damped_oscillator(start.as_dvec3(), DVec3::ZERO, f64::from(k).sqrt(), 0.1, t);
+        let got = world.particles.position[0].as_dvec3();
+        assert!((got - expected).length() < 1e-4, "step {step}: got {got:?}, expected {expected:?}");
+    }
+}
+
+#[test]
+fn drag_is_stable_for_any_coefficient_and_reaches_terminal_speed() {
+    // Regression: a 4 g particle with k1 = 2 N·s/m under explicit drag reached 2.2e8 m/s
+    // in 1 s. Terminal speed is m g / k1 = 0.004 x 9.81 / 2 = 0.019620 m/s (linear), and
+    // for k2 alone sqrt(m g / k2) = sqrt(0.03924 / 2) = 0.14007 m/s (quadratic).
+    for (k1, k2, terminal) in [(2.0, 0.0, 0.019_62), (0.0, 2.0, 0.140_07), (2.0, 2.0, 0.0)] {
+        let mut world = World::new();
+        let id = world
+            .add_particle(ParticleDesc {
+                mass: 0.004,
+                velocity: Vec3::new(30.0, 0.0, 0.0),
+                acceleration: Vec3::new(0.0, -9.81, 0.0),
+                ..ParticleDesc::default()
+            })
+            .unwrap();
+        world.add_force(Drag { k1, k2, targets: vec![id] });
+        for _ in 0..240 {
+            world.step(1.0 / 240.0).unwrap();
+            let v = world.particles.velocity[0];
+            assert!(v.is_finite() && v.x >= 0.0, "k1 {k1} k2 {k2}: velocity {v} reversed or blew up");
+        }
+        let speed = world.particles.velocity[0].length();
+        // Both terms: k1 s + k2 s² = m g, s = (-k1 + sqrt(k1² + 4 k2 m g)) / (2 k2).
+        let terminal = if terminal > 0.0 {
+            terminal
+        } else {
+            (-k1 + (k1 * k1 + 4.0 * k2 * 0.03924f32).sqrt()) / (2.0 * k2)
+        };
+        assert!((speed / terminal - 1.0).abs() < 0.01, "k1 {k1} k2 {k2}: {speed} m/s vs terminal {terminal}");
+    }
+}
+
+#[test]
+fn linear_drag_decay_follows_the_exponential() {
+    // No gravity: v(t) = v0 e^{-k1 t / m}; exact per step, so within 1% at any step size.
+    for dt in [1.0 / 240.0, 1.0 / 30.0] {
+        let mut world = World::new();
+        let id = world
+            .add_particle(ParticleDesc { mass: 0.5, velocity: Vec3::new(4.0, 0.0, 0.0), ..ParticleDesc::default() })
+            .unwrap();
+        world.add_force(Drag { k1: 1.5, k2: 0.0, targets: vec![id] });
+        for step in 1..=30 {
+            world.step(dt).unwrap();
+            let exact = 4.0 * (-1.5 * step as f32 * dt / 0.5).exp();
+            let got = world.particles.velocity[0].x;
+            assert!((got / exact - 1.0).abs() < 0.01, "dt {dt} step {step}: {got} vs {exact}");
+        }
+    }
 }

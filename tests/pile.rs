@@ -43,3 +43,20 @@ fn probe_fall() {
         scene.step(1.0 / 60.0).unwrap();
     }
 }
+
+#[test]
+#[ignore = "probe: cost per step of a big pile"]
+fn probe_big() {
+    let count: usize = std::env::var("COUNT").ok().and_then(|c| c.parse().ok()).unwrap_or(100_000);
+    let width = (1.1 * (count as f32 / 10.0).sqrt() + 1.2).ceil();
+    let mut scene = scenes::build("pile", &[format!("count={count}"), format!("width={width}")]).unwrap();
+    let dt = scene.info().dt;
+    for step in 1..=600 {
+        let t = std::time::Instant::now();
+        scene.step(dt).unwrap();
+        if step % 30 == 0 {
+            let q = pile::quality(scene.world(), width);
+            println!("step {step} {:.1} ms {:?} contacts {} {:?}", t.elapsed().as_secs_f32() * 1e3, scene.world().profile(), scene.world().contact_count(), q);
+        }
+    }
+}

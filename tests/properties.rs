@@ -16,8 +16,9 @@ fn position() -> impl Strategy<Value = Vec3> {
 /// One particle's start: position, velocity, mass and whether it is immovable.
 type Start = (Vec3, Vec3, f32, bool);
 
-fn two_particles(a: Start, b: Start, radius: f32) -> (World, ParticleId, ParticleId) {
+fn two_particles(a: Start, b: Start, radius: f32, kind: SolverKind) -> (World, ParticleId, ParticleId) {
     let mut world = World::new();
+    world.set_solver(SolverSettings { kind, ..SolverSettings::default() }).unwrap();
     let mut add = |(position, velocity, mass, immovable): Start| {
         let acceleration = Vec3::new(0.0, -9.81, 0.0);
         let desc = ParticleDesc { position, velocity, mass, immovable, radius, damping: 0.99, acceleration };
@@ -38,8 +39,18 @@ proptest! {
         fixed_a in proptest::bool::weighted(0.2), fixed_b in proptest::bool::weighted(0.2),
         k in 0.0f32..1.0e6, rest in 0.0f32..5.0, radius in 0.0f32..2.0,
         restitution in 0.0f32..=1.0, dt in 1.0e-4f32..0.1, zeta in 0.0f32..5.0,
+        paper in proptest::bool::ANY,
     ) {
-        let (mut world, a, b) = two_particles((pa, va, ma, fixed_a), (pb, vb, mb, fixed_b), radius);
+        let kind = if paper { SolverKind::Paper } else { SolverKind::Soft };
+        let (mut world, a, b) = two_particles((pa, va, ma, fixed_a), (pb, vb, mb, fixed_b), radius, kind);
+        // Explicit springs are stable for ω·h < 2 (h the step, or the substep for the
+        // soft solver). Past that they are meant to explode, and an explosion can
+        // overflow to infinity within one step: then only "no panic" is asked of the
+        // soft solver, whose substeps compound the growth (the paper's stays finite).
+        let h = if paper { dt } else { dt / world.solver().substeps as f32 };
+        let lightest = if fixed_a { mb } else if fixed_b { ma } else { ma.min(mb) };
+        // Two springs share a particle pair; the stiffest mode is about 4k / m.
+        let stable = (4.0 * k / lightest).sqrt() * h < 2.0;
         world.add_force(Gravity { gravity: Vec3::new(0.0, -9.81, 0.0), targets: vec![a, b] });
         world.add_force(Drag { k1: 0.1, k2: 0.01, targets: vec![a, b] });
         world.add_force(Spring::between(a, b, k, rest));
@@ -61,6 +72,9 @@ proptest! {
             if !world.particles.position.iter().all(|p| p.length() < 1.0e15) {
                 break;
             }
+        }
+        if !paper && !stable {
+            return Ok(());
         }
         prop_assert!(world.is_finite(), "state after a step: {:?}", world.particles);
         for contact in world.contacts() {

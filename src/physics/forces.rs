@@ -157,6 +157,20 @@ impl ForceGenerator for Gravity {
 }
 
 /// Simplified aerodynamic drag, `F = -v̂ (k1 |v| + k2 |v|²)`.
+///
+/// Applied explicitly, drag overshoots (reverses the velocity, then grows without
+/// bound) once `k1·dt/m > 2` or `k2·|v|·dt/m > 2`. So the generator solves the step's
+/// velocity update itself, with the particle's other accelerations `g` (its constant
+/// one and the forces registered before this generator) held over the step, and
+/// applies the constant force that lands the integrator there:
+/// - linear drag only (`k2 = 0`): the exact solution of `v' = g - (k1/m) v`,
+///   `v(t) = v∞ + (v0 - v∞) e^{-k1 t/m}` with `v∞ = m g / k1`;
+/// - with quadratic drag: backward Euler, `v1 = v0 + dt (g - (k1 + k2|v1|) v1 / m)`,
+///   solved in closed form (a quadratic in `|v1|`).
+///
+/// Both are stable for any `k1, k2 >= 0`, never reverse the velocity, and reach the
+/// exact terminal velocity (`k1 v + k2 v² = m g`). Register drag after the particle's
+/// other force generators.
 #[derive(Clone, Debug)]
 pub struct Drag {
     /// Linear coefficient (N·s/m).
@@ -168,7 +182,7 @@ pub struct Drag {
 }
 
 impl Drag {
-    /// The drag force on a particle moving at `velocity` (N).
+    /// The drag force on a particle moving at `velocity` (N), at this instant.
     #[inline]
     #[must_use]
     pub fn force(&self, velocity: Vec3) -> Vec3 {
@@ -176,14 +190,43 @@ impl Drag {
         // -v̂ (k1|v| + k2|v|²) = -v (k1 + k2|v|); zero velocity gives zero force.
         -velocity * (self.k1 + self.k2 * speed)
     }
+
+    /// Velocity after `dt` seconds (m/s) of a particle of inverse mass `inverse_mass`
+    /// starting at `velocity` under drag and a constant other acceleration `other`.
+    #[must_use]
+    pub fn velocity_after(&self, velocity: Vec3, other: Vec3, inverse_mass: f32, dt: f32) -> Vec3 {
+        let (v0, g, t) = (velocity.as_dvec3(), other.as_dvec3(), f64::from(dt));
+        let (a, b) = (f64::from(self.k1 * inverse_mass), f64::from(self.k2 * inverse_mass));
+        if b == 0.0 {
+            if a == 0.0 {
+                return (v0 + g * t).as_vec3();
+            }
+            let terminal = g / a;
+            return (terminal + (v0 - terminal) * (-a * t).exp()).as_vec3();
+        }
+        // (1 + a t + b t s) v1 = v0 + g t, with s = |v1|: v1 points along u = v0 + g t and
+        // b t s² + (1 + a t) s - |u| = 0.
+        let u = v0 + g * t;
+        let (c1, c2, length) = (1.0 + a * t, b * t, u.length());
+        // The positive root, written so it does not cancel when c2 is small.
+        let s = 2.0 * length / (c1 + (c1 * c1 + 4.0 * c2 * length).sqrt());
+        if length > 0.0 { (u * (s / length)).as_vec3() } else { Vec3::ZERO }
+    }
 }
 
 impl ForceGenerator for Drag {
-    fn apply(&mut self, particles: &mut Particles, _dt: f32) {
+    fn apply(&mut self, particles: &mut Particles, dt: f32) {
         for &id in &self.targets {
-            if let Some(i) = particles.index(id) {
-                particles.force[i] += self.force(particles.velocity[i]);
+            let Some(i) = particles.index(id) else { continue };
+            let (v, w) = (particles.velocity[i], particles.inverse_mass[i]);
+            if !(w > 0.0 && dt > 0.0) {
+                particles.force[i] += self.force(v);
+                continue;
             }
+            let other = particles.acceleration[i] + particles.force[i] * w;
+            let landed = self.velocity_after(v, other, w, dt);
+            // The integrator adds (a + F/m) dt: choose the drag force that makes it `landed`.
+            particles.force[i] += ((landed - v) / dt - other) / w;
         }
     }
 

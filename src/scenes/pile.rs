@@ -11,7 +11,7 @@ use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, Scene
 use crate::physics::{ParticleDesc, PhysicsError, Plane, ResolveReport, SphereCollisions, World};
 
 /// Gap between neighbours on the starting grid, as a fraction of the diameter.
-const GRID_GAP: f32 = 0.1;
+const GRID_GAP: f32 = 0.25;
 /// Largest random offset of a starting position, as a fraction of the radius.
 const JITTER: f32 = 0.2;
 /// Seed of the starting jitter.
