@@ -1,7 +1,7 @@
 //! The pile: many spheres come to rest, quickly and without overlapping.
 
-#[allow(unused_imports)]
-use particle_lab::physics::{SolverKind, SolverSettings};
+use glam::Vec3;
+use particle_lab::physics::{ParticleDesc, Plane, SphereCollisions, World};
 use particle_lab::scenes::{self, pile};
 
 fn settle(count: usize, seconds: f32, set: &[&str]) -> (Box<dyn scenes::Scene>, Vec<pile::PileQuality>) {
@@ -22,6 +22,98 @@ fn settle(count: usize, seconds: f32, set: &[&str]) -> (Box<dyn scenes::Scene>, 
 }
 
 #[test]
+fn pile_of_2000_with_friction_comes_to_rest_within_10_seconds() {
+    let (scene, history) = settle(2000, 10.0, &["friction=0.5"]);
+    let end = *history.last().unwrap();
+    assert!(end.median_speed <= 0.005, "median speed {} m/s", end.median_speed);
+    assert!(end.deepest_overlap <= 0.01, "deepest overlap {} m", end.deepest_overlap);
+    assert_eq!(end.escaped, 0, "spheres outside the box or below the ground");
+    // It is a pile, not a grid of columns: most spheres touch several others.
+    let contacts = scene.world().contact_count();
+    assert!(contacts > 3 * 2000, "only {contacts} contacts");
+    // And it stays at rest: no late boiling.
+    let worst_late = history[history.len() - 3..].iter().map(|q| q.max_speed).fold(0.0, f32::max);
+    assert!(worst_late < 0.05, "fastest sphere in the last 3 s: {worst_late} m/s");
+}
+
+#[test]
+fn column_of_ten_spheres_stays_a_column() {
+    let mut world = World::new();
+    world.add_contact_generator(Plane::ground(0.0, 0.0, 0.5));
+    world.add_contact_generator(SphereCollisions { restitution: 0.0, friction: 0.5 });
+    // Touching, each a fraction of a millimetre off the axis, alternating.
+    let start: Vec<Vec3> = (0..10)
+        .map(|i| {
+            let off = if i % 2 == 0 { 1e-4 } else { -1e-4 };
+            Vec3::new(off, 0.5 + i as f32, -off)
+        })
+        .collect();
+    for &position in &start {
+        let desc = ParticleDesc { position, radius: 0.5, acceleration: Vec3::new(0.0, -9.81, 0.0), ..ParticleDesc::default() };
+        world.add_particle(desc).unwrap();
+    }
+    for step in 1..=3600 {
+        world.step(1.0 / 60.0).unwrap();
+        if step % 600 == 0 {
+            for (i, (p, s)) in world.particles.position.iter().zip(&start).enumerate() {
+                let drift = Vec3::new(p.x - s.x, 0.0, p.z - s.z).length();
+                assert!(drift <= 1e-3, "step {step}: sphere {i} drifted {drift} m sideways");
+                assert!((p.y - s.y).abs() < 0.01, "step {step}: sphere {i} at height {} (started {})", p.y, s.y);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_ball_dropped_on_the_pile_does_not_sink_through() {
+    let (mut scene, _) = settle(2000, 5.0, &[]);
+    let top = scene.world().particles.position.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    // A heavy ball falling from 10 m above the pile, fast when it lands (about 14 m/s).
+    let world = scene.world_mut();
+    let ball = world
+        .add_particle(ParticleDesc {
+            position: Vec3::new(0.3, top + 10.0, -0.2),
+            mass: 5.0,
+            radius: 0.5,
+            acceleration: Vec3::new(0.0, -9.81, 0.0),
+            ..ParticleDesc::default()
+        })
+        .unwrap();
+    let mut lowest = f32::MAX;
+    for _ in 0..(4 * 60) {
+        scene.step(1.0 / 60.0).unwrap();
+        let p = &scene.world().particles;
+        lowest = lowest.min(p.position[p.index(ball).unwrap()].y);
+    }
+    // It may push the top spheres aside and nestle in, but not pass through the pile.
+    assert!(lowest > top - 1.5, "ball sank to {lowest} m; the pile's top was at {top} m");
+    let width = scene.params().get("width");
+    let end = pile::quality(scene.world(), width);
+    assert!(end.deepest_overlap <= 0.02 && end.escaped == 0, "{end:?}");
+}
+
+#[test]
+fn one_thread_and_two_threads_give_the_same_bits() {
+    // 20,000 spheres: above every size where the step splits work across threads.
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut scene = scenes::build("pile", &["count=20000".into(), "width=46".into()]).unwrap();
+            for _ in 0..40 {
+                scene.step(1.0 / 60.0).unwrap();
+            }
+            let p = &scene.world().particles;
+            let bits = |v: &[Vec3]| v.iter().flat_map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+            (bits(&p.position), bits(&p.velocity), scene.world().contact_count())
+        })
+    };
+    let one = run(1);
+    let two = run(2);
+    assert!(one.2 > 20_000, "the pile should be in contact by now: {} contacts", one.2);
+    assert!(one == two, "1 thread and 2 threads differ");
+}
+
+#[test]
 #[ignore = "probe: prints how a pile settles"]
 fn probe_pile() {
     let count: usize = std::env::var("COUNT").ok().and_then(|c| c.parse().ok()).unwrap_or(2000);
@@ -31,17 +123,6 @@ fn probe_pile() {
         println!("t={:>3}s {:?}", i + 1, q);
     }
     println!("{:?} wall {:?} contacts {}", scene.world().profile(), started.elapsed(), scene.world().contact_count());
-}
-
-#[test]
-#[ignore = "probe"]
-fn probe_fall() {
-    let mut scene = scenes::build("pile", &["count=3".into()]).unwrap();
-    for step in 0..5 {
-        let w = scene.world();
-        println!("{step} p={:?} v={:?} a={:?} contacts={}", w.particles.position, w.particles.velocity, w.particles.acceleration, w.contact_count());
-        scene.step(1.0 / 60.0).unwrap();
-    }
 }
 
 #[test]
