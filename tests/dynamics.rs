@@ -215,6 +215,7 @@ fn interpenetration_is_removed_in_proportion_to_inverse_mass() {
     // The soft solver pushes apart with velocity (no faster than its push speed), so the
     // overlap is gone after a while, the moves still 3 : 1, momentum zero throughout.
     let mut world = world_on(SolverKind::Soft);
+    world.set_solver(SolverSettings { sleep: false, ..*world.solver() }).unwrap();
     world.add_particle(ParticleDesc { radius: 1.0, ..particle(Vec3::ZERO, Vec3::ZERO, 1.0) }).unwrap();
     world
         .add_particle(ParticleDesc { radius: 1.0, ..particle(Vec3::new(1.0, 0.0, 0.0), Vec3::ZERO, 3.0) })

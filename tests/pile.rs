@@ -1,13 +1,24 @@
 //! The pile: many spheres come to rest, quickly and without overlapping.
 
 use glam::Vec3;
-use particle_lab::physics::{ParticleDesc, Plane, SphereCollisions, World};
+use particle_lab::physics::{ParticleDesc, Plane, SolverSettings, SphereCollisions, World};
 use particle_lab::scenes::{self, pile};
 
 fn settle(count: usize, seconds: f32, set: &[&str]) -> (Box<dyn scenes::Scene>, Vec<pile::PileQuality>) {
+    settle_with(count, seconds, set, true)
+}
+
+/// Builds a pile and steps it, measuring it every simulated second.
+fn settle_with(
+    count: usize,
+    seconds: f32,
+    set: &[&str],
+    sleep: bool,
+) -> (Box<dyn scenes::Scene>, Vec<pile::PileQuality>) {
     let mut assignments = vec![format!("count={count}")];
     assignments.extend(set.iter().map(|s| s.to_string()));
     let mut scene = scenes::build("pile", &assignments).unwrap();
+    scene.world_mut().set_solver(SolverSettings { sleep, ..SolverSettings::default() }).unwrap();
     let dt = scene.info().dt;
     let width = scene.params().get("width");
     let mut history = Vec::new();
@@ -23,7 +34,8 @@ fn settle(count: usize, seconds: f32, set: &[&str]) -> (Box<dyn scenes::Scene>, 
 
 #[test]
 fn pile_of_2000_with_friction_comes_to_rest_within_10_seconds() {
-    let (scene, history) = settle(2000, 10.0, &["friction=0.5"]);
+    // Without sleeping: the solver itself must bring it to rest and keep it there.
+    let (scene, history) = settle_with(2000, 10.0, &["friction=0.5"], false);
     let end = *history.last().unwrap();
     assert!(end.median_speed <= 0.005, "median speed {} m/s", end.median_speed);
     assert!(end.deepest_overlap <= 0.01, "deepest overlap {} m", end.deepest_overlap);
@@ -34,11 +46,72 @@ fn pile_of_2000_with_friction_comes_to_rest_within_10_seconds() {
     // And it stays at rest: no late boiling.
     let worst_late = history[history.len() - 3..].iter().map(|q| q.max_speed).fold(0.0, f32::max);
     assert!(worst_late < 0.05, "fastest sphere in the last 3 s: {worst_late} m/s");
+
+    // With sleeping (the default) it rests as well and ends with every sphere asleep.
+    let (scene, history) = settle_with(2000, 10.0, &["friction=0.5"], true);
+    let end = *history.last().unwrap();
+    assert!(end.median_speed <= 0.005 && end.deepest_overlap <= 0.01 && end.escaped == 0, "{end:?}");
+    assert_eq!(scene.world().particles.asleep_count(), 2000);
+}
+
+#[test]
+fn a_sleeping_pile_wakes_when_touched_moved_or_regravitated_and_sleeps_again() {
+    let (mut scene, _) = settle(500, 6.0, &["width=8"]);
+    assert_eq!(scene.world().particles.asleep_count(), 500, "settled pile should be asleep");
+    let dt = scene.info().dt;
+    // Moved from outside (as the mouse does): its island wakes on the next step.
+    let world = scene.world_mut();
+    world.particles.position[10].y += 0.3;
+    scene.step(dt).unwrap();
+    assert_eq!(scene.world().particles.asleep_count(), 0, "moving a sleeping sphere wakes its island");
+    for _ in 0..(4.0 / dt) as usize {
+        scene.step(dt).unwrap();
+    }
+    assert_eq!(scene.world().particles.asleep_count(), 500, "and it falls asleep again");
+    // Gravity turned upwards: everything must fly up, not stay asleep.
+    scene.set_param("g", 0.0).unwrap();
+    scene.world_mut().set_acceleration_all(Vec3::new(0.0, 5.0, 0.0)).unwrap();
+    for _ in 0..30 {
+        scene.step(dt).unwrap();
+    }
+    let lowest = scene.world().particles.position.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+    assert!(lowest > 0.6, "pile did not lift off: lowest sphere at {lowest} m");
+}
+
+#[test]
+fn sleeping_changes_what_the_pile_costs_not_where_it_rests() {
+    // A ball landing on a sleeping pile wakes it, and ends where it ends on an awake one.
+    let drop = |sleep: bool| {
+        let (mut scene, _) = settle_with(800, 5.0, &["width=10"], sleep);
+        let top = scene.world().particles.position.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+        let world = scene.world_mut();
+        let desc = ParticleDesc {
+            position: Vec3::new(0.0, top + 4.0, 0.0),
+            radius: 0.5,
+            acceleration: Vec3::new(0.0, -9.81, 0.0),
+            ..ParticleDesc::default()
+        };
+        let ball = world.add_particle(desc).unwrap();
+        let mut woke = false;
+        for _ in 0..240 {
+            scene.step(1.0 / 60.0).unwrap();
+            woke |= scene.world().particles.asleep_count() < 800;
+        }
+        let p = &scene.world().particles;
+        (p.position[p.index(ball).unwrap()], woke, top)
+    };
+    let (asleep_end, woke, top) = drop(true);
+    let (awake_end, _, _) = drop(false);
+    assert!(woke, "the ball never woke the pile");
+    assert!(asleep_end.y > top - 1.5, "ball sank into the sleeping pile: {asleep_end}");
+    assert!((asleep_end.y - awake_end.y).abs() < 0.3, "rests at {asleep_end} asleep vs {awake_end} awake");
 }
 
 #[test]
 fn column_of_ten_spheres_stays_a_column() {
     let mut world = World::new();
+    // Awake throughout: a sleeping column would not drift by construction.
+    world.set_solver(SolverSettings { sleep: false, ..SolverSettings::default() }).unwrap();
     world.add_contact_generator(Plane::ground(0.0, 0.0, 0.5));
     world.add_contact_generator(SphereCollisions { restitution: 0.0, friction: 0.5 });
     // Touching, each a fraction of a millimetre off the axis, alternating.

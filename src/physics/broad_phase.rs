@@ -88,7 +88,25 @@ impl BroadPhase {
     /// # Panics
     /// If `positions` and `reach` differ in length.
     pub fn find_pairs(&mut self, positions: &[Vec3], reach: &[f32], out: &mut Vec<(u32, u32)>) {
+        self.find_pairs_awake(positions, reach, None, out);
+    }
+
+    /// Like [`BroadPhase::find_pairs`], but particles with `asleep[i]` true only take
+    /// part as the second of a pair: pairs of two sleeping particles are skipped, a
+    /// pair of two awake ones comes as `(a, b)` with `a < b`, and a pair of an awake and
+    /// a sleeping one comes as `(awake, asleep)`. Sorted by first, then second.
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    pub fn find_pairs_awake(
+        &mut self,
+        positions: &[Vec3],
+        reach: &[f32],
+        asleep: Option<&[bool]>,
+        out: &mut Vec<(u32, u32)>,
+    ) {
         assert_eq!(positions.len(), reach.len(), "one reach per position");
+        assert!(asleep.is_none_or(|a| a.len() == positions.len()), "one flag per position");
         out.clear();
         let n = positions.len();
         self.build(positions, reach);
@@ -109,6 +127,7 @@ impl BroadPhase {
             oversized: &self.oversized,
             positions,
             reach,
+            asleep,
         };
         let (pairs, scratch) = (&mut self.chunk_pairs[..chunks], &mut self.chunk_scratch[..chunks]);
         if n >= PARALLEL_FROM {
@@ -200,6 +219,7 @@ struct GridView<'a> {
     oversized: &'a [u32],
     positions: &'a [Vec3],
     reach: &'a [f32],
+    asleep: Option<&'a [bool]>,
 }
 
 impl GridView<'_> {
@@ -209,9 +229,12 @@ impl GridView<'_> {
         let n = self.positions.len();
         let bits = (self.starts.len() - 1).trailing_zeros();
         let inverse_cell = 1.0 / self.cell_size;
+        let asleep = |i: usize| self.asleep.is_some_and(|flags| flags[i]);
+        // Whether b is found from a: every sleeping partner, awake ones only once.
+        let second = |a: usize, b: usize| if asleep(b) { b != a } else { b > a };
         for a in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
             let ra = self.reach[a];
-            if !(ra > 0.0 && ra.is_finite()) {
+            if !(ra > 0.0 && ra.is_finite()) || asleep(a) {
                 continue;
             }
             partners.clear();
@@ -222,8 +245,8 @@ impl GridView<'_> {
                 rb > 0.0 && rb.is_finite() && (pa - self.positions[b]).length_squared() < reach * reach
             };
             if self.cell_keys[a] == NOT_IN_GRID {
-                // Oversized: against everything after it.
-                partners.extend((a + 1..n).filter(|&b| touches(b)).map(|b| b as u32));
+                // Oversized: against everything.
+                partners.extend((0..n).filter(|&b| second(a, b) && touches(b)).map(|b| b as u32));
             } else {
                 let [x, y, z] = cell_of(pa, inverse_cell);
                 for dx in -1..=1 {
@@ -233,14 +256,16 @@ impl GridView<'_> {
                             let bucket = bucket(key, bits);
                             let range = self.starts[bucket] as usize..self.starts[bucket + 1] as usize;
                             for (&b, &entry_key) in self.entries[range.clone()].iter().zip(&self.entry_keys[range]) {
-                                if entry_key == key && b as usize > a && touches(b as usize) {
+                                if entry_key == key && second(a, b as usize) && touches(b as usize) {
                                     partners.push(b);
                                 }
                             }
                         }
                     }
                 }
-                partners.extend(self.oversized.iter().copied().filter(|&b| b as usize > a && touches(b as usize)));
+                partners.extend(
+                    self.oversized.iter().copied().filter(|&b| second(a, b as usize) && touches(b as usize)),
+                );
             }
             partners.sort_unstable();
             // Cells clamped at the coordinate limit can be visited twice.

@@ -151,6 +151,8 @@ pub struct ResolveReport {
     pub max_penetration: f32,
     /// Contacts handled (with the soft solver, speculative ones included).
     pub contacts: usize,
+    /// Particles asleep after the step (soft solver).
+    pub asleep: usize,
 }
 
 impl ResolveReport {

@@ -108,6 +108,8 @@ pub struct Particles {
     /// `damping.powf(damping_dt)`, cached so the step does not call `powf` per particle.
     damping_per_step: Vec<f32>,
     damping_dt: f32,
+    /// Sleep state, per particle: see [`Sleep`].
+    pub(crate) sleep: Vec<Sleep>,
     /// Dense index -> id.
     ids: Vec<ParticleId>,
     /// Id -> dense index, or `DEAD`.
@@ -134,6 +136,7 @@ impl Particles {
             damping: Vec::with_capacity(n),
             damping_per_step: Vec::with_capacity(n),
             damping_dt: 0.0,
+            sleep: Vec::with_capacity(n),
             ids: Vec::with_capacity(n),
             slots: Vec::with_capacity(n),
         }
@@ -168,6 +171,7 @@ impl Particles {
         self.radius.push(desc.radius);
         self.damping.push(desc.damping);
         self.damping_per_step.push(damping_factor(desc.damping, self.damping_dt));
+        self.sleep.push(Sleep::default());
         Ok(id)
     }
 
@@ -185,6 +189,7 @@ impl Particles {
         self.radius.swap_remove(index);
         self.damping.swap_remove(index);
         self.damping_per_step.swap_remove(index);
+        self.sleep.swap_remove(index);
         self.ids.swap_remove(index);
         if index != last {
             let moved = self.ids[index];
@@ -207,6 +212,36 @@ impl Particles {
         self.radius.clear();
         self.damping.clear();
         self.damping_per_step.clear();
+        self.sleep.clear();
+    }
+
+    /// Whether the particle at `index` is asleep: at rest with its island, not
+    /// simulated until something touches or moves it (soft solver only).
+    #[inline]
+    #[must_use]
+    pub fn is_asleep(&self, index: usize) -> bool {
+        self.sleep[index].island != AWAKE
+    }
+
+    /// How many particles are asleep.
+    #[must_use]
+    pub fn asleep_count(&self) -> usize {
+        self.sleep.iter().filter(|s| s.island != AWAKE).count()
+    }
+
+    /// Marks a sleeping particle as disturbed: its island wakes at the next step.
+    fn disturb(&mut self, index: usize) {
+        if self.sleep[index].island != AWAKE {
+            // No position equals NaN, so the next step sees it as moved.
+            self.sleep[index].rest = Vec3::NAN;
+        }
+    }
+
+    /// Wakes every particle.
+    pub fn wake_all(&mut self) {
+        for sleep in &mut self.sleep {
+            *sleep = Sleep::default();
+        }
     }
 
     /// The current dense index of a live particle.
@@ -245,6 +280,7 @@ impl Particles {
     pub fn set_mass(&mut self, id: ParticleId, mass: f32) -> Result<(), PhysicsError> {
         let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
         self.inverse_mass[index] = inverse_mass(mass)?;
+        self.disturb(index);
         Ok(())
     }
 
@@ -263,6 +299,7 @@ impl Particles {
         }
         self.damping[index] = damping;
         self.damping_per_step[index] = damping_factor(damping, self.damping_dt);
+        self.disturb(index);
         Ok(())
     }
 
@@ -311,19 +348,18 @@ impl Particles {
     /// The velocity half of a substep: `v = (v + (a + F/m) h) damping^h` for every
     /// movable particle. [`Particles::prepare_damping`] must have been called with `h`.
     pub(crate) fn integrate_velocities(&mut self, h: f32, parallel: bool) {
-        let kick = |(v, ((&a, &f), (&inverse_mass, &damp))): (&mut Vec3, ((&Vec3, &Vec3), (&f32, &f32)))| {
-            if inverse_mass > 0.0 {
+        type Inputs<'a> = ((&'a Vec3, &'a Vec3), ((&'a f32, &'a f32), &'a Sleep));
+        let kick = |(v, ((&a, &f), ((&inverse_mass, &damp), sleep))): (&mut Vec3, Inputs<'_>)| {
+            if inverse_mass > 0.0 && sleep.island == AWAKE {
                 *v = (*v + (a + f * inverse_mass) * h) * damp;
             }
         };
-        let inputs = self.acceleration.iter().zip(&self.force).zip(self.inverse_mass.iter().zip(&self.damping_per_step));
+        let bodies = self.inverse_mass.iter().zip(&self.damping_per_step).zip(&self.sleep);
+        let inputs = self.acceleration.iter().zip(&self.force).zip(bodies);
         if parallel {
             use rayon::prelude::*;
-            let inputs = self
-                .acceleration
-                .par_iter()
-                .zip(&self.force)
-                .zip(self.inverse_mass.par_iter().zip(&self.damping_per_step));
+            let bodies = self.inverse_mass.par_iter().zip(&self.damping_per_step).zip(&self.sleep);
+            let inputs = self.acceleration.par_iter().zip(&self.force).zip(bodies);
             self.velocity.par_iter_mut().zip(inputs).with_min_len(4096).for_each(kick);
         } else {
             self.velocity.iter_mut().zip(inputs).for_each(kick);
@@ -333,6 +369,7 @@ impl Particles {
     /// The position half of a substep: `p += v h` for every movable particle, adding the
     /// move to `delta` too.
     pub(crate) fn integrate_positions(&mut self, h: f32, delta: &mut [Vec3], parallel: bool) {
+        // Sleeping particles have zero velocity: moving them by it changes nothing.
         let drift = |((p, d), (&v, &inverse_mass)): ((&mut Vec3, &mut Vec3), (&Vec3, &f32))| {
             if inverse_mass > 0.0 {
                 *p += v * h;
@@ -359,6 +396,26 @@ impl Particles {
         } else {
             Vec3::ZERO
         }
+    }
+}
+
+/// `Sleep::island` of a particle that is awake.
+pub(crate) const AWAKE: u32 = u32::MAX;
+
+/// A particle's sleep state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Sleep {
+    /// How long the particle has been slower than the sleep speed (s).
+    pub timer: f32,
+    /// [`AWAKE`], or the label of the sleeping island it belongs to.
+    pub island: u32,
+    /// Where it fell asleep: moving it from outside wakes it.
+    pub rest: Vec3,
+}
+
+impl Default for Sleep {
+    fn default() -> Self {
+        Self { timer: 0.0, island: AWAKE, rest: Vec3::ZERO }
     }
 }
 

@@ -32,7 +32,7 @@ use super::broad_phase::BroadPhase;
 use super::collisions::{ContactGenerator, Plane, Scratch, SphereCollisions};
 use super::forces::ForceRegistry;
 use super::links::{Constraint, LinkEnd, direction_or_zero};
-use super::particles::Particles;
+use super::particles::{AWAKE, Particles, Sleep};
 use super::solver::{SolverSettings, Softness};
 use super::world::{ContactGeneratorId, Profile};
 
@@ -133,6 +133,13 @@ pub struct SoftStep {
     delta: Vec<Vec3>,
     /// Speculative margin of each particle (m).
     margin: Vec<f32>,
+    /// Per particle: asleep at the start of this collide pass.
+    asleep: Vec<bool>,
+    /// Labels of sleeping islands to wake.
+    to_wake: Vec<u32>,
+    /// Union-find parents and each island's shortest rest time, for sleeping.
+    parent: Vec<u32>,
+    island_timer: Vec<f32>,
 }
 
 /// What a soft step did, for reports.
@@ -144,6 +151,8 @@ pub struct SoftReport {
     pub max_penetration: f32,
     /// Colours the contacts needed (the last one is solved in order).
     pub colors: usize,
+    /// Particles asleep after the step.
+    pub asleep: usize,
 }
 
 /// Velocities shared by the tasks solving one colour.
@@ -224,7 +233,18 @@ impl SoftStep {
         let substeps = settings.substeps.max(1);
         let h = dt / substeps as f32;
         let started = Instant::now();
-        self.collide(settings, particles, generators, broad_phase, scratch, dt, profile);
+        if settings.sleep {
+            self.wake_disturbed(particles);
+        }
+        // Contacts with sleeping particles wake their islands; their own contacts are
+        // then found by colliding again (rare: only when something wakes).
+        loop {
+            self.collide(settings, particles, generators, broad_phase, scratch, dt, profile);
+            if self.to_wake.is_empty() {
+                break;
+            }
+            wake(particles, &mut self.to_wake);
+        }
         let collided = Instant::now();
         self.warm_start_from_last_step();
         self.color(particles);
@@ -252,10 +272,91 @@ impl SoftStep {
         self.restitution(particles, settings.restitution_threshold);
         self.store(h, link_tension);
         let max_penetration = self.deepest_overlap();
+        if settings.sleep {
+            self.fall_asleep(particles, settings, dt);
+        }
         let solved = Instant::now();
         profile.solve_ms = ms(solved - collided);
         profile.total_ms = ms(solved - started);
-        SoftReport { contacts: self.contacts.len(), max_penetration, colors: self.color_count() }
+        let asleep = if settings.sleep { particles.asleep_count() } else { 0 };
+        SoftReport { contacts: self.contacts.len(), max_penetration, colors: self.color_count(), asleep }
+    }
+
+    /// Wakes the islands of sleeping particles that were moved or pushed from outside
+    /// (dragged, teleported, given a velocity) since the last step.
+    fn wake_disturbed(&mut self, particles: &mut Particles) {
+        self.to_wake.clear();
+        let bodies = particles.sleep.iter().zip(&particles.position).zip(&particles.velocity);
+        for ((sleep, &p), &v) in bodies {
+            if sleep.island != AWAKE && (v != Vec3::ZERO || p != sleep.rest) {
+                self.to_wake.push(sleep.island);
+            }
+        }
+        wake(particles, &mut self.to_wake);
+    }
+
+    /// Stage 6: islands whose every particle has been slow for `sleep_time` fall
+    /// asleep. An island is the particles joined by touching contacts and links
+    /// (immovable particles and planes join nothing).
+    fn fall_asleep(&mut self, particles: &mut Particles, settings: &SolverSettings, dt: f32) {
+        let mut ready = false;
+        self.to_wake.clear();
+        let bodies = particles.velocity.iter().zip(&particles.force).zip(&particles.inverse_mass);
+        for ((sleep, ((v, f), &w)), moved) in particles.sleep.iter_mut().zip(bodies).zip(&self.delta) {
+            if sleep.island != AWAKE {
+                // A force started acting on it (a new spring, a float reaching water).
+                if *f != Vec3::ZERO {
+                    self.to_wake.push(sleep.island);
+                }
+                continue;
+            }
+            // Slow by its velocity and by how far it moved: the relax pass leaves a
+            // particle still being pushed out of an overlap with almost no velocity.
+            // Particles that forces keep holding never sleep: the force may change.
+            let speed = v.length().max(moved.length() / dt);
+            let slow = w > 0.0 && speed < settings.sleep_speed && *f == Vec3::ZERO;
+            sleep.timer = if slow { sleep.timer + dt } else { 0.0 };
+            ready |= sleep.timer >= settings.sleep_time;
+        }
+        wake(particles, &mut self.to_wake);
+        if !ready {
+            return;
+        }
+        let n = particles.len();
+        self.parent.clear();
+        self.parent.extend(0..n as u32);
+        let movable = |i: u32| i != NONE && particles.inverse_mass[i as usize] > 0.0;
+        let delta = &self.delta;
+        for c in &self.contacts {
+            if movable(c.a) && movable(c.b) {
+                let moved = delta[c.a as usize] - delta[c.b as usize];
+                if c.separation + moved.dot(c.normal) < settings.speculative_distance {
+                    union(&mut self.parent, c.a, c.b);
+                }
+            }
+        }
+        for link in &self.links {
+            if movable(link.a) && movable(link.b) {
+                union(&mut self.parent, link.a, link.b);
+            }
+        }
+        self.island_timer.clear();
+        self.island_timer.resize(n, f32::INFINITY);
+        for i in 0..n {
+            let root = find(&mut self.parent, i as u32) as usize;
+            let sleep = particles.sleep[i];
+            // Immovable particles are never in an island; they never keep one awake.
+            if particles.inverse_mass[i] > 0.0 {
+                self.island_timer[root] = self.island_timer[root].min(sleep.timer);
+            }
+        }
+        for i in 0..n {
+            let root = find(&mut self.parent, i as u32);
+            if particles.inverse_mass[i] > 0.0 && self.island_timer[root as usize] >= settings.sleep_time {
+                particles.velocity[i] = Vec3::ZERO;
+                particles.sleep[i] = Sleep { timer: 0.0, island: root, rest: particles.position[i] };
+            }
+        }
     }
 
     /// Stage 1: contacts from every generator, with speculative margins.
@@ -279,6 +380,10 @@ impl SoftStep {
         self.fresh_keys.clear();
         self.fresh_groups.clear();
         self.links.clear();
+        self.to_wake.clear();
+        self.asleep.clear();
+        self.asleep.extend(particles.sleep.iter().map(|s| s.island != AWAKE));
+        let any_asleep = self.asleep.contains(&true);
         profile.broad_phase_ms = 0.0;
         let started = Instant::now();
         for (source, (id, generator)) in generators.iter().enumerate() {
@@ -291,7 +396,8 @@ impl SoftStep {
                     scratch.reach.extend(particles.radius.iter().zip(&self.margin).map(|(&r, &m)| {
                         if r > 0.0 { r + m } else { 0.0 }
                     }));
-                    broad_phase.find_pairs(&particles.position, &scratch.reach, &mut scratch.pairs);
+                    let asleep = any_asleep.then_some(self.asleep.as_slice());
+                    broad_phase.find_pairs_awake(&particles.position, &scratch.reach, asleep, &mut scratch.pairs);
                     profile.broad_phase_ms += ms(broad.elapsed());
                     self.collide_spheres(spheres, particles, &scratch.pairs);
                 }
@@ -307,9 +413,9 @@ impl SoftStep {
     fn collide_plane(&mut self, plane: &Plane, particles: &Particles) {
         let positions = particles.position.iter().zip(&particles.radius);
         let bodies = particles.inverse_mass.iter().zip(&particles.velocity).zip(&self.margin);
-        for (i, ((&p, &r), ((&w, &v), &margin))) in positions.zip(bodies).enumerate() {
+        for (i, (((&p, &r), ((&w, &v), &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
             let separation = plane.distance(p) - r;
-            if w > 0.0 && separation < margin {
+            if w > 0.0 && !asleep && separation < margin {
                 self.fresh_keys.push(key(i as u32, NONE));
                 self.fresh.push(SoftContact {
                     a: i as u32,
@@ -332,6 +438,13 @@ impl SoftStep {
             let (i, j) = (a as usize, b as usize);
             let total = w[i] + w[j];
             if total <= 0.0 {
+                continue;
+            }
+            if self.asleep[j] {
+                // An awake particle reached a sleeping one: wake its island.
+                if w[j] > 0.0 {
+                    self.to_wake.push(particles.sleep[j].island);
+                }
                 continue;
             }
             let (normal, distance) = direction_or_zero(p[i] - p[j]);
@@ -364,6 +477,16 @@ impl SoftStep {
         let w = particles.inverse_mass[a] + if b == NONE { 0.0 } else { particles.inverse_mass[b as usize] };
         if w <= 0.0 {
             return;
+        }
+        let asleep_b = b != NONE && self.asleep[b as usize];
+        match (self.asleep[a], asleep_b) {
+            (true, true) => return,
+            (true, false) if b != NONE && particles.inverse_mass[b as usize] > 0.0 => {
+                self.to_wake.push(particles.sleep[a].island);
+            }
+            (false, true) if particles.inverse_mass[a] > 0.0 => self.to_wake.push(particles.sleep[b as usize].island),
+            (true, false) => return, // asleep on an anchor or an immovable particle
+            _ => {}
         }
         let mut soft = SoftLink {
             a: a as u32,
@@ -699,6 +822,41 @@ fn solve_contact(c: &mut SoftContact, velocities: SharedVelocities, w: &[f32], d
         }
         c.tangent_impulse = total;
         apply(velocities, w, c.a, c.b, total - old);
+    }
+}
+
+/// Wakes every island whose label is in `labels` (emptied).
+fn wake(particles: &mut Particles, labels: &mut Vec<u32>) {
+    if labels.is_empty() {
+        return;
+    }
+    labels.sort_unstable();
+    labels.dedup();
+    for sleep in &mut particles.sleep {
+        if sleep.island != AWAKE && labels.binary_search(&sleep.island).is_ok() {
+            *sleep = Sleep::default();
+        }
+    }
+    labels.clear();
+}
+
+/// Union-find root with path halving.
+fn find(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        let grand = parent[parent[i as usize] as usize];
+        parent[i as usize] = grand;
+        i = grand;
+    }
+    i
+}
+
+/// Joins two sets; the smaller root becomes the root, so labels depend on the
+/// particles alone.
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        let (low, high) = if ra < rb { (ra, rb) } else { (rb, ra) };
+        parent[high as usize] = low;
     }
 }
 

@@ -83,6 +83,16 @@ pub struct SolverSettings {
     /// touch (m), >= 0. Default 0.02. To it is added how far each particle can move in
     /// the step, so fast particles are caught before they pass through.
     pub speculative_distance: f32,
+    /// Let islands of particles at rest fall asleep (soft solver). Default true. A
+    /// sleeping particle is not integrated or solved (its velocity is zero) until an
+    /// awake particle touches it, a force starts acting on it, or it is moved from
+    /// outside; then its whole island wakes. What makes a settled pile cost little.
+    pub sleep: bool,
+    /// Speed below which a particle counts as at rest (m/s), >= 0. Default 0.05.
+    pub sleep_speed: f32,
+    /// How long every particle of an island must have been at rest before the island
+    /// sleeps (s), > 0. Default 0.5.
+    pub sleep_time: f32,
 }
 
 impl Default for SolverSettings {
@@ -97,6 +107,9 @@ impl Default for SolverSettings {
             max_push_speed: 3.0,
             restitution_threshold: 0.1,
             speculative_distance: 0.02,
+            sleep: true,
+            sleep_speed: 0.05,
+            sleep_time: 0.5,
         }
     }
 }
@@ -116,6 +129,7 @@ impl SolverSettings {
             ("contact_hertz", self.contact_hertz),
             ("joint_hertz", self.joint_hertz),
             ("max_push_speed", self.max_push_speed),
+            ("sleep_time", self.sleep_time),
         ] {
             if !positive(value) {
                 return bad(field, value, "a finite number > 0");
@@ -126,6 +140,7 @@ impl SolverSettings {
             ("joint_damping_ratio", self.joint_damping_ratio),
             ("restitution_threshold", self.restitution_threshold),
             ("speculative_distance", self.speculative_distance),
+            ("sleep_speed", self.sleep_speed),
         ] {
             if !non_negative(value) {
                 return bad(field, value, "a finite number >= 0");
@@ -188,11 +203,14 @@ mod tests {
         assert_eq!((s.contact_hertz, s.contact_damping_ratio), (60.0, 10.0));
         assert_eq!((s.joint_hertz, s.joint_damping_ratio), (120.0, 2.0));
         assert_eq!((s.max_push_speed, s.restitution_threshold, s.speculative_distance), (3.0, 0.1, 0.02));
+        assert_eq!((s.sleep, s.sleep_speed, s.sleep_time), (true, 0.05, 0.5));
     }
 
     #[test]
     fn each_bad_field_is_named() {
-        let cases: [(&str, fn(&mut SolverSettings)); 5] = [
+        let cases: [(&str, fn(&mut SolverSettings)); 7] = [
+            ("sleep_speed", |s| s.sleep_speed = -0.1),
+            ("sleep_time", |s| s.sleep_time = 0.0),
             ("substeps", |s| s.substeps = 0),
             ("contact_hertz", |s| s.contact_hertz = f32::NAN),
             ("joint_damping_ratio", |s| s.joint_damping_ratio = -1.0),

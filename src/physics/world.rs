@@ -94,6 +94,8 @@ impl World {
         // Contact indices refer to the old dense order; drop them until the next step.
         self.contacts.clear();
         self.soft.forget();
+        // Island labels are dense indices, which just shifted.
+        self.particles.wake_all();
         self.link_tension.clear();
         true
     }
@@ -141,6 +143,9 @@ impl World {
             self.soft.forget();
             self.contacts.clear();
         }
+        if settings.kind == SolverKind::Paper || !settings.sleep {
+            self.particles.wake_all();
+        }
         self.solver = settings;
         Ok(())
     }
@@ -180,6 +185,7 @@ impl World {
             position_iterations: 0,
             max_penetration: report.max_penetration,
             contacts: report.contacts,
+            asleep: report.asleep,
         }
     }
 
@@ -327,6 +333,8 @@ impl World {
             )));
         }
         self.particles.acceleration.fill(acceleration);
+        // A pile at rest under the old gravity is not at rest under the new one.
+        self.particles.wake_all();
         Ok(())
     }
 
