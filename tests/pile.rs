@@ -204,13 +204,33 @@ fn probe_big() {
     let count: usize = std::env::var("COUNT").ok().and_then(|c| c.parse().ok()).unwrap_or(100_000);
     let width = (1.1 * (count as f32 / 10.0).sqrt() + 1.2).ceil();
     let mut scene = scenes::build("pile", &[format!("count={count}"), format!("width={width}")]).unwrap();
+    let sleep = std::env::var("SLEEP").map_or(true, |s| s != "0");
+    let steps: usize = std::env::var("STEPS").ok().and_then(|c| c.parse().ok()).unwrap_or(600);
+    scene.world_mut().set_solver(SolverSettings { sleep, ..SolverSettings::default() }).unwrap();
     let dt = scene.info().dt;
-    for step in 1..=600 {
+    for step in 1..=steps {
         let t = std::time::Instant::now();
         scene.step(dt).unwrap();
         if step % 30 == 0 {
             let q = pile::quality(scene.world(), width);
             println!("step {step} {:.1} ms {:?} contacts {} {:?}", t.elapsed().as_secs_f32() * 1e3, scene.world().profile(), scene.world().contact_count(), q);
         }
+    }
+}
+
+#[test]
+#[ignore = "probe: broad phase cost on a settled pile"]
+fn probe_broad_phase() {
+    let (scene, _) = settle_with(8000, 4.0, &["width=30"], false);
+    let p = &scene.world().particles;
+    let reach: Vec<f32> = p.radius.iter().map(|r| r + 0.0227).collect();
+    let mut grid = particle_lab::physics::BroadPhase::new();
+    let mut pairs = Vec::new();
+    for round in 0..3 {
+        let t = std::time::Instant::now();
+        for _ in 0..50 {
+            grid.find_pairs(&p.position, &reach, &mut pairs);
+        }
+        println!("round {round}: {:.1} ns per particle, {} pairs", t.elapsed().as_secs_f64() * 1e9 / 50.0 / 8000.0, pairs.len());
     }
 }

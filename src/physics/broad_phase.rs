@@ -1,10 +1,13 @@
 //! Broad phase: which pairs of spheres are close enough to need a closer look.
 //!
-//! A hashed uniform grid, rebuilt every step. Each sphere goes into the one cell that
-//! holds its centre; cells are hashed into a table twice the size of the particle
-//! count, so the world has no bounds. The table is filled with a counting sort (count
-//! per bucket, prefix sum, scatter) into buffers that are kept between steps: once
-//! warm, a step allocates nothing.
+//! A uniform grid, rebuilt every step. Each sphere goes into the one cell that holds
+//! its centre. When the spheres' bounding box holds at most four cells per sphere the
+//! grid is dense: cells are numbered row by row, so the three neighbouring cells along
+//! x are one contiguous run and a query is 9 range look-ups. Otherwise (a few spheres
+//! far apart, an unbounded world) cells are hashed into a table twice the size of the
+//! particle count and a query is 27 look-ups that skip other cells sharing a bucket.
+//! Either way the buckets are filled with a counting sort (count per bucket, prefix
+//! sum, scatter) into buffers kept between steps: once warm, a step allocates nothing.
 //!
 //! The cell edge is the largest reach diameter among ordinary spheres, so a pair that
 //! touches always lies in neighbouring cells (the 3x3x3 block around a centre). A
@@ -43,6 +46,8 @@ const NOT_IN_GRID: u64 = u64::MAX;
 pub struct BroadPhase {
     /// Edge of a grid cell (m), from the last build.
     cell_size: f32,
+    /// The dense grid's corner and cells per axis, or `None` when hashed.
+    dense: Option<(Vec3, [i32; 3])>,
     /// Per particle: packed cell coordinates, or `NOT_IN_GRID`.
     cell_keys: Vec<u64>,
     /// Per bucket + 1: start of the bucket in `entries` (prefix sums).
@@ -53,6 +58,9 @@ pub struct BroadPhase {
     entries: Vec<u32>,
     /// The packed cell of each entry, to skip other cells that share a bucket.
     entry_keys: Vec<u64>,
+    /// Position and reach of each entry, in entry order, so a query reads runs of
+    /// contiguous memory instead of jumping through the particle arrays.
+    entry_spheres: Vec<glam::Vec4>,
     /// Spheres kept out of the grid.
     oversized: Vec<u32>,
     /// Pairs found per chunk, joined in chunk order.
@@ -120,10 +128,12 @@ impl BroadPhase {
         }
         let grid = GridView {
             cell_size: self.cell_size,
+            dense: self.dense,
             cell_keys: &self.cell_keys,
             starts: &self.starts,
             entries: &self.entries,
             entry_keys: &self.entry_keys,
+            entry_spheres: &self.entry_spheres,
             oversized: &self.oversized,
             positions,
             reach,
@@ -167,24 +177,50 @@ impl BroadPhase {
         self.cell_size = (2.0 * cell_radius).max(f32::MIN_POSITIVE);
         let inverse_cell = 1.0 / self.cell_size;
 
+        let in_grid = |r: f32| usable(r) && r <= cell_radius;
         self.oversized.clear();
-        self.cell_keys.clear();
-        self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
-            if usable(r) && r <= cell_radius { pack(cell_of(*p, inverse_cell)) } else { NOT_IN_GRID }
-        }));
         for (i, &r) in reach.iter().enumerate() {
             if usable(r) && r > cell_radius {
                 self.oversized.push(i as u32);
             }
         }
 
-        let buckets = (2 * n).next_power_of_two().max(64);
-        let bits = buckets.trailing_zeros();
+        // Dense when the bounding box of the grid's spheres needs few enough cells.
+        let (mut low, mut high) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for (p, &r) in positions.iter().zip(reach) {
+            if in_grid(r) {
+                low = low.min(*p);
+                high = high.max(*p);
+            }
+        }
+        let cells = ((high - low) * inverse_cell).floor() + Vec3::ONE; // once per build
+        let dense_cells = f64::from(cells.x) * f64::from(cells.y) * f64::from(cells.z);
+        self.dense = (cells.is_finite() && dense_cells <= (4 * n).max(64) as f64)
+            .then(|| (low, [cells.x as i32, cells.y as i32, cells.z as i32]));
+
+        self.cell_keys.clear();
+        let buckets = match self.dense {
+            Some((origin, dims)) => {
+                self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
+                    if in_grid(r) { dense_index(dense_cell(*p, origin, inverse_cell, dims), dims) } else { NOT_IN_GRID }
+                }));
+                (dims[0] * dims[1] * dims[2]) as usize
+            }
+            None => {
+                self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
+                    if in_grid(r) { pack(cell_of(*p, inverse_cell)) } else { NOT_IN_GRID }
+                }));
+                (2 * n).next_power_of_two().max(64)
+            }
+        };
+        // The bucket of a key: the cell index itself when dense, its hash otherwise.
+        let bits = if self.dense.is_some() { 0 } else { buckets.trailing_zeros() };
+        let bucket = |key: u64| if bits == 0 { key as usize } else { bucket(key, bits) };
         self.starts.clear();
         self.starts.resize(buckets + 1, 0);
         for &key in &self.cell_keys {
             if key != NOT_IN_GRID {
-                self.starts[bucket(key, bits) + 1] += 1;
+                self.starts[bucket(key) + 1] += 1;
             }
         }
         for b in 0..buckets {
@@ -197,11 +233,14 @@ impl BroadPhase {
         self.entries.resize(total, 0);
         self.entry_keys.clear();
         self.entry_keys.resize(total, 0);
+        self.entry_spheres.clear();
+        self.entry_spheres.resize(total, glam::Vec4::ZERO);
         for (i, &key) in self.cell_keys.iter().enumerate() {
             if key != NOT_IN_GRID {
-                let slot = &mut self.cursors[bucket(key, bits)];
+                let slot = &mut self.cursors[bucket(key)];
                 self.entries[*slot as usize] = i as u32;
                 self.entry_keys[*slot as usize] = key;
+                self.entry_spheres[*slot as usize] = positions[i].extend(reach[i]);
                 *slot += 1;
             }
         }
@@ -212,10 +251,12 @@ impl BroadPhase {
 #[derive(Clone, Copy)]
 struct GridView<'a> {
     cell_size: f32,
+    dense: Option<(Vec3, [i32; 3])>,
     cell_keys: &'a [u64],
     starts: &'a [u32],
     entries: &'a [u32],
     entry_keys: &'a [u64],
+    entry_spheres: &'a [glam::Vec4],
     oversized: &'a [u32],
     positions: &'a [Vec3],
     reach: &'a [f32],
@@ -244,9 +285,32 @@ impl GridView<'_> {
                 let reach = ra + rb;
                 rb > 0.0 && rb.is_finite() && (pa - self.positions[b]).length_squared() < reach * reach
             };
+            let consider = |b: usize, partners: &mut Vec<u32>| {
+                if second(a, b) && touches(b) {
+                    partners.push(b as u32);
+                }
+            };
             if self.cell_keys[a] == NOT_IN_GRID {
                 // Oversized: against everything.
-                partners.extend((0..n).filter(|&b| second(a, b) && touches(b)).map(|b| b as u32));
+                (0..n).for_each(|b| consider(b, partners));
+            } else if let Some((origin, dims)) = self.dense {
+                // The three cells along x of each of the 9 neighbouring rows are one run.
+                let [x, y, z] = dense_cell(pa, origin, inverse_cell, dims);
+                let (x0, x1) = ((x - 1).max(0), (x + 1).min(dims[0] - 1));
+                for cz in (z - 1).max(0)..=(z + 1).min(dims[2] - 1) {
+                    for cy in (y - 1).max(0)..=(y + 1).min(dims[1] - 1) {
+                        let row = (cy + dims[1] * cz) * dims[0];
+                        let run = self.starts[(row + x0) as usize] as usize..self.starts[(row + x1 + 1) as usize] as usize;
+                        for (&b, sphere) in self.entries[run.clone()].iter().zip(&self.entry_spheres[run]) {
+                            // Every grid entry has a usable reach: test it from the copy.
+                            let reach = ra + sphere.w;
+                            if (pa - sphere.truncate()).length_squared() < reach * reach && second(a, b as usize) {
+                                partners.push(b);
+                            }
+                        }
+                    }
+                }
+                self.oversized.iter().for_each(|&b| consider(b as usize, partners));
             } else {
                 let [x, y, z] = cell_of(pa, inverse_cell);
                 for dx in -1..=1 {
@@ -256,16 +320,14 @@ impl GridView<'_> {
                             let bucket = bucket(key, bits);
                             let range = self.starts[bucket] as usize..self.starts[bucket + 1] as usize;
                             for (&b, &entry_key) in self.entries[range.clone()].iter().zip(&self.entry_keys[range]) {
-                                if entry_key == key && second(a, b as usize) && touches(b as usize) {
-                                    partners.push(b);
+                                if entry_key == key {
+                                    consider(b as usize, partners);
                                 }
                             }
                         }
                     }
                 }
-                partners.extend(
-                    self.oversized.iter().copied().filter(|&b| second(a, b as usize) && touches(b as usize)),
-                );
+                self.oversized.iter().for_each(|&b| consider(b as usize, partners));
             }
             partners.sort_unstable();
             // Cells clamped at the coordinate limit can be visited twice.
@@ -279,8 +341,31 @@ impl GridView<'_> {
 /// in some cell rather than panicking.
 #[inline]
 fn cell_of(p: Vec3, inverse_cell: f32) -> [i32; 3] {
-    let c = (p * inverse_cell).floor();
-    [c.x, c.y, c.z].map(|v| (v as i32).clamp(-COORD_LIMIT, COORD_LIMIT))
+    let c = p * inverse_cell;
+    [c.x, c.y, c.z].map(|v| floor(v).clamp(-COORD_LIMIT, COORD_LIMIT))
+}
+
+/// Cell of a point in a dense grid, clamped into it (a non-finite point lands in some
+/// cell rather than panicking).
+#[inline]
+fn dense_cell(p: Vec3, origin: Vec3, inverse_cell: f32, dims: [i32; 3]) -> [i32; 3] {
+    let c = (p - origin) * inverse_cell;
+    [floor(c.x).clamp(0, dims[0] - 1), floor(c.y).clamp(0, dims[1] - 1), floor(c.z).clamp(0, dims[2] - 1)]
+}
+
+/// `x.floor() as i32` without the library call `f32::floor` becomes on baseline x86-64
+/// (it has no rounding instruction before SSE4.1): truncate, then step down for
+/// negative non-integers. Saturates like `as` (NaN gives 0).
+#[inline]
+fn floor(x: f32) -> i32 {
+    let t = x as i32;
+    if (t as f32) > x { t - 1 } else { t }
+}
+
+/// Row-by-row number of a dense cell: x fastest, so neighbours along x are adjacent.
+#[inline]
+fn dense_index([x, y, z]: [i32; 3], dims: [i32; 3]) -> u64 {
+    (x + dims[0] * (y + dims[1] * z)) as u64
 }
 
 /// Packs clamped cell coordinates into 63 bits (21 each, offset to be non-negative).

@@ -793,25 +793,30 @@ fn apply(velocities: SharedVelocities, w: &[f32], a: u32, b: u32, impulse: Vec3)
 }
 
 /// One contact: the normal impulse with soft feedback, then Coulomb friction clamped to
-/// `μ` times it (a disc, since a particle's tangent plane has two directions).
+/// `μ` times it (a disc, since a particle's tangent plane has two directions). Both
+/// velocities are read once and written once.
 #[inline]
 fn solve_contact(c: &mut SoftContact, velocities: SharedVelocities, w: &[f32], delta: &[Vec3], context: Context) {
-    let mut moved = delta[c.a as usize];
-    if c.b != NONE {
-        moved -= delta[c.b as usize];
-    }
+    let (a, b) = (c.a as usize, c.b as usize);
+    let has_b = c.b != NONE;
+    let wa = w[a];
+    let wb = if has_b { w[b] } else { 0.0 };
+    let mut va = velocities.get(a);
+    let mut vb = if has_b { velocities.get(b) } else { Vec3::ZERO };
+    let moved = if has_b { delta[a] - delta[b] } else { delta[a] };
     let s = c.separation + moved.dot(c.normal);
     let (bias, mass_scale, impulse_scale) = contact_terms(s, context);
-    let vn = relative(velocities, c.a, c.b).dot(c.normal);
+    let vn = (va - vb).dot(c.normal);
     let impulse = -c.mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
     let total = (c.normal_impulse + impulse).max(0.0);
     let applied = total - c.normal_impulse;
     c.normal_impulse = total;
     c.max_normal_impulse = c.max_normal_impulse.max(applied);
-    apply(velocities, w, c.a, c.b, c.normal * applied);
+    let mut p = c.normal * applied;
 
     if c.friction > 0.0 {
-        let v = relative(velocities, c.a, c.b);
+        // Velocities after the normal impulse, in registers.
+        let v = (va + p * wa) - (vb - p * wb);
         let tangential = v - c.normal * v.dot(c.normal);
         let old = c.tangent_impulse;
         let mut total = old - tangential * c.mass;
@@ -821,7 +826,15 @@ fn solve_contact(c: &mut SoftContact, velocities: SharedVelocities, w: &[f32], d
             total *= limit / squared.sqrt();
         }
         c.tangent_impulse = total;
-        apply(velocities, w, c.a, c.b, total - old);
+        p += total - old;
+    }
+    if wa > 0.0 {
+        va += p * wa;
+        velocities.set(a, va);
+    }
+    if has_b && wb > 0.0 {
+        vb -= p * wb;
+        velocities.set(b, vb);
     }
 }
 
