@@ -384,12 +384,15 @@ impl SoftStep {
         self.asleep.clear();
         self.asleep.extend(particles.sleep.iter().map(|s| s.island != AWAKE));
         let any_asleep = self.asleep.contains(&true);
+        // With every sphere asleep there is nobody to query the grid: skip building it.
+        let any_awake_sphere = particles.radius.iter().zip(&self.asleep).any(|(&r, &asleep)| r > 0.0 && !asleep);
         profile.broad_phase_ms = 0.0;
         let started = Instant::now();
         for (source, (id, generator)) in generators.iter().enumerate() {
             let start = self.fresh.len();
             match generator {
                 ContactGenerator::Plane(plane) => self.collide_plane(plane, particles),
+                ContactGenerator::Spheres(_) if !any_awake_sphere => {}
                 ContactGenerator::Spheres(spheres) => {
                     let broad = Instant::now();
                     scratch.reach.clear();
