@@ -2,6 +2,7 @@
 //! from a scene on the CPU, uploaded by the renderer. No GPU types here.
 
 use std::collections::{HashMap, VecDeque};
+use std::sync::LazyLock;
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -60,6 +61,8 @@ pub struct FrameData {
     pub water: Option<WaterQuad>,
     /// Draw the ground's grid lines.
     pub grid: bool,
+    /// Draw a soft shadow under each sphere.
+    pub shadows: bool,
 }
 
 /// What the View menu toggles.
@@ -75,12 +78,76 @@ pub struct ViewOptions {
     pub stats: bool,
     /// 4x multisample anti-aliasing (costly on a software GPU).
     pub msaa: bool,
+    /// Colour particles by speed ([`speed_color`]) instead of by id.
+    pub color_by_speed: bool,
 }
 
 impl Default for ViewOptions {
     fn default() -> Self {
-        Self { trails: true, tension_colors: false, grid: true, stats: true, msaa: true }
+        Self {
+            trails: true,
+            tension_colors: false,
+            grid: true,
+            stats: true,
+            msaa: true,
+            color_by_speed: false,
+        }
     }
+}
+
+/// Above this many spheres no blob shadows are drawn: in a crowd they lie under other
+/// spheres, and on a software GPU they cost as much as the spheres themselves.
+pub const SHADOW_LIMIT: usize = 20_000;
+
+/// The speed at the hot end of the colour-by-speed ramp (m/s); faster is as hot. A
+/// fixed scale, so a colour means the same speed in every frame and every scene.
+pub const SPEED_SCALE: f32 = 10.0;
+
+/// The colour-by-speed ramp from rest to [`SPEED_SCALE`], evenly spaced stops in sRGB:
+/// blue, sky blue, green, yellow, red.
+pub const SPEED_RAMP: [[u8; 3]; 5] =
+    [[40, 70, 165], [35, 150, 215], [70, 195, 110], [240, 200, 50], [225, 55, 35]];
+
+/// Where `speed` (m/s) falls on the ramp, 0 to 1: the square root of its share of
+/// [`SPEED_SCALE`], so that slow creep (0.1 m/s is 10% up the ramp) stands out from rest.
+#[inline]
+#[must_use]
+pub fn speed_fraction(speed: f32) -> f32 {
+    (speed / SPEED_SCALE).clamp(0.0, 1.0).sqrt()
+}
+
+/// The speed (m/s) at `fraction` (0 to 1) of the ramp: the inverse of [`speed_fraction`].
+#[inline]
+#[must_use]
+pub fn speed_at_fraction(fraction: f32) -> f32 {
+    fraction.clamp(0.0, 1.0).powi(2) * SPEED_SCALE
+}
+
+/// The ramp's sRGB colour at `fraction` (0 to 1), interpolated between its stops.
+#[must_use]
+pub fn ramp_srgb(fraction: f32) -> [u8; 3] {
+    let x = fraction.clamp(0.0, 1.0) * (SPEED_RAMP.len() - 1) as f32;
+    let below = (x.floor() as usize).min(SPEED_RAMP.len() - 2);
+    let t = x - below as f32;
+    let (a, b) = (SPEED_RAMP[below], SPEED_RAMP[below + 1]);
+    std::array::from_fn(|c| (f32::from(a[c]) + (f32::from(b[c]) - f32::from(a[c])) * t).round() as u8)
+}
+
+/// The ramp in linear RGB at 256 evenly spaced fractions: a lookup per particle
+/// instead of three `powf` calls.
+static SPEED_TABLE: LazyLock<[[f32; 3]; 256]> = LazyLock::new(|| {
+    let linear = |c: u8| {
+        let c = f32::from(c) / 255.0;
+        if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    };
+    std::array::from_fn(|i| ramp_srgb(i as f32 / 255.0).map(linear))
+});
+
+/// Colour of a particle moving at `speed` (m/s), linear RGB: see [`SPEED_RAMP`].
+#[inline]
+#[must_use]
+pub fn speed_color(speed: f32) -> [f32; 3] {
+    SPEED_TABLE[(speed_fraction(speed) * 255.0).round() as usize]
 }
 
 /// Colour of a link of each kind (linear RGB): rods blue, cables green, supports grey,
@@ -137,11 +204,19 @@ impl Trails {
     pub const LIFETIME: f64 = 4.0;
     /// Smallest distance between recorded points (m).
     const SPACING: f32 = 0.05;
+    /// Scenes with more particles than this get no trails: a trail behind every
+    /// sphere of a pile is clutter, and recording costs a map look-up per particle.
+    pub const PARTICLE_LIMIT: usize = 5_000;
 
     /// Records where every particle is at simulated time `now`, and forgets points
-    /// older than the lifetime (also of particles that are gone).
+    /// older than the lifetime (also of particles that are gone). Above
+    /// [`Self::PARTICLE_LIMIT`] particles it records nothing and forgets everything.
     pub fn record(&mut self, scene: &dyn Scene, now: f64) {
         let particles = &scene.world().particles;
+        if particles.len() > Self::PARTICLE_LIMIT {
+            self.clear();
+            return;
+        }
         for (i, &id) in particles.ids().iter().enumerate() {
             let p = particles.position[i];
             let spare = &mut self.spare;
@@ -155,18 +230,22 @@ impl Trails {
                 trail.pop_front();
             }
         }
-        let empty: Vec<ParticleId> =
-            self.points.iter().filter(|(_, t)| t.is_empty()).map(|(&id, _)| id).collect();
-        for id in empty {
-            if let Some(trail) = self.points.remove(&id) {
-                self.spare.push(trail);
+        // Emptied trails go to the spare list, so a steady scene allocates nothing.
+        let spare = &mut self.spare;
+        self.points.retain(|_, trail| {
+            if trail.is_empty() {
+                spare.push(std::mem::take(trail));
             }
-        }
+            !trail.is_empty()
+        });
     }
 
     /// Forgets every trail.
     pub fn clear(&mut self) {
-        self.points.clear();
+        self.spare.extend(self.points.drain().map(|(_, mut trail)| {
+            trail.clear();
+            trail
+        }));
     }
 }
 
@@ -197,15 +276,24 @@ impl FrameBuilder {
         frame.grid = options.grid;
         let world = scene.world();
         let particles = &world.particles;
-        for (i, &id) in particles.ids().iter().enumerate() {
-            let mut color = particle_color(id, particles.inverse_mass[i] == 0.0);
-            let mut radius = particles.radius[i].max(0.05);
+        frame.shadows = particles.len() <= SHADOW_LIMIT;
+        let each = particles.ids().iter().zip(&particles.position).zip(&particles.radius);
+        for (((&id, position), &radius), (&inverse_mass, velocity)) in
+            each.zip(particles.inverse_mass.iter().zip(&particles.velocity))
+        {
+            let immovable = inverse_mass == 0.0;
+            let mut color = if options.color_by_speed && !immovable {
+                speed_color(velocity.length())
+            } else {
+                particle_color(id, immovable)
+            };
+            let mut radius = radius.max(0.05);
             if highlight == Some(id) {
                 color = [1.0, 0.95, 0.3];
                 radius *= 1.15;
             }
             frame.spheres.push(SphereInstance {
-                center: particles.position[i].to_array(),
+                center: position.to_array(),
                 radius,
                 color: [color[0], color[1], color[2], 1.0],
             });

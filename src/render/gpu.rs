@@ -69,15 +69,16 @@ impl Gpu {
         let info = adapter.get_info();
         log::info!("GPU adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
         // The 3D pass draws through an sRGB view of a gamma-space texture that egui
-        // also draws into; that needs view formats (missing on some GL drivers).
+        // also draws into; that needs view formats (missing on some GL drivers). Its
+        // vertex shaders read the spheres from a storage buffer.
         let flags = adapter.get_downlevel_capabilities().flags;
-        let mut needed = wgpu::DownlevelFlags::VIEW_FORMATS;
+        let mut needed = wgpu::DownlevelFlags::VIEW_FORMATS | wgpu::DownlevelFlags::VERTEX_STORAGE;
         if surface.is_some() {
             needed |= wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS;
         }
         if !flags.contains(needed) {
             return Err(GpuError::Unsupported(format!(
-                "{} ({:?}) cannot view textures in another format",
+                "{} ({:?}) cannot view textures in another format or read storage buffers in vertex shaders",
                 info.name, info.backend
             )));
         }

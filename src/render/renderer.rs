@@ -21,35 +21,47 @@ struct Globals {
     light: [f32; 4],
 }
 
-/// A vertex buffer that keeps its size and grows (doubling) only when needed.
+/// A GPU buffer that keeps its size and grows (doubling) only when needed, so a
+/// steady frame allocates no GPU memory of its own.
 struct GrowingBuffer {
     buffer: wgpu::Buffer,
     label: &'static str,
+    usage: wgpu::BufferUsages,
 }
 
 impl GrowingBuffer {
-    fn new(device: &wgpu::Device, label: &'static str, size: u64) -> Self {
-        Self { buffer: Self::create(device, label, size), label }
+    fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages, size: u64) -> Self {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        Self { buffer: Self::create(device, label, usage, size), label, usage }
     }
 
-    fn create(device: &wgpu::Device, label: &'static str, size: u64) -> wgpu::Buffer {
+    fn create(
+        device: &wgpu::Device,
+        label: &'static str,
+        usage: wgpu::BufferUsages,
+        size: u64,
+    ) -> wgpu::Buffer {
         device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            usage,
             mapped_at_creation: false,
         })
     }
 
-    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
+    /// Uploads `bytes` to the start of the buffer; true if the buffer had to be
+    /// replaced by a larger one (bind groups naming it must then be rebuilt).
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) -> bool {
         let needed = bytes.len() as u64;
-        if needed > self.buffer.size() {
+        let grown = needed > self.buffer.size();
+        if grown {
             let size = needed.next_power_of_two().max(self.buffer.size() * 2);
-            self.buffer = Self::create(device, self.label, size);
+            self.buffer = Self::create(device, self.label, self.usage, size);
         }
         if !bytes.is_empty() {
             queue.write_buffer(&self.buffer, 0, bytes);
         }
+        grown
     }
 }
 
@@ -65,6 +77,8 @@ pub struct Renderer {
     color_format: wgpu::TextureFormat,
     sample_count: u32,
     globals: wgpu::Buffer,
+    bind_group_layout: wgpu::BindGroupLayout,
+    /// The globals and the sphere buffer; rebuilt when the sphere buffer grows.
     bind_group: wgpu::BindGroup,
     ground: wgpu::RenderPipeline,
     shadows: wgpu::RenderPipeline,
@@ -93,23 +107,36 @@ impl Renderer {
             mapped_at_creation: false,
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("globals"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
+            label: Some("globals and spheres"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<SphereInstance>() as u64),
+                    },
+                    count: None,
+                },
+            ],
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("globals"),
-            layout: &layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: globals.as_entire_binding() }],
-        });
+        // Spheres are read by index from a storage buffer, one plain draw for them all,
+        // not drawn as instances: a software GPU (lavapipe) runs its whole vertex
+        // pipeline once per instance, which at 100,000 spheres cost more than the
+        // shading. See `vs_sphere`.
+        let sphere_buffer = GrowingBuffer::new(device, "spheres", wgpu::BufferUsages::STORAGE, 64 * 1024);
+        let bind_group = Self::bind_group(device, &layout, &globals, &sphere_buffer.buffer);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
             bind_group_layouts: &[Some(&layout)],
@@ -166,11 +193,6 @@ impl Renderer {
             })
         };
 
-        let sphere_layout = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<SphereInstance>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x4],
-        };
         // Spelled out: the colour sits after a padding float, at byte 32.
         let segment_attributes = [
             wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 },
@@ -190,7 +212,7 @@ impl Renderer {
         };
 
         use wgpu::CompareFunction::{Always, LessEqual};
-        use wgpu::PrimitiveTopology::{TriangleList, TriangleStrip};
+        use wgpu::PrimitiveTopology::TriangleList;
         let (opaque, transparent) = ((true, LessEqual), (false, LessEqual));
         Self {
             color_format,
@@ -198,16 +220,8 @@ impl Renderer {
             ground: make("ground", "ground", &[], TriangleList, None, opaque, false),
             // Drawn straight after the ground, over it only: no depth test needed, and
             // none of the ground's depth precision trouble at a distance.
-            shadows: make(
-                "shadows",
-                "shadow",
-                &[Some(sphere_layout.clone())],
-                TriangleStrip,
-                alpha_blend,
-                (false, Always),
-                false,
-            ),
-            spheres: make("spheres", "sphere", &[Some(sphere_layout)], TriangleStrip, None, opaque, true),
+            shadows: make("shadows", "shadow", &[], TriangleList, alpha_blend, (false, Always), false),
+            spheres: make("spheres", "sphere", &[], TriangleList, None, opaque, true),
             segments: make(
                 "segments",
                 "segment",
@@ -235,14 +249,36 @@ impl Renderer {
                 transparent,
                 false,
             ),
-            sphere_buffer: GrowingBuffer::new(device, "spheres", 64 * 1024),
-            segment_buffer: GrowingBuffer::new(device, "segments", 64 * 1024),
-            trail_buffer: GrowingBuffer::new(device, "trails", 64 * 1024),
-            water_buffer: GrowingBuffer::new(device, "water", std::mem::size_of::<WaterQuad>() as u64),
+            sphere_buffer,
+            segment_buffer: GrowingBuffer::new(device, "segments", wgpu::BufferUsages::VERTEX, 64 * 1024),
+            trail_buffer: GrowingBuffer::new(device, "trails", wgpu::BufferUsages::VERTEX, 64 * 1024),
+            water_buffer: GrowingBuffer::new(
+                device,
+                "water",
+                wgpu::BufferUsages::VERTEX,
+                std::mem::size_of::<WaterQuad>() as u64,
+            ),
             globals,
+            bind_group_layout: layout,
             bind_group,
             attachments: None,
         }
+    }
+
+    fn bind_group(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        globals: &wgpu::Buffer,
+        spheres: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals and spheres"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: globals.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: spheres.as_entire_binding() },
+            ],
+        })
     }
 
     /// Samples per pixel: 1, or 4 with MSAA.
@@ -306,7 +342,10 @@ impl Renderer {
             light: light.extend(0.0).to_array(),
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
-        self.sphere_buffer.write(device, queue, bytemuck::cast_slice(&frame.spheres));
+        if self.sphere_buffer.write(device, queue, bytemuck::cast_slice(&frame.spheres)) {
+            self.bind_group =
+                Self::bind_group(device, &self.bind_group_layout, &self.globals, &self.sphere_buffer.buffer);
+        }
         self.segment_buffer.write(device, queue, bytemuck::cast_slice(&frame.segments));
         self.trail_buffer.write(device, queue, bytemuck::cast_slice(&frame.trails));
         if let Some(water) = &frame.water {
@@ -347,12 +386,14 @@ impl Renderer {
         pass.set_pipeline(&self.ground);
         pass.draw(0..6, 0..1);
         if !frame.spheres.is_empty() {
-            let count = frame.spheres.len() as u32;
-            pass.set_vertex_buffer(0, self.sphere_buffer.buffer.slice(..));
-            pass.set_pipeline(&self.shadows);
-            pass.draw(0..4, 0..count);
+            // One triangle per sphere, its three corners numbered 3i, 3i+1, 3i+2.
+            let vertices = 3 * frame.spheres.len() as u32;
+            if frame.shadows {
+                pass.set_pipeline(&self.shadows);
+                pass.draw(0..vertices, 0..1);
+            }
             pass.set_pipeline(&self.spheres);
-            pass.draw(0..4, 0..count);
+            pass.draw(0..vertices, 0..1);
         }
         if !frame.segments.is_empty() {
             pass.set_pipeline(&self.segments);
