@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use winit::application::ApplicationHandler;
 use winit::dpi::LogicalSize;
@@ -24,7 +25,11 @@ pub enum AppError {
 }
 
 /// Opens the window on `scene` with `KEY=VALUE` settings and runs until it is closed.
-pub fn run(scene: &str, assignments: &[String], solver: crate::physics::SolverSettings) -> Result<(), AppError> {
+pub fn run(
+    scene: &str,
+    assignments: &[String],
+    solver: crate::physics::SolverSettings,
+) -> Result<(), AppError> {
     let lab = Lab::with_solver(scene, assignments, solver).map_err(AppError::Usage)?;
     let event_loop = EventLoop::new().map_err(|e| {
         AppError::Fatal(format!(
@@ -32,7 +37,7 @@ pub fn run(scene: &str, assignments: &[String], solver: crate::physics::SolverSe
              display: apt-get install xvfb, then 'Xvfb :99 &' and 'DISPLAY=:99 particle-lab'"
         ))
     })?;
-    let mut app = App { lab, window: None, error: None };
+    let mut app = App { lab, window: None, error: None, timing_logged: Instant::now() };
     event_loop
         .run_app(&mut app)
         .map_err(|e| AppError::Fatal(format!("the window's event loop failed: {e}")))?;
@@ -46,7 +51,13 @@ struct App {
     lab: Lab,
     window: Option<WindowState>,
     error: Option<String>,
+    /// When the frame timings last went to the debug log.
+    timing_logged: Instant,
 }
+
+/// How often the frame timings go to the log at debug level (`RUST_LOG=particle_lab=debug`),
+/// for measuring the window where its panel cannot be read.
+const TIMING_LOG_INTERVAL: Duration = Duration::from_secs(2);
 
 /// Everything that exists once the window does.
 struct WindowState {
@@ -112,6 +123,20 @@ impl ApplicationHandler for App {
                     self.fail(event_loop, message);
                     return;
                 }
+                if self.timing_logged.elapsed() >= TIMING_LOG_INTERVAL {
+                    self.timing_logged = Instant::now();
+                    let stats = self.lab.stats;
+                    log::debug!(
+                        "timing: {:.1} fps, {:.1} ms a frame, {:.2} ms a physics step, {} steps a frame, \
+                         sim speed {:.2}x, {} particles",
+                        stats.fps,
+                        stats.frame_ms,
+                        stats.step_ms,
+                        stats.steps_last_frame,
+                        stats.sim_speed,
+                        self.lab.scene.world().particles.len()
+                    );
+                }
                 if self.lab.requests.quit {
                     log::info!("quit");
                     event_loop.exit();
@@ -122,10 +147,10 @@ impl ApplicationHandler for App {
     }
 
     fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
-        if let Some(state) = &self.window {
-            if state.visible {
-                state.window.request_redraw();
-            }
+        if let Some(state) = &self.window
+            && state.visible
+        {
+            state.window.request_redraw();
         }
     }
 }

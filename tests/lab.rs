@@ -1,9 +1,11 @@
 //! The lab behind the panel: fixed-step timing, picking and dragging particles.
 
+use std::time::Instant;
+
 use glam::Vec2;
-use particle_lab::scenes::SceneAction;
+use particle_lab::scenes::{self, SCENES, SceneAction};
 use particle_lab::ui::Lab;
-use particle_lab::ui::lab::MAX_STEPS_PER_FRAME;
+use particle_lab::ui::lab::{MAX_STEPS_PER_FRAME, MSAA_LIMIT, PHYSICS_BUDGET, READOUT_INTERVAL};
 
 #[test]
 fn frames_run_whole_fixed_steps_and_carry_the_remainder() {
@@ -113,4 +115,86 @@ fn dragging_while_paused_moves_the_particle_at_once() {
     let now = lab.scene.world().particles.position[0];
     assert!(now.distance(start) > 0.3, "moved from {start} to {now}");
     assert_eq!(lab.scene.world().steps(), 0, "no physics ran");
+}
+
+#[test]
+fn colour_by_speed_defaults_to_the_scene_on_opening_and_switching() {
+    for entry in SCENES {
+        let lab = Lab::new(entry.info.name, &[]).unwrap();
+        assert_eq!(lab.view.color_by_speed, entry.info.color_by_speed, "{} opened", entry.info.name);
+    }
+    let pile = scenes::find("pile").unwrap();
+    assert!(pile.info.color_by_speed, "the pile is the scene that wants it");
+    let mut lab = Lab::new("pile", &[]).unwrap();
+    // The user's choice holds until another scene is opened ...
+    lab.view.color_by_speed = false;
+    lab.reset();
+    lab.set_param("friction", 0.3);
+    assert!(!lab.view.color_by_speed, "reset and parameters keep the user's choice");
+    // ... which brings its own default, whatever was chosen before.
+    lab.switch_scene(scenes::find("bridge").unwrap());
+    assert!(!lab.view.color_by_speed);
+    lab.view.color_by_speed = true;
+    lab.switch_scene(pile);
+    assert!(lab.view.color_by_speed);
+    lab.switch_scene(scenes::find("projectile").unwrap());
+    assert!(!lab.view.color_by_speed, "projectile after the user had it on");
+}
+
+#[test]
+fn read_outs_are_recomputed_a_few_times_a_second_not_every_frame() {
+    let mut lab = Lab::new("pile", &[]).unwrap();
+    let speed =
+        |lab: &mut Lab| lab.readouts().iter().find(|(name, _)| name == "median speed").unwrap().1.clone();
+    let started = Instant::now();
+    let at_rest = speed(&mut lab);
+    lab.run_steps(2);
+    let after_two_steps = speed(&mut lab);
+    // Only meaningful if this machine took less than the interval for two steps.
+    if started.elapsed() < READOUT_INTERVAL {
+        assert_eq!(after_two_steps, at_rest, "recomputed within {READOUT_INTERVAL:?}");
+    }
+    std::thread::sleep(READOUT_INTERVAL);
+    assert_ne!(speed(&mut lab), at_rest, "stale after {READOUT_INTERVAL:?}: the spheres fall");
+    // A reset shows its numbers at once.
+    lab.reset();
+    assert_eq!(speed(&mut lab), at_rest);
+}
+
+#[test]
+fn a_slow_physics_step_is_not_run_more_than_the_frame_budget_allows() {
+    // At 100,000 spheres one step takes tens of milliseconds on these machines.
+    let mut lab = Lab::new("pile", &["count=100000".into(), "width=111".into()]).unwrap();
+    let dt = f64::from(lab.dt());
+    let wanted = (0.1 / dt).floor() as u64;
+    let started = Instant::now();
+    lab.advance_by(0.1);
+    let took = started.elapsed();
+    let ran = lab.stats.steps_last_frame;
+    assert!(ran >= 1, "a frame always advances the physics");
+    assert_eq!(lab.scene.world().steps(), u64::from(ran));
+    assert_eq!(lab.stats.dropped_steps, wanted - u64::from(ran), "the rest is dropped, not owed");
+    // It stops before a step that would end past the budget (judged by the last one).
+    let per_step = took / ran;
+    assert!(took <= PHYSICS_BUDGET + per_step * 2, "{ran} steps took {took:?} against {PHYSICS_BUDGET:?}");
+}
+
+#[test]
+fn a_crowd_turns_msaa_off_and_a_smaller_scene_turns_it_back_on() {
+    let crowd = (MSAA_LIMIT + 1) as f32;
+    let mut lab = Lab::new("pile", &[format!("count={crowd}"), "width=60".into()]).unwrap();
+    assert!(!lab.view.msaa, "opened on a crowd");
+    assert!(lab.status.contains("Anti-aliasing turned off"), "{}", lab.status);
+    lab.switch_scene(scenes::find("bridge").unwrap());
+    assert!(lab.view.msaa, "back on for the bridge");
+    // The count slider crossing the limit does the same.
+    lab.switch_scene(scenes::find("pile").unwrap());
+    assert!(lab.view.msaa);
+    lab.set_param("count", crowd);
+    assert!(!lab.view.msaa, "the count slider made a crowd");
+    // What the user chooses afterwards stands.
+    lab.view.msaa = true;
+    lab.set_param("friction", 0.3);
+    lab.reset();
+    assert!(lab.view.msaa, "turned back on by the user");
 }

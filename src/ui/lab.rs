@@ -2,11 +2,11 @@
 //! options, camera, trails, the particle being dragged). Knows nothing of windows.
 
 use std::collections::VecDeque;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use glam::{Vec2, Vec3};
 
-use crate::physics::{ParticleId, SolverSettings};
+use crate::physics::{ParticleId, SolverKind, SolverSettings};
 use crate::render::{OrbitCamera, Trails, ViewOptions};
 use crate::scenes::{self, Scene, SceneAction, SceneEntry};
 
@@ -15,6 +15,21 @@ use crate::scenes::{self, Scene, SceneAction, SceneEntry};
 pub const MAX_FRAME_TIME: f64 = 0.1;
 /// Most physics steps one frame may run.
 pub const MAX_STEPS_PER_FRAME: u32 = 64;
+/// Wall time one frame may spend stepping the physics. A frame runs at least one step,
+/// and no further step that would take it past this budget (judged by the last step's
+/// time); the simulated time it had no room for is dropped. A scene whose step takes
+/// tens of milliseconds (the pile at 100,000 spheres) then runs slower than real time
+/// but stays interactive, instead of spending ever longer frames catching up.
+pub const PHYSICS_BUDGET: Duration = Duration::from_millis(25);
+/// Above this many particles the lab turns 4x MSAA off (and back on when a smaller
+/// scene follows, unless the user chose otherwise in between): on a software GPU it
+/// nearly triples the cost of drawing a crowd (100,000 spheres: about 175 ms a frame
+/// with it, 60 ms without, on lavapipe).
+pub const MSAA_LIMIT: usize = 20_000;
+/// How often the scene's read-outs are recomputed while it runs (s). Some measure
+/// every particle (the pile's takes milliseconds at 100,000 spheres): too slow for
+/// every frame, and nobody reads numbers that change 60 times a second.
+pub const READOUT_INTERVAL: Duration = Duration::from_millis(250);
 /// Physics rates the panel offers (Hz).
 pub const PHYSICS_RATE_RANGE: std::ops::RangeInclusive<f32> = 30.0..=1000.0;
 /// Time scales the panel offers.
@@ -33,8 +48,12 @@ pub struct Stats {
     pub step_ms: f32,
     /// Physics steps run in the last frame.
     pub steps_last_frame: u32,
-    /// Steps dropped so far because a frame took too long.
+    /// Steps dropped so far because a frame took too long or the physics used up its
+    /// budget ([`PHYSICS_BUDGET`]).
     pub dropped_steps: u64,
+    /// Simulated seconds per real second over recent frames, smoothed: the time scale
+    /// when the physics keeps up, less when steps are dropped.
+    pub sim_speed: f32,
 }
 
 /// A sample of the energy plot.
@@ -107,6 +126,13 @@ pub struct Lab {
     /// Requests for the window.
     pub requests: Requests,
     last_frame: Option<Instant>,
+    /// The scene's read-outs as last computed, and when, at which step and time step.
+    readouts: Vec<(String, String)>,
+    readouts_taken: Option<(Instant, u64, f32)>,
+    /// The scene has more than [`MSAA_LIMIT`] particles.
+    crowded: bool,
+    /// MSAA was turned off because the scene became crowded.
+    msaa_dropped: bool,
 }
 
 impl Lab {
@@ -129,7 +155,7 @@ impl Lab {
             paused: false,
             time_scale: 1.0,
             accumulator: 0.0,
-            view: ViewOptions { trails: entry.info.trails, ..ViewOptions::default() },
+            view: ViewOptions::default(),
             trails: Trails::default(),
             stats: Stats::default(),
             energy: VecDeque::with_capacity(HISTORY),
@@ -139,7 +165,13 @@ impl Lab {
             grab: None,
             requests: Requests::default(),
             last_frame: None,
+            readouts: Vec::new(),
+            readouts_taken: None,
+            crowded: false,
+            msaa_dropped: false,
         };
+        lab.apply_scene_view();
+        lab.follow_crowd();
         lab.record();
         Ok(lab)
     }
@@ -157,8 +189,38 @@ impl Lab {
         self.scene = entry.create_default();
         self.physics_rate = 1.0 / entry.info.dt;
         self.camera = OrbitCamera::from_hint(self.scene.camera());
-        self.view.trails = entry.info.trails;
+        self.apply_scene_view();
         self.restart();
+        self.follow_crowd();
+    }
+
+    /// Sets the view toggles a scene has its own defaults for (trails, colour by
+    /// speed); the others are the user's and stay as they are.
+    fn apply_scene_view(&mut self) {
+        let info = self.entry.info;
+        self.view.trails = info.trails;
+        self.view.color_by_speed = info.color_by_speed;
+    }
+
+    /// Turns MSAA off when the scene grows past [`MSAA_LIMIT`] particles, and back on
+    /// when it shrinks below if it was turned off that way and not turned on since.
+    fn follow_crowd(&mut self) {
+        let crowded = self.scene.world().particles.len() > MSAA_LIMIT;
+        if crowded == self.crowded {
+            return;
+        }
+        self.crowded = crowded;
+        if crowded && self.view.msaa {
+            self.view.msaa = false;
+            self.msaa_dropped = true;
+            self.status = format!(
+                "Anti-aliasing turned off above {MSAA_LIMIT} particles, for speed; the View menu turns it on"
+            );
+            log::info!("{}", self.status);
+        } else if !crowded && std::mem::take(&mut self.msaa_dropped) && !self.view.msaa {
+            self.view.msaa = true;
+            log::info!("anti-aliasing back on");
+        }
     }
 
     /// Rebuilds the current scene with its current parameters.
@@ -179,8 +241,12 @@ impl Lab {
     pub fn set_solver(&mut self, solver: SolverSettings) {
         match self.scene.world_mut().set_solver(solver) {
             Ok(()) => {
-                log::info!("solver: {} with {} substeps", solver.kind.name(), solver.substeps);
+                match solver.kind {
+                    SolverKind::Soft => log::info!("solver: soft with {} substeps", solver.substeps),
+                    SolverKind::Paper => log::info!("solver: paper"),
+                }
                 self.solver = solver;
+                self.readouts_taken = None;
             }
             Err(error) => self.status = error.to_string(),
         }
@@ -195,6 +261,7 @@ impl Lab {
         self.energy.clear();
         self.grab = None;
         self.hovered = None;
+        self.readouts_taken = None;
         self.record();
     }
 
@@ -204,7 +271,9 @@ impl Lab {
             Ok(()) => {
                 // Some parameters rebuild the world, which then has the default solver.
                 self.scene.world_mut().set_solver(self.solver).expect("validated when chosen");
+                self.readouts_taken = None;
                 log::info!("set {}.{name} = {value}", self.entry.info.name);
+                self.follow_crowd();
             }
             Err(error) => self.status = error.to_string(),
         }
@@ -222,8 +291,24 @@ impl Lab {
     /// Performs a scene action (fire, move the load).
     pub fn act(&mut self, action: SceneAction) {
         if self.scene.act(action) {
+            self.readouts_taken = None;
             log::info!("action: {action:?}");
         }
+    }
+
+    /// The scene's read-outs for the panel. While the scene runs they are recomputed
+    /// at most every [`READOUT_INTERVAL`]; at once after a reset, a parameter change,
+    /// an action, a single step or a new time step.
+    pub fn readouts(&mut self) -> &[(String, String)] {
+        let (now, steps, dt) = (Instant::now(), self.scene.world().steps(), self.dt());
+        let fresh = self.readouts_taken.is_some_and(|(taken, at_step, at_dt)| {
+            at_dt == dt && (at_step == steps || now.duration_since(taken) < READOUT_INTERVAL)
+        });
+        if !fresh {
+            self.readouts = self.scene.readouts(dt);
+            self.readouts_taken = Some((now, steps, dt));
+        }
+        &self.readouts
     }
 
     /// Advances the physics by the real time since the last call, in fixed steps.
@@ -238,36 +323,57 @@ impl Lab {
     /// fit (scaled by the time scale), at most [`MAX_STEPS_PER_FRAME`]; after a stall
     /// longer than [`MAX_FRAME_TIME`] the rest is dropped, not caught up.
     pub fn advance_by(&mut self, real_dt: f64) {
+        let smooth = |old: f32, new: f32| if old == 0.0 { new } else { old * 0.9 + new * 0.1 };
         if real_dt > 0.0 {
-            let smooth = |old: f32, new: f32| if old == 0.0 { new } else { old * 0.9 + new * 0.1 };
             self.stats.frame_ms = smooth(self.stats.frame_ms, (real_dt * 1000.0) as f32);
             self.stats.fps = 1000.0 / self.stats.frame_ms.max(1e-3);
         }
         self.stats.steps_last_frame = 0;
         if self.paused {
+            self.stats.sim_speed = 0.0;
             return;
         }
         let dt = f64::from(self.dt());
         self.accumulator += real_dt.min(MAX_FRAME_TIME) * f64::from(self.time_scale);
         let wanted = (self.accumulator / dt).floor() as u64;
         let steps = wanted.min(u64::from(MAX_STEPS_PER_FRAME)) as u32;
-        if wanted > u64::from(steps) {
-            self.stats.dropped_steps += wanted - u64::from(steps);
+        let ran = self.step_within(steps, Some(PHYSICS_BUDGET));
+        if wanted > u64::from(ran) {
+            self.stats.dropped_steps += wanted - u64::from(ran);
             self.accumulator = 0.0;
         } else {
-            self.accumulator -= f64::from(steps) * dt;
+            self.accumulator -= f64::from(ran) * dt;
         }
-        self.run_steps(steps);
+        if real_dt > 0.0 {
+            self.stats.sim_speed = smooth(self.stats.sim_speed, (f64::from(ran) * dt / real_dt) as f32);
+        }
     }
 
     /// Runs exactly `steps` physics steps now, paused or not.
     pub fn run_steps(&mut self, steps: u32) {
+        if self.paused {
+            // A single step from the panel: show its read-outs at once.
+            self.readouts_taken = None;
+        }
+        self.step_within(steps, None);
+    }
+
+    /// Runs up to `steps` physics steps, stopping early (after at least one) when the
+    /// next would likely end past `budget`; returns how many ran.
+    fn step_within(&mut self, steps: u32, budget: Option<Duration>) -> u32 {
         if steps == 0 {
-            return;
+            return 0;
         }
         let started = Instant::now();
         let dt = self.dt();
+        let mut ran = 0;
+        let mut last_step = Duration::ZERO;
         for _ in 0..steps {
+            if budget.is_some_and(|budget| ran > 0 && started.elapsed() + last_step > budget) {
+                break;
+            }
+            let step_started = Instant::now();
+            ran += 1;
             self.hold_grabbed(dt);
             if let Err(error) = self.scene.step(dt) {
                 self.status = error.to_string();
@@ -282,12 +388,14 @@ impl Lab {
                 self.paused = true;
                 break;
             }
+            last_step = step_started.elapsed();
         }
-        let per_step = started.elapsed().as_secs_f32() * 1000.0 / steps as f32;
+        let per_step = started.elapsed().as_secs_f32() * 1000.0 / ran as f32;
         self.stats.step_ms =
             if self.stats.step_ms == 0.0 { per_step } else { self.stats.step_ms * 0.9 + per_step * 0.1 };
-        self.stats.steps_last_frame = steps;
+        self.stats.steps_last_frame = ran;
         self.record();
+        ran
     }
 
     /// Runs `steps` physics steps one at a time, recording trails after each (for
@@ -301,10 +409,12 @@ impl Lab {
         }
     }
 
-    /// Records trails and the energy plot at the current simulated time.
+    /// Records trails (when shown) and the energy plot at the current simulated time.
     fn record(&mut self) {
         let t = self.scene.world().time();
-        self.trails.record(self.scene.as_ref(), t);
+        if self.view.trails {
+            self.trails.record(self.scene.as_ref(), t);
+        }
         let energy = self.scene.world().energy();
         if self.energy.len() == HISTORY {
             self.energy.pop_front();

@@ -8,6 +8,10 @@ pub mod paint;
 use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
 use glam::Vec2;
 
+use crate::physics::SolverKind;
+use crate::physics::solver::SUBSTEP_RANGE;
+use crate::render::Trails;
+use crate::render::frame::{SPEED_SCALE, ramp_srgb, speed_fraction};
 use crate::scenes::{SCENES, SceneAction};
 pub use lab::Lab;
 
@@ -46,7 +50,7 @@ pub fn show(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
         egui::ScrollArea::vertical().show(ui, |ui| side_panel(ui, lab));
     });
     let mut open = lab.show_help;
-    egui::Window::new("Controls").open(&mut open).resizable(false).show(ui.ctx(), |ui| help(ui));
+    egui::Window::new("Controls").open(&mut open).resizable(false).show(ui.ctx(), help);
     lab.show_help = open;
     egui::CentralPanel::no_frame().show(ui, |ui| view_3d(ui, lab)).inner
 }
@@ -107,7 +111,11 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
             }
         });
         ui.menu_button("View", |ui| {
-            ui.checkbox(&mut lab.view.trails, "Trails");
+            let crowded = lab.scene.world().particles.len() > Trails::PARTICLE_LIMIT;
+            ui.add_enabled(!crowded, egui::Checkbox::new(&mut lab.view.trails, "Trails"))
+                .on_disabled_hover_text(format!("No trails above {} particles", Trails::PARTICLE_LIMIT));
+            ui.checkbox(&mut lab.view.color_by_speed, "Colour by speed")
+                .on_hover_text("Particles coloured by how fast they move; the scale is in the panel");
             ui.checkbox(&mut lab.view.tension_colors, "Link colours by tension");
             ui.checkbox(&mut lab.view.grid, "Grid");
             ui.checkbox(&mut lab.view.stats, "Stats");
@@ -170,6 +178,7 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             .suffix(" Hz"),
     )
     .on_hover_text("Fixed physics steps per simulated second; the frame rate does not change it");
+    solver_controls(ui, lab);
 
     ui.separator();
     ui.label(egui::RichText::new("Parameters").strong());
@@ -219,12 +228,16 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
 
     ui.separator();
     egui::Grid::new("readouts").num_columns(2).striped(true).show(ui, |ui| {
-        for (name, value) in lab.scene.readouts(lab.dt()) {
-            ui.label(name);
-            ui.label(value);
+        for (name, value) in lab.readouts() {
+            ui.label(name.as_str());
+            ui.label(value.as_str());
             ui.end_row();
         }
     });
+    if lab.view.color_by_speed {
+        ui.separator();
+        speed_legend(ui);
+    }
 
     if lab.view.stats {
         ui.separator();
@@ -238,21 +251,108 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
                 ui.monospace(value);
                 ui.end_row();
             };
-            if lab.stats.frame_ms > 0.0 {
-                row("FPS", format!("{:.0}", lab.stats.fps));
-                row("frame time", format!("{:.1} ms", lab.stats.frame_ms));
+            let stats = lab.stats;
+            if stats.frame_ms > 0.0 {
+                row("FPS", format!("{:.0} ({:.1} ms)", stats.fps, stats.frame_ms));
+                row("sim speed", format!("{:.2}× real time", stats.sim_speed));
             } else {
                 row("FPS", "off-screen".into());
             }
-            row("physics / step", format!("{:.1} µs", lab.stats.step_ms * 1000.0));
-            row("steps / frame", lab.stats.steps_last_frame.to_string());
+            row("physics / step", milliseconds(stats.step_ms));
+            row("steps / frame", stats.steps_last_frame.to_string());
+            let profile = world.profile();
+            row("  broad phase", milliseconds(profile.broad_phase_ms));
+            row("  narrow phase", milliseconds(profile.narrow_phase_ms));
+            row("  solve", milliseconds(profile.solve_ms));
             row("particles", world.particles.len().to_string());
+            let solver = world.solver();
+            row(
+                "solver",
+                match solver.kind {
+                    SolverKind::Soft => format!("{}, {} substeps", solver.kind.name(), solver.substeps),
+                    SolverKind::Paper => solver.kind.name().to_string(),
+                },
+            );
             row("contacts", world.contact_count().to_string());
+            row("deepest overlap", format!("{:.2} mm", report.max_penetration * 1000.0));
             row("resolver iterations", report.iterations().to_string());
             row("kinetic energy", format!("{:.2} J", energy.kinetic));
             row("potential energy", format!("{:.2} J", energy.potential));
         });
         energy_plot(ui, lab);
+    }
+}
+
+/// `ms` milliseconds, as µs below one.
+fn milliseconds(ms: f32) -> String {
+    if ms < 1.0 { format!("{:.0} µs", ms * 1000.0) } else { format!("{ms:.1} ms") }
+}
+
+/// The solver menu and, beside it, the soft solver's substeps (greyed for the paper's
+/// resolver, which has none). Changes go through [`Lab::set_solver`], which logs them.
+fn solver_controls(ui: &mut egui::Ui, lab: &mut Lab) {
+    let mut settings = lab.solver();
+    ui.horizontal(|ui| {
+        egui::ComboBox::from_id_salt("solver")
+            .selected_text(settings.kind.name())
+            .width(70.0)
+            .show_ui(ui, |ui| {
+                for kind in SolverKind::ALL {
+                    ui.selectable_value(&mut settings.kind, kind, kind.name()).on_hover_text(kind.summary());
+                }
+            })
+            .response
+            .on_hover_text(settings.kind.summary());
+        let soft = settings.kind == SolverKind::Soft;
+        ui.add_enabled(
+            soft,
+            egui::DragValue::new(&mut settings.substeps).range(SUBSTEP_RANGE).suffix(" substeps"),
+        )
+        .on_hover_text("Substeps per physics step: more make piles and chains stiffer, and cost more")
+        .on_disabled_hover_text("Only the soft solver takes substeps");
+        ui.label("solver");
+    });
+    if settings != lab.solver() {
+        lab.set_solver(settings);
+    }
+}
+
+/// The colour-by-speed scale: the ramp with speeds (m/s) under it.
+fn speed_legend(ui: &mut egui::Ui) {
+    ui.label(egui::RichText::new("Colour by speed").strong())
+        .on_hover_text(format!("A fixed scale, square root of speed: {SPEED_SCALE} m/s and faster are red"));
+    let width = ui.available_width().min(280.0);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 30.0), Sense::hover());
+    let painter = ui.painter_at(rect);
+    let bar = Rect::from_min_size(rect.min, egui::vec2(rect.width(), 12.0));
+    const BANDS: usize = 48;
+    for band in 0..BANDS {
+        let [r, g, b] = ramp_srgb((band as f32 + 0.5) / BANDS as f32);
+        let left = bar.left() + bar.width() * band as f32 / BANDS as f32;
+        let right = bar.left() + bar.width() * (band + 1) as f32 / BANDS as f32;
+        let band_rect = Rect::from_x_y_ranges(left..=right + 0.5, bar.y_range());
+        painter.rect_filled(band_rect, 0.0, Color32::from_rgb(r, g, b));
+    }
+    for (speed, label) in
+        [(0.0, "0"), (0.1, "0.1"), (1.0, "1"), (2.5, "2.5"), (5.0, "5"), (SPEED_SCALE, "10 m/s")]
+    {
+        let x = bar.left() + bar.width() * speed_fraction(speed);
+        painter.line_segment(
+            [egui::pos2(x, bar.bottom()), egui::pos2(x, bar.bottom() + 3.0)],
+            Stroke::new(1.0, Color32::GRAY),
+        );
+        let align = match label {
+            "0" => egui::Align2::LEFT_TOP,
+            "10 m/s" => egui::Align2::RIGHT_TOP,
+            _ => egui::Align2::CENTER_TOP,
+        };
+        painter.text(
+            egui::pos2(x, bar.bottom() + 3.0),
+            align,
+            label,
+            egui::FontId::proportional(11.0),
+            Color32::GRAY,
+        );
     }
 }
 
