@@ -92,18 +92,47 @@ fn every_scene_matches_its_reference_image() {
 }
 
 #[test]
+fn the_falling_pile_is_coloured_by_speed() {
+    let mut snapshotter = snapshotter();
+    let mut lab = Lab::new("pile", &[]).unwrap();
+    assert!(lab.view.color_by_speed, "the pile opens coloured by speed");
+    // Mid-fall: spheres from rest at the bottom to several m/s at the top.
+    lab.run_steps_recorded(45);
+    let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+    compare_with_golden("pile-falling", &image, SIZE);
+    // The highest sphere falls fastest: drawn at the hot end of the ramp.
+    let particles = &lab.scene.world().particles;
+    let top = (0..particles.len())
+        .max_by(|&a, &b| particles.position[a].y.total_cmp(&particles.position[b].y))
+        .unwrap();
+    let speed = particles.velocity[top].length();
+    assert!(speed > 5.0, "the top sphere falls at {speed} m/s");
+    let size = Vec2::new(SIZE[0] as f32, SIZE[1] as f32);
+    let screen = lab.camera.project(particles.position[top], size).unwrap();
+    let [r, g, b, _] = pixel(&image, SIZE, screen.x.round() as u32, screen.y.round() as u32);
+    assert!(r > g && r > b + 80, "a sphere at {speed} m/s is drawn ({r}, {g}, {b}), not red");
+}
+
+#[test]
 fn each_particle_is_drawn_where_the_camera_projects_it() {
     let mut snapshotter = snapshotter();
     for entry in SCENES {
         let mut lab = Lab::new(entry.info.name, &[]).unwrap();
         lab.run_steps_recorded(STEPS);
-        let world = lab.scene.world();
-        let (id, centre, radius) =
-            (world.particles.id(0), world.particles.position[0], world.particles.radius[0]);
         let size = Vec2::new(SIZE[0] as f32, SIZE[1] as f32);
+        // The first particle in sight: picking at its projected centre finds it (in a
+        // pile most are hidden behind others).
+        let particles = &lab.scene.world().particles;
+        let i = (0..particles.len())
+            .find(|&i| {
+                let screen = lab.camera.project(particles.position[i], size);
+                screen.is_some_and(|s| lab.pick(s, size) == Some(particles.id(i)))
+            })
+            .unwrap_or_else(|| panic!("{}: no particle in sight", entry.info.name));
+        let (id, centre, radius) = (particles.id(i), particles.position[i], particles.radius[i]);
         let screen = lab.camera.project(centre, size).unwrap();
         let (x, y) = (screen.x.round() as u32, screen.y.round() as u32);
-        assert!(x < SIZE[0] && y < SIZE[1], "{}: particle 0 is off screen at {screen}", entry.info.name);
+        assert!(x < SIZE[0] && y < SIZE[1], "{}: particle {i} is off screen at {screen}", entry.info.name);
         // Only the particle's own colour changes when it is highlighted (yellow), so a
         // pixel that turns yellow at its projected centre is the sphere itself.
         let plain = snapshotter.render(&mut lab, SIZE, false).unwrap();

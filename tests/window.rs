@@ -172,11 +172,12 @@ fn a_person_switches_scene_drags_a_slider_pauses_resizes_minimises_and_closes() 
     display.xdotool(&["mousemove", "--window", &window, "36", "85", "click", "1"]);
     app.expect_log("scene: bridge");
 
-    // Drag the g slider (4th parameter) to the right, in small steps like a hand.
-    display.xdotool(&["mousemove", "--window", &window, "41", "268", "mousedown", "1"]);
+    // Drag the g slider (4th parameter, under the solver row) to the right, in small
+    // steps like a hand.
+    display.xdotool(&["mousemove", "--window", &window, "41", "291", "mousedown", "1"]);
     for step in 1..=6 {
         std::thread::sleep(Duration::from_millis(100));
-        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "268"]);
+        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "291"]);
     }
     display.xdotool(&["mouseup", "1"]);
     app.expect_log("set bridge.g = ");
@@ -230,13 +231,26 @@ fn a_person_switches_scene_drags_a_slider_pauses_resizes_minimises_and_closes() 
 }
 
 #[test]
-fn opens_on_the_scene_and_settings_given_and_quits_with_ctrl_q() {
+fn opens_on_the_scene_and_settings_given_picks_the_pile_and_its_solver_and_quits_with_ctrl_q() {
     let display = Display::start();
     let mut app = App::start(&display, &["--scene", "bridge", "--set", "g=5"], "ctrl-q");
     let window = app.window(&display);
     app.expect_log("window open: scene bridge");
     display.xdotool(&["windowactivate", "--sync", &window]);
     pause();
+
+    // Scene menu -> pile (the fourth entry).
+    display.xdotool(&["mousemove", "--window", &window, "26", "12", "click", "1"]);
+    pause();
+    display.xdotool(&["mousemove", "--window", &window, "36", "107", "click", "1"]);
+    app.expect_log("scene: pile");
+    // The solver menu under the run controls -> paper (the second entry).
+    pause();
+    display.xdotool(&["mousemove", "--window", &window, "40", "172", "click", "1"]);
+    pause();
+    display.xdotool(&["mousemove", "--window", &window, "40", "222", "click", "1"]);
+    app.expect_log("solver: paper");
+
     display.xdotool(&["key", "ctrl+q"]);
     let status = app.wait_exit();
     let log = app.log();
