@@ -147,7 +147,12 @@ static SPEED_TABLE: LazyLock<[[f32; 3]; 256]> = LazyLock::new(|| {
 #[inline]
 #[must_use]
 pub fn speed_color(speed: f32) -> [f32; 3] {
-    SPEED_TABLE[(speed_fraction(speed) * 255.0).round() as usize]
+    ramp_lookup(&SPEED_TABLE, speed)
+}
+
+#[inline]
+fn ramp_lookup(table: &[[f32; 3]; 256], speed: f32) -> [f32; 3] {
+    table[((speed_fraction(speed) * 255.0 + 0.5) as usize).min(255)]
 }
 
 /// Colour of a link of each kind (linear RGB): rods blue, cables green, supports grey,
@@ -277,13 +282,14 @@ impl FrameBuilder {
         let world = scene.world();
         let particles = &world.particles;
         frame.shadows = particles.len() <= SHADOW_LIMIT;
+        let speed_table = &*SPEED_TABLE;
         let each = particles.ids().iter().zip(&particles.position).zip(&particles.radius);
         for (((&id, position), &radius), (&inverse_mass, velocity)) in
             each.zip(particles.inverse_mass.iter().zip(&particles.velocity))
         {
             let immovable = inverse_mass == 0.0;
             let mut color = if options.color_by_speed && !immovable {
-                speed_color(velocity.length())
+                ramp_lookup(speed_table, velocity.length())
             } else {
                 particle_color(id, immovable)
             };
