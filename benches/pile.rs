@@ -1,1 +1,494 @@
-fn main() {}
+//! A settled pile of spheres, stepped by particle-lab and (with `--features peer`) by
+//! rapier3d in the same process, so the ratio of their step times comes from one run.
+//!
+//! For every size the two engines drop the same spheres (radius 0.5 m, 1 kg, friction
+//! 0.5, restitution 0, g = 9.81 m/s²) from the same jittered grid into the same open box
+//! (ground y = 0, inner walls at x, z = ±width/2), with width chosen so every pile is
+//! about ten layers deep. Each pile is settled first (the engine's own defaults, both
+//! threads), then criterion measures one step of 1/60 s on 1 thread and on all threads,
+//! first with each engine's default sleeping (both put resting islands to sleep), then
+//! with sleeping turned off. Every measurement is followed by a timing of our own (the
+//! median of a few steps, quotable next to criterion's figures) and a measurement of the
+//! pile from its positions, so no time is reported without the quality it bought.
+//!
+//! Both engines sleep by default with the same rule (slower than 0.05 m/s for 0.5 s, a
+//! whole island at once): rapier's `RigidBodyActivation::default()`, particle-lab's
+//! `SolverSettings::default()`.
+//!
+//! `cargo bench --bench pile --features peer -- --warm-up-time 1 --measurement-time 3
+//! --sample-size 10`; `PILE_SIZES=1000,8000` picks the sizes; `PILE_PROFILE=1` prints
+//! where each engine's last step went and its fastest sphere. Without the feature only
+//! particle-lab runs. In test mode (`cargo test --benches`) a 300-sphere pile checks the
+//! plumbing in well under a second.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, SamplingMode, Throughput};
+use glam::Vec3;
+use particle_lab::physics::{ParticleDesc, World};
+use particle_lab::scenes::pile::{self, PileQuality};
+use particle_lab::scenes::{self, Scene};
+use rayon::{ThreadPool, ThreadPoolBuilder};
+
+/// Sphere radius (m).
+const RADIUS: f32 = 0.5;
+/// Sphere mass (kg).
+const MASS: f32 = 1.0;
+/// Friction coefficient of spheres, walls and ground.
+const FRICTION: f32 = 0.5;
+/// Gravitational acceleration, downwards (m/s²).
+const G: f32 = 9.81;
+/// Time step (s): the pile scene's own.
+const DT: f32 = 1.0 / 60.0;
+/// Sizes measured by `cargo bench`.
+const SIZES: [usize; 4] = [1_000, 8_000, 10_000, 100_000];
+/// Median speed below which a pile counts as settled (m/s).
+const SETTLED_SPEED: f32 = 0.005;
+
+/// How much work a run does: a full benchmark or criterion's test mode.
+#[derive(Clone, Copy)]
+struct Plan {
+    /// Fewest settling steps (the top layer needs about 2 s to land).
+    settle_min: usize,
+    /// Most settling steps.
+    settle_max: usize,
+    /// Steps after the pile has settled, so that resting islands can fall asleep (both
+    /// engines wait 0.5 s by default).
+    rest: usize,
+    /// Steps after sleeping is switched off, before measuring.
+    resettle: usize,
+    /// Steps of our own timing after each criterion measurement.
+    timed: usize,
+}
+
+const FULL: Plan = Plan { settle_min: 150, settle_max: 600, rest: 60, resettle: 60, timed: 30 };
+const QUICK: Plan = Plan { settle_min: 20, settle_max: 40, rest: 2, resettle: 5, timed: 3 };
+
+/// Inner width of the box for `n` spheres: about ten layers deep.
+fn width_for(n: usize) -> f32 {
+    (1.1 * (n as f32 / 10.0).sqrt() + 1.2).ceil()
+}
+
+/// One engine stepping one pile.
+trait Engine {
+    /// Name in the table and in criterion's ids.
+    fn name(&self) -> &'static str;
+    /// Advances the pile by [`DT`] on the calling thread's rayon pool.
+    fn step(&mut self);
+    /// Positions and velocities of the spheres.
+    fn state(&self) -> (Vec<Vec3>, Vec<Vec3>);
+    /// Spheres asleep now.
+    fn asleep(&self) -> usize;
+    /// Turns sleeping on (with the engine's default thresholds) or off.
+    fn set_sleep(&mut self, on: bool);
+    /// Where the last step's time went, in the engine's own words.
+    fn profile(&self) -> String;
+}
+
+/// A `&mut dyn Engine` that may be handed to a pool's thread.
+///
+/// Neither [`Scene`] nor [`World`] is `Send`: a world's force registry holds boxed
+/// force generators without a `Send` bound. The pile registers none, and nothing else in
+/// a world (or in rapier's) is tied to a thread, and `ThreadPool::install` blocks the
+/// caller until the closure returns, so one thread at a time uses the engine.
+struct OnPool<'a>(&'a mut dyn Engine);
+
+// SAFETY: see above: the engines hold plain data only and are never used by two threads
+// at once.
+unsafe impl Send for OnPool<'_> {}
+
+impl<'a> OnPool<'a> {
+    fn into_inner(self) -> &'a mut dyn Engine {
+        self.0
+    }
+}
+
+/// Runs `steps` steps on `pool` and returns the wall time of each.
+fn run(pool: &ThreadPool, engine: &mut dyn Engine, steps: u64) -> Vec<Duration> {
+    let engine = OnPool(engine);
+    pool.install(move || {
+        let engine = engine.into_inner();
+        (0..steps)
+            .map(|_| {
+                let start = Instant::now();
+                engine.step();
+                start.elapsed()
+            })
+            .collect()
+    })
+}
+
+fn median(mut values: Vec<f32>) -> f32 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let middle = values.len() / 2;
+    *values.select_nth_unstable_by(middle, f32::total_cmp).1
+}
+
+/// Measures a pile from positions and velocities with particle-lab's own ruler (the same
+/// for both engines).
+fn quality(positions: &[Vec3], velocities: &[Vec3], width: f32) -> PileQuality {
+    let mut world = World::new();
+    for (&position, &velocity) in positions.iter().zip(velocities) {
+        world
+            .add_particle(ParticleDesc {
+                position,
+                velocity,
+                mass: MASS,
+                radius: RADIUS,
+                ..ParticleDesc::default()
+            })
+            .expect("a finite sphere");
+    }
+    pile::quality(&world, width)
+}
+
+/// Steps `engine` on `pool` until its median speed is below [`SETTLED_SPEED`] (checked
+/// every 30 steps after `plan.settle_min`) or `plan.settle_max` steps have run, then
+/// `plan.rest` more.
+fn settle(pool: &ThreadPool, engine: &mut dyn Engine, n: usize, plan: Plan) {
+    let start = Instant::now();
+    let mut steps = 0;
+    let mut speed = f32::INFINITY;
+    while steps < plan.settle_max {
+        let chunk =
+            if steps < plan.settle_min { plan.settle_min - steps } else { 30 }.min(plan.settle_max - steps);
+        run(pool, engine, chunk as u64);
+        steps += chunk;
+        let (_, velocities) = engine.state();
+        speed = median(velocities.iter().map(|v| v.length()).collect());
+        if speed < SETTLED_SPEED {
+            break;
+        }
+    }
+    run(pool, engine, plan.rest as u64);
+    eprintln!(
+        "pile: {} n={n} settled in {steps} + {} steps ({:.1} s wall), median speed then {speed:.4} m/s, {} asleep",
+        engine.name(),
+        plan.rest,
+        start.elapsed().as_secs_f32(),
+        engine.asleep()
+    );
+}
+
+/// particle-lab's pile scene.
+struct Lab {
+    scene: Box<dyn Scene>,
+}
+
+impl Lab {
+    fn new(n: usize, width: f32) -> Self {
+        // Every setting spelled out, so that a change of the scene's defaults cannot make
+        // the two piles differ.
+        let settings = [
+            format!("count={n}"),
+            format!("width={width}"),
+            format!("radius={RADIUS}"),
+            format!("mass={MASS}"),
+            format!("friction={FRICTION}"),
+            format!("g={G}"),
+            "restitution=0".to_string(),
+        ];
+        let scene = scenes::build("pile", &settings).expect("valid pile parameters");
+        assert!((scene.info().dt - DT).abs() < 1e-9, "the pile scene steps at 1/60 s");
+        Self { scene }
+    }
+}
+
+impl Engine for Lab {
+    fn name(&self) -> &'static str {
+        "particle-lab"
+    }
+
+    fn step(&mut self) {
+        self.scene.step(DT).expect("a valid step");
+    }
+
+    fn state(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+        let p = &self.scene.world().particles;
+        (p.position.clone(), p.velocity.clone())
+    }
+
+    fn asleep(&self) -> usize {
+        self.scene.world().particles.asleep_count()
+    }
+
+    fn set_sleep(&mut self, on: bool) {
+        let world = self.scene.world_mut();
+        let settings = *world.solver();
+        world
+            .set_solver(particle_lab::physics::SolverSettings { sleep: on, ..settings })
+            .expect("valid settings");
+    }
+
+    fn profile(&self) -> String {
+        let world = self.scene.world();
+        format!("{:?}, {} contacts", world.profile(), world.contact_count())
+    }
+}
+
+#[cfg(feature = "peer")]
+mod peer {
+    //! The same pile in rapier3d: dynamic bodies with ball colliders in a box of fixed
+    //! cuboids, rapier's default integration parameters (dt 1/60 s, 4 solver iterations
+    //! (substeps) of 1 PGS and 1 stabilisation iteration each, soft contacts 30 Hz
+    //! between bodies and 60 Hz against fixed ones, damping ratio 10).
+
+    use glam::Vec3;
+    use rapier3d::prelude::{
+        ColliderBuilder, IntegrationParameters, PhysicsWorld, RigidBodyActivation, RigidBodyBuilder,
+        RigidBodyHandle, Vector,
+    };
+
+    use super::{DT, Engine, FRICTION, G, MASS, RADIUS};
+
+    /// Thickness of the box's walls and floor (m).
+    const THICKNESS: f32 = 1.0;
+
+    pub struct Rapier {
+        world: PhysicsWorld,
+        spheres: Vec<RigidBodyHandle>,
+    }
+
+    impl Rapier {
+        pub fn new(start: &[Vec3], width: f32) -> Self {
+            let mut world = PhysicsWorld::new();
+            world.gravity = Vector::new(0.0, -G, 0.0);
+            world.integration_parameters =
+                IntegrationParameters { dt: DT, ..IntegrationParameters::default() };
+            // Inner faces at y = 0 and x, z = ±half; the walls stand well above the grid.
+            let half = width / 2.0;
+            let top = start.iter().map(|p| p.y).fold(0.0, f32::max) + 4.0 * RADIUS;
+            let outer = half + THICKNESS;
+            let boxes = [
+                ([outer, THICKNESS, outer], [0.0, -THICKNESS, 0.0]),
+                ([THICKNESS, top / 2.0, outer], [-outer, top / 2.0, 0.0]),
+                ([THICKNESS, top / 2.0, outer], [outer, top / 2.0, 0.0]),
+                ([outer, top / 2.0, THICKNESS], [0.0, top / 2.0, -outer]),
+                ([outer, top / 2.0, THICKNESS], [0.0, top / 2.0, outer]),
+            ];
+            for ([hx, hy, hz], [x, y, z]) in boxes {
+                let wall = ColliderBuilder::cuboid(hx, hy, hz)
+                    .translation(Vector::new(x, y, z))
+                    .friction(FRICTION)
+                    .restitution(0.0);
+                world.insert_collider(wall, None);
+            }
+            let spheres = start
+                .iter()
+                .map(|p| {
+                    let body = RigidBodyBuilder::dynamic().translation(Vector::new(p.x, p.y, p.z));
+                    let ball = ColliderBuilder::ball(RADIUS).mass(MASS).friction(FRICTION).restitution(0.0);
+                    world.insert(body, ball).0
+                })
+                .collect();
+            Self { world, spheres }
+        }
+    }
+
+    impl Engine for Rapier {
+        fn name(&self) -> &'static str {
+            "rapier3d"
+        }
+
+        fn step(&mut self) {
+            self.world.step();
+        }
+
+        fn state(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+            let vec = |v: Vector| Vec3::new(v.x, v.y, v.z);
+            let bodies = &self.world.bodies;
+            let positions = self.spheres.iter().map(|&h| vec(bodies[h].translation())).collect();
+            let velocities = self.spheres.iter().map(|&h| vec(bodies[h].linvel())).collect();
+            (positions, velocities)
+        }
+
+        fn asleep(&self) -> usize {
+            self.spheres.iter().filter(|&&h| self.world.bodies[h].is_sleeping()).count()
+        }
+
+        fn set_sleep(&mut self, on: bool) {
+            // What `RigidBodyBuilder::can_sleep` does: negative thresholds never sleep.
+            let (linear, angular) = if on {
+                (
+                    RigidBodyActivation::default_normalized_linear_threshold(),
+                    RigidBodyActivation::default_angular_threshold(),
+                )
+            } else {
+                (-1.0, -1.0)
+            };
+            for &h in &self.spheres {
+                let activation = self.world.bodies[h].activation_mut();
+                activation.normalized_linear_threshold = linear;
+                activation.angular_threshold = angular;
+            }
+            if !on {
+                self.world.wake_up_all(true);
+            }
+        }
+
+        fn profile(&self) -> String {
+            // Its stage timers need rapier's `profiler` feature; the counts do not.
+            let counters = &self.world.physics_pipeline.counters;
+            format!("{} contact pairs, {} contacts", counters.cd.ncontact_pairs, counters.solver.ncontacts)
+        }
+    }
+}
+
+/// One row of the table.
+struct Row {
+    engine: &'static str,
+    n: usize,
+    sleep: bool,
+    threads: usize,
+    ms: f32,
+    quality: PileQuality,
+    asleep: usize,
+    /// The machine's 1-minute load average when our timing ended (other processes
+    /// compete for the cores).
+    load: Option<f32>,
+}
+
+/// The 1-minute load average (Linux).
+fn load_average() -> Option<f32> {
+    std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    // Criterion's own rule: without `--bench`, or with `--test`, it only tests.
+    let testing = !args.iter().any(|a| a == "--bench") || args.iter().any(|a| a == "--test");
+    let plan = if testing { QUICK } else { FULL };
+    let profile = std::env::var_os("PILE_PROFILE").is_some();
+    let sizes: Vec<usize> = match std::env::var("PILE_SIZES") {
+        Ok(list) => list
+            .split(',')
+            .map(|s| s.trim().parse().expect("PILE_SIZES: numbers separated by commas"))
+            .collect(),
+        Err(_) if testing => vec![300],
+        Err(_) => SIZES.to_vec(),
+    };
+    let all = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let thread_counts: Vec<usize> = if all > 1 { vec![1, all] } else { vec![1] };
+    let pools: Vec<(usize, Arc<ThreadPool>)> = thread_counts
+        .iter()
+        .map(|&t| (t, Arc::new(ThreadPoolBuilder::new().num_threads(t).build().expect("a thread pool"))))
+        .collect();
+    let widest = &pools.last().expect("at least one pool").1;
+
+    let mut criterion = Criterion::default().configure_from_args();
+    let mut rows = Vec::new();
+    for &n in &sizes {
+        let width = width_for(n);
+        let mut engines: Vec<Box<dyn Engine>> = vec![Box::new(Lab::new(n, width))];
+        #[cfg(feature = "peer")]
+        engines.push(Box::new(peer::Rapier::new(&pile::starting_grid(n, RADIUS, width), width)));
+        for engine in &mut engines {
+            settle(widest, engine.as_mut(), n, plan);
+        }
+
+        let mut group = criterion.benchmark_group(format!("pile_{n}"));
+        group.throughput(Throughput::Elements(n as u64));
+        group.sampling_mode(SamplingMode::Flat);
+        for sleep in [true, false] {
+            if !sleep {
+                for engine in &mut engines {
+                    engine.set_sleep(false);
+                    run(widest, engine.as_mut(), plan.resettle as u64);
+                }
+            }
+            for (threads, pool) in &pools {
+                for engine in &mut engines {
+                    let engine = engine.as_mut();
+                    let id =
+                        format!("{}/sleep_{}/{threads}t", engine.name(), if sleep { "on" } else { "off" });
+                    group.bench_function(&id, |b| {
+                        b.iter_custom(|iters| run(pool, &mut *engine, iters).into_iter().sum())
+                    });
+                    let times = run(pool, engine, plan.timed as u64);
+                    let ms = median(times.iter().map(|t| t.as_secs_f32() * 1000.0).collect());
+                    let load = load_average();
+                    let (positions, velocities) = engine.state();
+                    let quality = quality(&positions, &velocities, width);
+                    let asleep = engine.asleep();
+                    if profile {
+                        let fastest =
+                            (0..n).max_by(|&a, &b| velocities[a].length().total_cmp(&velocities[b].length()));
+                        let fastest = fastest.map(|i| (positions[i], velocities[i])).unwrap_or_default();
+                        eprintln!(
+                            "pile: {id} last step: {}; fastest sphere at {:.2} moving {:.3}",
+                            engine.profile(),
+                            fastest.0,
+                            fastest.1
+                        );
+                    }
+                    rows.push(Row {
+                        engine: engine.name(),
+                        n,
+                        sleep,
+                        threads: *threads,
+                        ms,
+                        quality,
+                        asleep,
+                        load,
+                    });
+                }
+            }
+        }
+        group.finish();
+    }
+    criterion.final_summary();
+    print_table(&rows);
+}
+
+fn print_table(rows: &[Row]) {
+    eprintln!();
+    eprintln!(
+        "pile: ms/step = median of our own timing after criterion's; quality measured on the positions afterwards;"
+    );
+    eprintln!("pile: load = 1-minute load average then (other processes share the cores)");
+    eprintln!(
+        "{:<13} {:>7} {:>5} {:>3} {:>9} {:>8} {:>10} {:>9} {:>10} {:>7} {:>7} {:>7} {:>5}",
+        "engine",
+        "n",
+        "sleep",
+        "thr",
+        "ms/step",
+        "ns/p·st",
+        "med v m/s",
+        "max v m/s",
+        "overlap mm",
+        "escaped",
+        "asleep",
+        "rap/lab",
+        "load"
+    );
+    for row in rows {
+        let lab = rows.iter().find(|r| {
+            r.engine == "particle-lab" && (r.n, r.sleep, r.threads) == (row.n, row.sleep, row.threads)
+        });
+        let ratio = match lab {
+            Some(lab) if row.engine != "particle-lab" && lab.ms > 0.0 => format!("{:.2}", row.ms / lab.ms),
+            _ => String::new(),
+        };
+        let q = row.quality;
+        eprintln!(
+            "{:<13} {:>7} {:>5} {:>3} {:>9.3} {:>8.0} {:>10.4} {:>9.3} {:>10.2} {:>7} {:>7} {:>7} {:>5}",
+            row.engine,
+            row.n,
+            if row.sleep { "on" } else { "off" },
+            row.threads,
+            row.ms,
+            row.ms * 1e6 / row.n as f32,
+            q.median_speed,
+            q.max_speed,
+            q.deepest_overlap * 1000.0,
+            q.escaped,
+            row.asleep,
+            ratio,
+            row.load.map_or_else(|| "-".into(), |l| format!("{l:.1}"))
+        );
+    }
+}
