@@ -71,7 +71,7 @@ fn width_for(n: usize) -> f32 {
 }
 
 /// One engine stepping one pile.
-trait Engine {
+trait Engine: Send {
     /// Name in the table and in criterion's ids.
     fn name(&self) -> &'static str;
     /// Advances the pile by [`DT`] on the calling thread's rayon pool.
@@ -86,29 +86,9 @@ trait Engine {
     fn profile(&self) -> String;
 }
 
-/// A `&mut dyn Engine` that may be handed to a pool's thread.
-///
-/// Neither [`Scene`] nor [`World`] is `Send`: a world's force registry holds boxed
-/// force generators without a `Send` bound. The pile registers none, and nothing else in
-/// a world (or in rapier's) is tied to a thread, and `ThreadPool::install` blocks the
-/// caller until the closure returns, so one thread at a time uses the engine.
-struct OnPool<'a>(&'a mut dyn Engine);
-
-// SAFETY: see above: the engines hold plain data only and are never used by two threads
-// at once.
-unsafe impl Send for OnPool<'_> {}
-
-impl<'a> OnPool<'a> {
-    fn into_inner(self) -> &'a mut dyn Engine {
-        self.0
-    }
-}
-
 /// Runs `steps` steps on `pool` and returns the wall time of each.
 fn run(pool: &ThreadPool, engine: &mut dyn Engine, steps: u64) -> Vec<Duration> {
-    let engine = OnPool(engine);
     pool.install(move || {
-        let engine = engine.into_inner();
         (0..steps)
             .map(|_| {
                 let start = Instant::now();

@@ -8,8 +8,9 @@ use glam::Vec3;
 use super::links::{LinkEnd, LinkKind, LinkSpec, direction_or_zero, end_position};
 use super::particles::{ParticleId, Particles};
 
-/// Something that adds forces to particles every step.
-pub trait ForceGenerator {
+/// Something that adds forces to particles every step. `Send` so that a world can be
+/// handed to another thread (a benchmark's pool, a background simulation).
+pub trait ForceGenerator: Send {
     /// Adds this step's force to the particles' accumulators. `dt` is the step (s).
     fn apply(&mut self, particles: &mut Particles, dt: f32);
 

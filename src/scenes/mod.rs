@@ -100,7 +100,7 @@ pub struct CameraHint {
 }
 
 /// A running scene: a world plus the scene's own rules and parameters.
-pub trait Scene {
+pub trait Scene: Send {
     /// The scene's static description.
     fn info(&self) -> &'static SceneInfo;
 
