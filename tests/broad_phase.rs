@@ -29,13 +29,13 @@ fn configuration() -> impl Strategy<Value = (Vec<Vec3>, Vec<f32>)> {
         )
     });
     // Coincident: many particles at exactly the same few points.
-    let coincident = (1usize..200).prop_flat_map(|n| {
-        (prop::collection::vec(0..3u8, n), prop::collection::vec(0.1f32..1.0, n))
-    });
+    let coincident = (1usize..200)
+        .prop_flat_map(|n| (prop::collection::vec(0..3u8, n), prop::collection::vec(0.1f32..1.0, n)));
     prop_oneof![
         spread.prop_map(|(p, r)| (p.into_iter().map(|(x, y, z)| Vec3::new(x, y, z)).collect(), r)),
         clustered.prop_map(|(p, r)| {
-            let centres = [Vec3::ZERO, Vec3::new(30.0, 0.0, 0.0), Vec3::new(0.0, -40.0, 7.0), Vec3::splat(-1e4)];
+            let centres =
+                [Vec3::ZERO, Vec3::new(30.0, 0.0, 0.0), Vec3::new(0.0, -40.0, 7.0), Vec3::splat(-1e4)];
             (p.into_iter().map(|(c, x, y, z)| centres[c % 4] + Vec3::new(x, y, z)).collect(), r)
         }),
         mixed.prop_map(|(p, r)| (p.into_iter().map(|(x, y, z)| Vec3::new(x, y, z)).collect(), r)),

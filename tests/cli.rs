@@ -87,8 +87,23 @@ fn simulate_spring_forces_lists_every_spring_kind() {
 /// flags; returns (step-0 velocity, height at the end).
 fn straight_up(solver: &[&str]) -> (serde_json::Value, f64) {
     let mut args = vec![
-        "simulate", "--scene", "projectile", "--set", "speed=10", "--set", "angle=90", "--set", "g=10", "--set",
-        "damping=1", "--dt", "0.01", "--steps", "100", "--every", "100",
+        "simulate",
+        "--scene",
+        "projectile",
+        "--set",
+        "speed=10",
+        "--set",
+        "angle=90",
+        "--set",
+        "g=10",
+        "--set",
+        "damping=1",
+        "--dt",
+        "0.01",
+        "--steps",
+        "100",
+        "--every",
+        "100",
     ];
     args.extend_from_slice(solver);
     let out = run(&args);
@@ -113,9 +128,15 @@ fn simulate_applies_set_and_dt() {
 
 #[test]
 fn bad_solver_flags_get_one_line() {
-    assert_usage_error(&["simulate", "--scene", "bridge", "--solver", "pgs"], &["unknown solver 'pgs'", "soft, paper"]);
+    assert_usage_error(
+        &["simulate", "--scene", "bridge", "--solver", "pgs"],
+        &["unknown solver 'pgs'", "soft, paper"],
+    );
     assert_usage_error(&["simulate", "--scene", "bridge", "--substeps", "0"], &["--substeps 0", "1 to 64"]);
-    assert_usage_error(&["render", "--scene", "bridge", "--substeps", "65", "--out", "x.png"], &["--substeps 65"]);
+    assert_usage_error(
+        &["render", "--scene", "bridge", "--substeps", "65", "--out", "x.png"],
+        &["--substeps 65"],
+    );
     assert_usage_error(&["--solver", "nope"], &["unknown solver 'nope'"]);
 }
 

@@ -303,7 +303,9 @@ fn swinging_chain(kind: SolverKind) {
 #[test]
 fn bridge_with_load_settles_and_stays_up() {
     // Cyclone's damping 0.9 lets the deck sway for a while: give it 80 s.
-    for (kind, load) in SolverKind::ALL.into_iter().flat_map(|k| [(k, ("load_x", "2.5")), (k, ("load_x", "0"))]) {
+    for (kind, load) in
+        SolverKind::ALL.into_iter().flat_map(|k| [(k, ("load_x", "2.5")), (k, ("load_x", "0"))])
+    {
         let mut scene =
             scenes::build("bridge", &[format!("{}={}", load.0, load.1), "load_mass=30".into()]).unwrap();
         scene.world_mut().set_solver(SolverSettings { kind, ..SolverSettings::default() }).unwrap();
@@ -528,7 +530,9 @@ fn soft_rods_hold_their_length_better_than_the_papers() {
         let mut world = world_on(kind);
         let gravity = Vec3::new(0.0, -G, 0.0);
         let mut add = |position: Vec3, velocity: Vec3| {
-            world.add_particle(ParticleDesc { acceleration: gravity, ..particle(position, velocity, 1.0) }).unwrap()
+            world
+                .add_particle(ParticleDesc { acceleration: gravity, ..particle(position, velocity, 1.0) })
+                .unwrap()
         };
         let a = add(Vec3::new(1.5, 5.0, 0.0), Vec3::new(0.0, 0.0, 4.0));
         let b = add(Vec3::new(3.0, 5.0, 0.0), Vec3::new(2.0, 3.0, 0.0));

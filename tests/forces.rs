@@ -305,7 +305,11 @@ fn linear_drag_decay_follows_the_exponential() {
     for dt in [1.0 / 240.0, 1.0 / 30.0] {
         let mut world = World::new();
         let id = world
-            .add_particle(ParticleDesc { mass: 0.5, velocity: Vec3::new(4.0, 0.0, 0.0), ..ParticleDesc::default() })
+            .add_particle(ParticleDesc {
+                mass: 0.5,
+                velocity: Vec3::new(4.0, 0.0, 0.0),
+                ..ParticleDesc::default()
+            })
             .unwrap();
         world.add_force(Drag { k1: 1.5, k2: 0.0, targets: vec![id] });
         for step in 1..=30 {

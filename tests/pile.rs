@@ -122,7 +122,12 @@ fn column_of_ten_spheres_stays_a_column() {
         })
         .collect();
     for &position in &start {
-        let desc = ParticleDesc { position, radius: 0.5, acceleration: Vec3::new(0.0, -9.81, 0.0), ..ParticleDesc::default() };
+        let desc = ParticleDesc {
+            position,
+            radius: 0.5,
+            acceleration: Vec3::new(0.0, -9.81, 0.0),
+            ..ParticleDesc::default()
+        };
         world.add_particle(desc).unwrap();
     }
     for step in 1..=3600 {
@@ -131,7 +136,12 @@ fn column_of_ten_spheres_stays_a_column() {
             for (i, (p, s)) in world.particles.position.iter().zip(&start).enumerate() {
                 let drift = Vec3::new(p.x - s.x, 0.0, p.z - s.z).length();
                 assert!(drift <= 1e-3, "step {step}: sphere {i} drifted {drift} m sideways");
-                assert!((p.y - s.y).abs() < 0.01, "step {step}: sphere {i} at height {} (started {})", p.y, s.y);
+                assert!(
+                    (p.y - s.y).abs() < 0.01,
+                    "step {step}: sphere {i} at height {} (started {})",
+                    p.y,
+                    s.y
+                );
             }
         }
     }
@@ -195,7 +205,12 @@ fn probe_pile() {
     for (i, q) in history.iter().enumerate() {
         println!("t={:>3}s {:?}", i + 1, q);
     }
-    println!("{:?} wall {:?} contacts {}", scene.world().profile(), started.elapsed(), scene.world().contact_count());
+    println!(
+        "{:?} wall {:?} contacts {}",
+        scene.world().profile(),
+        started.elapsed(),
+        scene.world().contact_count()
+    );
 }
 
 #[test]
@@ -213,7 +228,13 @@ fn probe_big() {
         scene.step(dt).unwrap();
         if step % 30 == 0 {
             let q = pile::quality(scene.world(), width);
-            println!("step {step} {:.1} ms {:?} contacts {} {:?}", t.elapsed().as_secs_f32() * 1e3, scene.world().profile(), scene.world().contact_count(), q);
+            println!(
+                "step {step} {:.1} ms {:?} contacts {} {:?}",
+                t.elapsed().as_secs_f32() * 1e3,
+                scene.world().profile(),
+                scene.world().contact_count(),
+                q
+            );
         }
     }
 }
@@ -231,6 +252,10 @@ fn probe_broad_phase() {
         for _ in 0..50 {
             grid.find_pairs(&p.position, &reach, &mut pairs);
         }
-        println!("round {round}: {:.1} ns per particle, {} pairs", t.elapsed().as_secs_f64() * 1e9 / 50.0 / 8000.0, pairs.len());
+        println!(
+            "round {round}: {:.1} ns per particle, {} pairs",
+            t.elapsed().as_secs_f64() * 1e9 / 50.0 / 8000.0,
+            pairs.len()
+        );
     }
 }

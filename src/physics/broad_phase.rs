@@ -141,9 +141,11 @@ impl BroadPhase {
         };
         let (pairs, scratch) = (&mut self.chunk_pairs[..chunks], &mut self.chunk_scratch[..chunks]);
         if n >= PARALLEL_FROM {
-            pairs.par_iter_mut().zip(scratch.par_iter_mut()).enumerate().for_each(|(chunk, (pairs, scratch))| {
-                grid.search_chunk(chunk, pairs, scratch);
-            });
+            pairs.par_iter_mut().zip(scratch.par_iter_mut()).enumerate().for_each(
+                |(chunk, (pairs, scratch))| {
+                    grid.search_chunk(chunk, pairs, scratch);
+                },
+            );
         } else {
             for (chunk, (pairs, scratch)) in pairs.iter_mut().zip(scratch.iter_mut()).enumerate() {
                 grid.search_chunk(chunk, pairs, scratch);
@@ -199,20 +201,25 @@ impl BroadPhase {
             .then(|| (low, [cells.x as i32, cells.y as i32, cells.z as i32]));
 
         self.cell_keys.clear();
-        let buckets = match self.dense {
-            Some((origin, dims)) => {
-                self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
-                    if in_grid(r) { dense_index(dense_cell(*p, origin, inverse_cell, dims), dims) } else { NOT_IN_GRID }
-                }));
-                (dims[0] * dims[1] * dims[2]) as usize
-            }
-            None => {
-                self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
-                    if in_grid(r) { pack(cell_of(*p, inverse_cell)) } else { NOT_IN_GRID }
-                }));
-                (2 * n).next_power_of_two().max(64)
-            }
-        };
+        let buckets =
+            match self.dense {
+                Some((origin, dims)) => {
+                    self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
+                        if in_grid(r) {
+                            dense_index(dense_cell(*p, origin, inverse_cell, dims), dims)
+                        } else {
+                            NOT_IN_GRID
+                        }
+                    }));
+                    (dims[0] * dims[1] * dims[2]) as usize
+                }
+                None => {
+                    self.cell_keys.extend(positions.iter().zip(reach).map(|(p, &r)| {
+                        if in_grid(r) { pack(cell_of(*p, inverse_cell)) } else { NOT_IN_GRID }
+                    }));
+                    (2 * n).next_power_of_two().max(64)
+                }
+            };
         // The bucket of a key: the cell index itself when dense, its hash otherwise.
         let bits = if self.dense.is_some() { 0 } else { buckets.trailing_zeros() };
         let bucket = |key: u64| if bits == 0 { key as usize } else { bucket(key, bits) };
@@ -300,11 +307,14 @@ impl GridView<'_> {
                 for cz in (z - 1).max(0)..=(z + 1).min(dims[2] - 1) {
                     for cy in (y - 1).max(0)..=(y + 1).min(dims[1] - 1) {
                         let row = (cy + dims[1] * cz) * dims[0];
-                        let run = self.starts[(row + x0) as usize] as usize..self.starts[(row + x1 + 1) as usize] as usize;
+                        let run = self.starts[(row + x0) as usize] as usize
+                            ..self.starts[(row + x1 + 1) as usize] as usize;
                         for (&b, sphere) in self.entries[run.clone()].iter().zip(&self.entry_spheres[run]) {
                             // Every grid entry has a usable reach: test it from the copy.
                             let reach = ra + sphere.w;
-                            if (pa - sphere.truncate()).length_squared() < reach * reach && second(a, b as usize) {
+                            if (pa - sphere.truncate()).length_squared() < reach * reach
+                                && second(a, b as usize)
+                            {
                                 partners.push(b);
                             }
                         }
@@ -319,7 +329,9 @@ impl GridView<'_> {
                             let key = pack([x + dx, y + dy, z + dz]);
                             let bucket = bucket(key, bits);
                             let range = self.starts[bucket] as usize..self.starts[bucket + 1] as usize;
-                            for (&b, &entry_key) in self.entries[range.clone()].iter().zip(&self.entry_keys[range]) {
+                            for (&b, &entry_key) in
+                                self.entries[range.clone()].iter().zip(&self.entry_keys[range])
+                            {
                                 if entry_key == key {
                                     consider(b as usize, partners);
                                 }

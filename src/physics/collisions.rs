@@ -66,10 +66,14 @@ impl Plane {
 /// Checks a restitution and friction pair.
 pub(crate) fn check_surface(restitution: f32, friction: f32) -> Result<(), PhysicsError> {
     if !(0.0..=1.0).contains(&restitution) {
-        return Err(PhysicsError::InvalidSetting(format!("restitution must be in [0, 1], got {restitution}")));
+        return Err(PhysicsError::InvalidSetting(format!(
+            "restitution must be in [0, 1], got {restitution}"
+        )));
     }
     if !(friction >= 0.0 && friction.is_finite()) {
-        return Err(PhysicsError::InvalidSetting(format!("friction must be finite and >= 0, got {friction}")));
+        return Err(PhysicsError::InvalidSetting(format!(
+            "friction must be finite and >= 0, got {friction}"
+        )));
     }
     Ok(())
 }

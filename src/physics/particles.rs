@@ -381,7 +381,11 @@ impl Particles {
             let inputs = self.velocity.par_iter().zip(&self.inverse_mass);
             self.position.par_iter_mut().zip(delta).zip(inputs).with_min_len(4096).for_each(drift);
         } else {
-            self.position.iter_mut().zip(delta).zip(self.velocity.iter().zip(&self.inverse_mass)).for_each(drift);
+            self.position
+                .iter_mut()
+                .zip(delta)
+                .zip(self.velocity.iter().zip(&self.inverse_mass))
+                .for_each(drift);
         }
     }
 

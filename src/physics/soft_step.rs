@@ -33,7 +33,7 @@ use super::collisions::{ContactGenerator, Plane, Scratch, SphereCollisions};
 use super::forces::ForceRegistry;
 use super::links::{Constraint, LinkEnd, direction_or_zero};
 use super::particles::{AWAKE, Particles, Sleep};
-use super::solver::{SolverSettings, Softness};
+use super::solver::{Softness, SolverSettings};
 use super::world::{ContactGeneratorId, Profile};
 
 /// "No second particle" (a plane contact, or a link to an anchor).
@@ -373,9 +373,13 @@ impl SoftStep {
     ) {
         // How far each particle can move this step, plus the fixed margin.
         self.margin.clear();
-        self.margin.extend(particles.velocity.iter().zip(&particles.acceleration).map(|(v, a)| {
-            settings.speculative_distance + (v.length() + a.length() * dt) * dt
-        }));
+        self.margin.extend(
+            particles
+                .velocity
+                .iter()
+                .zip(&particles.acceleration)
+                .map(|(v, a)| settings.speculative_distance + (v.length() + a.length() * dt) * dt),
+        );
         self.fresh.clear();
         self.fresh_keys.clear();
         self.fresh_groups.clear();
@@ -385,7 +389,8 @@ impl SoftStep {
         self.asleep.extend(particles.sleep.iter().map(|s| s.island != AWAKE));
         let any_asleep = self.asleep.contains(&true);
         // With every sphere asleep there is nobody to query the grid: skip building it.
-        let any_awake_sphere = particles.radius.iter().zip(&self.asleep).any(|(&r, &asleep)| r > 0.0 && !asleep);
+        let any_awake_sphere =
+            particles.radius.iter().zip(&self.asleep).any(|(&r, &asleep)| r > 0.0 && !asleep);
         profile.broad_phase_ms = 0.0;
         let started = Instant::now();
         for (source, (id, generator)) in generators.iter().enumerate() {
@@ -396,11 +401,20 @@ impl SoftStep {
                 ContactGenerator::Spheres(spheres) => {
                     let broad = Instant::now();
                     scratch.reach.clear();
-                    scratch.reach.extend(particles.radius.iter().zip(&self.margin).map(|(&r, &m)| {
-                        if r > 0.0 { r + m } else { 0.0 }
-                    }));
+                    scratch.reach.extend(
+                        particles.radius.iter().zip(&self.margin).map(
+                            |(&r, &m)| {
+                                if r > 0.0 { r + m } else { 0.0 }
+                            },
+                        ),
+                    );
                     let asleep = any_asleep.then_some(self.asleep.as_slice());
-                    broad_phase.find_pairs_awake(&particles.position, &scratch.reach, asleep, &mut scratch.pairs);
+                    broad_phase.find_pairs_awake(
+                        &particles.position,
+                        &scratch.reach,
+                        asleep,
+                        &mut scratch.pairs,
+                    );
                     profile.broad_phase_ms += ms(broad.elapsed());
                     self.collide_spheres(spheres, particles, &scratch.pairs);
                 }
@@ -416,7 +430,9 @@ impl SoftStep {
     fn collide_plane(&mut self, plane: &Plane, particles: &Particles) {
         let positions = particles.position.iter().zip(&particles.radius);
         let bodies = particles.inverse_mass.iter().zip(&particles.velocity).zip(&self.margin);
-        for (i, (((&p, &r), ((&w, &v), &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
+        for (i, (((&p, &r), ((&w, &v), &margin)), &asleep)) in
+            positions.zip(bodies).zip(&self.asleep).enumerate()
+        {
             let separation = plane.distance(p) - r;
             if w > 0.0 && !asleep && separation < margin {
                 self.fresh_keys.push(key(i as u32, NONE));
@@ -436,7 +452,8 @@ impl SoftStep {
     }
 
     fn collide_spheres(&mut self, spheres: &SphereCollisions, particles: &Particles, pairs: &[(u32, u32)]) {
-        let (p, w, v, r) = (&particles.position, &particles.inverse_mass, &particles.velocity, &particles.radius);
+        let (p, w, v, r) =
+            (&particles.position, &particles.inverse_mass, &particles.velocity, &particles.radius);
         for &(a, b) in pairs {
             let (i, j) = (a as usize, b as usize);
             let total = w[i] + w[j];
@@ -487,7 +504,9 @@ impl SoftStep {
             (true, false) if b != NONE && particles.inverse_mass[b as usize] > 0.0 => {
                 self.to_wake.push(particles.sleep[a].island);
             }
-            (false, true) if particles.inverse_mass[a] > 0.0 => self.to_wake.push(particles.sleep[b as usize].island),
+            (false, true) if particles.inverse_mass[a] > 0.0 => {
+                self.to_wake.push(particles.sleep[b as usize].island)
+            }
             (true, false) => return, // asleep on an anchor or an immovable particle
             _ => {}
         }
@@ -594,7 +613,6 @@ impl SoftStep {
         for_each_contact(&mut self.contacts, &self.color_starts, f);
     }
 
-
     fn warm_start(&mut self, particles: &mut Particles) {
         let velocities = SharedVelocities::new(&mut particles.velocity);
         let w = &particles.inverse_mass;
@@ -618,7 +636,9 @@ impl SoftStep {
     fn solve(&mut self, particles: &mut Particles, contacts: Context, joints: Context) {
         let velocities = SharedVelocities::new(&mut particles.velocity);
         let (w, delta) = (&particles.inverse_mass, &self.delta);
-        for_each_contact(&mut self.contacts, &self.color_starts, |c| solve_contact(c, velocities, w, delta, contacts));
+        for_each_contact(&mut self.contacts, &self.color_starts, |c| {
+            solve_contact(c, velocities, w, delta, contacts)
+        });
         for link in &mut self.links {
             link.solve(&particles.position, &mut particles.velocity, w, joints);
         }
@@ -748,7 +768,11 @@ impl SoftLink {
 
 /// Runs `f` on every contact, colour by colour; a large colour is split across threads
 /// (its contacts share no movable particle, so the order within it does not matter).
-fn for_each_contact(contacts: &mut [SoftContact], starts: &[usize; COLORS + 2], f: impl Fn(&mut SoftContact) + Sync) {
+fn for_each_contact(
+    contacts: &mut [SoftContact],
+    starts: &[usize; COLORS + 2],
+    f: impl Fn(&mut SoftContact) + Sync,
+) {
     for color in 0..=COLORS {
         let slice = &mut contacts[starts[color]..starts[color + 1]];
         if color != OVERFLOW && slice.len() >= PARALLEL_CONTACTS {
@@ -799,7 +823,13 @@ fn apply(velocities: SharedVelocities, w: &[f32], a: u32, b: u32, impulse: Vec3)
 /// `μ` times it (a disc, since a particle's tangent plane has two directions). Both
 /// velocities are read once and written once.
 #[inline]
-fn solve_contact(c: &mut SoftContact, velocities: SharedVelocities, w: &[f32], delta: &[Vec3], context: Context) {
+fn solve_contact(
+    c: &mut SoftContact,
+    velocities: SharedVelocities,
+    w: &[f32],
+    delta: &[Vec3],
+    context: Context,
+) {
     let (a, b) = (c.a as usize, c.b as usize);
     let has_b = c.b != NONE;
     let wa = w[a];

@@ -118,7 +118,9 @@ impl SolverSettings {
     /// Checks every field; the error names the first that is out of range.
     pub fn validate(&self) -> Result<(), PhysicsError> {
         let bad = |field: &str, value: f32, range: &str| {
-            Err(PhysicsError::InvalidSetting(format!("solver {field} = {value} is out of range; valid range: {range}")))
+            Err(PhysicsError::InvalidSetting(format!(
+                "solver {field} = {value} is out of range; valid range: {range}"
+            )))
         };
         if !SUBSTEP_RANGE.contains(&self.substeps) {
             return bad("substeps", self.substeps as f32, "1 to 64");

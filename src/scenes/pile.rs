@@ -65,7 +65,8 @@ fn build_world(params: &ParamValues) -> World {
         (Vec3::NEG_Z, Vec3::new(0.0, 0.0, half)),
     ];
     for (normal, point) in walls {
-        let plane = Plane::new(normal, point, restitution, friction).expect("parameter ranges keep planes valid");
+        let plane =
+            Plane::new(normal, point, restitution, friction).expect("parameter ranges keep planes valid");
         world.add_contact_generator(plane);
     }
     world.add_contact_generator(SphereCollisions { restitution, friction });
