@@ -76,19 +76,6 @@ impl BroadPhase {
         Self::default()
     }
 
-    /// Cell edge used by the last [`BroadPhase::find_pairs`] (m); 0 before any.
-    #[must_use]
-    pub fn cell_size(&self) -> f32 {
-        self.cell_size
-    }
-
-    /// Spheres the last search kept out of the grid because they are much larger than
-    /// the rest.
-    #[must_use]
-    pub fn oversized_count(&self) -> usize {
-        self.oversized.len()
-    }
-
     /// Writes into `out` (cleared first) every pair `(a, b)`, `a < b`, whose centres are
     /// closer than `reach[a] + reach[b]`, sorted by `a` then `b`. A particle with a reach
     /// of 0 or less (or not finite) takes part in no pair.
@@ -198,7 +185,7 @@ impl BroadPhase {
         let cells = ((high - low) * inverse_cell).floor() + Vec3::ONE; // once per build
         let dense_cells = f64::from(cells.x) * f64::from(cells.y) * f64::from(cells.z);
         self.dense = (cells.is_finite() && dense_cells <= (4 * n).max(64) as f64)
-            .then(|| (low, [cells.x as i32, cells.y as i32, cells.z as i32]));
+            .then_some((low, [cells.x as i32, cells.y as i32, cells.z as i32]));
 
         self.cell_keys.clear();
         let buckets =

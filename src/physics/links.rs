@@ -148,12 +148,6 @@ impl Constraint {
 }
 
 impl Constraint {
-    /// True for a link to a fixed anchor.
-    #[must_use]
-    pub fn is_support(&self) -> bool {
-        matches!(self.b, LinkEnd::Anchor(_))
-    }
-
     /// Emits the paper resolver's contact when the link is too long (or, for a rod, too
     /// short). `source` is this link's generator index, kept for its tension.
     pub fn generate(&self, particles: &Particles, source: u32, out: &mut Vec<Contact>) {

@@ -149,8 +149,6 @@ pub struct SoftReport {
     pub contacts: usize,
     /// Largest overlap left at the end of the step (m), from the contacts.
     pub max_penetration: f32,
-    /// Colours the contacts needed (the last one is solved in order).
-    pub colors: usize,
     /// Particles asleep after the step.
     pub asleep: usize,
 }
@@ -207,12 +205,6 @@ impl SoftStep {
         self.warm.clear();
         self.warm_groups.clear();
         self.warm_links.clear();
-    }
-
-    /// Contacts of the last step, in colour order.
-    #[must_use]
-    pub fn contacts(&self) -> &[SoftContact] {
-        &self.contacts
     }
 
     /// Advances the particles by `dt`: the whole soft step. `link_tension` receives the
@@ -279,7 +271,7 @@ impl SoftStep {
         profile.solve_ms = ms(solved - collided);
         profile.total_ms = ms(solved - started);
         let asleep = if settings.sleep { particles.asleep_count() } else { 0 };
-        SoftReport { contacts: self.contacts.len(), max_penetration, colors: self.color_count(), asleep }
+        SoftReport { contacts: self.contacts.len(), max_penetration, asleep }
     }
 
     /// Wakes the islands of sleeping particles that were moved or pushed from outside
@@ -602,10 +594,6 @@ impl SoftStep {
             self.contacts[*slot] = SoftContact { origin: origin as u32, ..*contact };
             *slot += 1;
         }
-    }
-
-    fn color_count(&self) -> usize {
-        (0..=COLORS).filter(|&c| self.color_starts[c + 1] > self.color_starts[c]).count()
     }
 
     /// Runs `f` on every contact, colour by colour; large colours across threads.

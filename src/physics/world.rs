@@ -124,11 +124,6 @@ impl World {
         before != self.contact_generators.len()
     }
 
-    /// The contact generators, in the order they run.
-    pub fn contact_generators(&self) -> impl Iterator<Item = &ContactGenerator> {
-        self.contact_generators.iter().map(|(_, g)| g)
-    }
-
     /// The solver and its settings.
     #[must_use]
     pub fn solver(&self) -> &SolverSettings {

@@ -15,7 +15,7 @@ const GRID_GAP: f32 = 0.25;
 /// Largest random offset of a starting position, as a fraction of the radius.
 const JITTER: f32 = 0.2;
 /// Seed of the starting jitter.
-const SEED: u64 = 0x5EED_0F_91_1E;
+const SEED: u64 = 0x005E_ED0F_911E;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
