@@ -12,12 +12,12 @@
 //! 2. **Colour** the contacts so that no two of one colour share a movable particle;
 //!    a colour is then solved in parallel with the same result as in order.
 //! 3. **Substeps**, `n` of them, each of `h = dt / n`: apply force generators (springs
-//!    too) and integrate velocities; warm start; solve every contact and link with soft
-//!    position feedback; integrate positions; relax (solve again without feedback, so
-//!    pushing overlaps apart adds no energy).
-//! 4. **Restitution** once, from the closing speed each contact had before anything
-//!    moved: contacts that closed faster than a threshold leave at `e` times it.
-//! 5. **Store** impulses for the next step's warm start.
+//!    too) and integrate velocities; bounce the pairs that meet within the substep
+//!    (the impact stage, one pair at a time, so a blow passes down a row of balls);
+//!    warm start; solve every contact and link with soft position feedback; integrate
+//!    positions; relax (solve again without feedback, so pushing overlaps apart adds
+//!    no energy).
+//! 4. **Store** impulses for the next step's warm start.
 //!
 //! A contact's separation during the substeps is its start separation plus how far its
 //! two particles have moved along the normal since, so contacts are found once a step.
@@ -44,6 +44,10 @@ pub const NONE: u32 = u32::MAX;
 const COLORS: usize = 24;
 const OVERFLOW: usize = COLORS;
 
+/// Most passes of the impact stage over its pairs in one substep; a row of `n` touching
+/// balls with `k` arriving needs about `k + 1`.
+const MAX_IMPACT_SWEEPS: usize = 32;
+
 /// A colour with at least this many contacts is split across threads.
 const PARALLEL_CONTACTS: usize = 2048;
 /// Contacts per parallel task.
@@ -69,13 +73,8 @@ pub struct SoftContact {
     pub friction: f32,
     /// Effective mass along any direction, `1 / (1/m_a + 1/m_b)` (kg).
     pub mass: f32,
-    /// Separating speed at the start of the step (m/s), negative when closing.
-    pub relative_velocity: f32,
     /// Normal impulse of the current substep (N·s), >= 0.
     pub normal_impulse: f32,
-    /// Largest normal impulse applied in the step: restitution only acts on a contact
-    /// that actually pushed.
-    pub max_normal_impulse: f32,
     /// Friction impulse of the current substep (N·s), in the tangent plane.
     pub tangent_impulse: Vec3,
     /// Index in generation order, for storing the warm start.
@@ -92,10 +91,24 @@ struct SoftLink {
     rigid: bool,
     restitution: f32,
     mass: f32,
-    relative_velocity: f32,
     impulse: f32,
-    max_impulse: f32,
     generator: u32,
+}
+
+/// A contact or cable that may bounce within the current substep, as the impact stage
+/// sees it. Positions do not move during the stage, so the normal and gap are fixed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Impact {
+    a: u32,
+    b: u32,
+    /// Unit normal, pointing the way `a` is pushed.
+    normal: Vec3,
+    /// Gap at the start of the substep (m); negative is overlap.
+    gap: f32,
+    restitution: f32,
+    mass: f32,
+    /// How fast forces alone made the closing speed grow this substep (m/s²).
+    closing_acceleration: f32,
 }
 
 /// What the soft solver keeps of a contact for the next step.
@@ -133,6 +146,10 @@ pub struct SoftStep {
     delta: Vec<Vec3>,
     /// Speculative margin of each particle (m).
     margin: Vec<f32>,
+    /// Contacts and cables with restitution this step, refreshed every substep.
+    impacts: Vec<Impact>,
+    /// Velocities at the start of the substep, kept while anything can bounce.
+    substep_velocity: Vec<Vec3>,
     /// Per particle: asleep at the start of this collide pass.
     asleep: Vec<bool>,
     /// Labels of sleeping islands to wake.
@@ -252,16 +269,23 @@ impl SoftStep {
         self.delta.resize(particles.len(), Vec3::ZERO);
         particles.prepare_damping(h);
         let parallel = particles.len() >= PARALLEL_PARTICLES;
+        let bouncy = self.contacts.iter().any(|c| c.restitution > 0.0)
+            || self.links.iter().any(|l| !l.rigid && l.restitution > 0.0);
         for _ in 0..substeps {
             particles.clear_forces();
             forces.apply(particles, h);
+            if bouncy {
+                self.substep_velocity.clone_from(&particles.velocity);
+            }
             particles.integrate_velocities(h, parallel);
+            if bouncy {
+                self.impacts(particles, h, settings.restitution_threshold);
+            }
             self.warm_start(particles);
             self.solve(particles, contact_context, joint_context);
             particles.integrate_positions(h, &mut self.delta, parallel);
             self.solve(particles, relax, relax);
         }
-        self.restitution(particles, settings.restitution_threshold);
         self.store(h, link_tension);
         let max_penetration = self.deepest_overlap();
         if settings.sleep {
@@ -287,7 +311,7 @@ impl SoftStep {
         wake(particles, &mut self.to_wake);
     }
 
-    /// Stage 6: islands whose every particle has been slow for `sleep_time` fall
+    /// Stage 5: islands whose every particle has been slow for `sleep_time` fall
     /// asleep. An island is the particles joined by touching contacts and links
     /// (immovable particles and planes join nothing).
     fn fall_asleep(&mut self, particles: &mut Particles, settings: &SolverSettings, dt: f32) {
@@ -421,10 +445,8 @@ impl SoftStep {
 
     fn collide_plane(&mut self, plane: &Plane, particles: &Particles) {
         let positions = particles.position.iter().zip(&particles.radius);
-        let bodies = particles.inverse_mass.iter().zip(&particles.velocity).zip(&self.margin);
-        for (i, (((&p, &r), ((&w, &v), &margin)), &asleep)) in
-            positions.zip(bodies).zip(&self.asleep).enumerate()
-        {
+        let bodies = particles.inverse_mass.iter().zip(&self.margin);
+        for (i, (((&p, &r), (&w, &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
             let separation = plane.distance(p) - r;
             if w > 0.0 && !asleep && separation < margin {
                 self.fresh_keys.push(key(i as u32, NONE));
@@ -436,7 +458,6 @@ impl SoftStep {
                     restitution: plane.restitution,
                     friction: plane.friction,
                     mass: 1.0 / w,
-                    relative_velocity: v.dot(plane.normal),
                     ..SoftContact::default()
                 });
             }
@@ -444,8 +465,7 @@ impl SoftStep {
     }
 
     fn collide_spheres(&mut self, spheres: &SphereCollisions, particles: &Particles, pairs: &[(u32, u32)]) {
-        let (p, w, v, r) =
-            (&particles.position, &particles.inverse_mass, &particles.velocity, &particles.radius);
+        let (p, w, r) = (&particles.position, &particles.inverse_mass, &particles.radius);
         for &(a, b) in pairs {
             let (i, j) = (a as usize, b as usize);
             let total = w[i] + w[j];
@@ -471,7 +491,6 @@ impl SoftStep {
                 restitution: spheres.restitution,
                 friction: spheres.friction,
                 mass: 1.0 / total,
-                relative_velocity: (v[i] - v[j]).dot(normal),
                 ..SoftContact::default()
             });
         }
@@ -502,7 +521,7 @@ impl SoftStep {
             (true, false) => return, // asleep on an anchor or an immovable particle
             _ => {}
         }
-        let mut soft = SoftLink {
+        self.links.push(SoftLink {
             a: a as u32,
             b,
             anchor,
@@ -510,15 +529,9 @@ impl SoftStep {
             rigid: link.rigid,
             restitution: link.restitution,
             mass: 1.0 / w,
-            relative_velocity: 0.0,
             impulse: 0.0,
-            max_impulse: 0.0,
             generator,
-        };
-        let (_, _, vrel) = soft.geometry(&particles.position, |i| particles.velocity[i]);
-        // As a cable pulls along -u, its separating speed is the shortening speed.
-        soft.relative_velocity = -vrel;
-        self.links.push(soft);
+        });
     }
 
     /// Copies last step's impulses into this step's matching contacts and links.
@@ -632,43 +645,89 @@ impl SoftStep {
         }
     }
 
-    /// Stage 4: bounce contacts that were closing fast and actually pushed.
-    fn restitution(&mut self, particles: &mut Particles, threshold: f32) {
-        let velocities = SharedVelocities::new(&mut particles.velocity);
-        let w = &particles.inverse_mass;
-        self.for_each_contact(|c| {
-            if c.restitution == 0.0 || c.relative_velocity > -threshold || c.max_normal_impulse == 0.0 {
-                return;
-            }
-            let vn = relative(velocities, c.a, c.b).dot(c.normal);
-            let impulse = -c.mass * (vn + c.restitution * c.relative_velocity);
-            let total = (c.normal_impulse + impulse).max(0.0);
-            let applied = total - c.normal_impulse;
-            c.normal_impulse = total;
-            apply(velocities, w, c.a, c.b, c.normal * applied);
-        });
-        for link in &mut self.links {
-            if link.rigid
-                || link.restitution == 0.0
-                || link.relative_velocity > -threshold
-                || link.max_impulse == 0.0
-            {
+    /// The impact stage of a substep, between integrating velocities and the solve:
+    /// every contact and cable with restitution that closes faster than `threshold` and
+    /// would meet within the substep bounces, one pair at a time, in generation order,
+    /// sweeping until none is left closing. One pair at a time is what passes a blow
+    /// down a row of touching balls (Newton's cradle) instead of sharing it out.
+    ///
+    /// The bounce is exact for the integrator. Semi-implicit Euler in steps of `h`
+    /// under a constant closing acceleration `a` keeps `a·gap + c²/2 - a·h·c/2` for the
+    /// closing speed `c` it moved with (its "shadow" energy, see `PHYSICS.md`); the
+    /// bounce leaves with the speed whose shadow energy is `e²` times the one it came
+    /// with, so a ball dropped on the ground returns to `e²` of its height at any step.
+    fn impacts(&mut self, particles: &mut Particles, h: f32, threshold: f32) {
+        let (v, v0, w) = (&particles.velocity, &self.substep_velocity, &particles.inverse_mass);
+        let closing = |a: u32, b: u32, n: Vec3, v: &[Vec3]| {
+            let vb = if b == NONE { Vec3::ZERO } else { v[b as usize] };
+            -(v[a as usize] - vb).dot(n)
+        };
+        self.impacts.clear();
+        // Generation order (by generator, then by pair), so the result is the same
+        // however the contacts were coloured.
+        for c in &self.fresh {
+            if c.restitution == 0.0 {
                 continue;
             }
-            let velocities = &mut particles.velocity;
-            let (u, _, vrel) = link.geometry(&particles.position, |i| velocities[i]);
-            let impulse = -link.mass * (-vrel + link.restitution * link.relative_velocity);
-            let total = (link.impulse + impulse).max(0.0);
-            let applied = total - link.impulse;
-            link.impulse = total;
-            velocities[link.a as usize] -= u * (applied * w[link.a as usize]);
-            if link.b != NONE {
-                velocities[link.b as usize] += u * (applied * w[link.b as usize]);
+            let moved = if c.b == NONE {
+                self.delta[c.a as usize]
+            } else {
+                self.delta[c.a as usize] - self.delta[c.b as usize]
+            };
+            let acceleration = (closing(c.a, c.b, c.normal, v) - closing(c.a, c.b, c.normal, v0)) / h;
+            self.impacts.push(Impact {
+                a: c.a,
+                b: c.b,
+                normal: c.normal,
+                gap: c.separation + moved.dot(c.normal),
+                restitution: c.restitution,
+                mass: c.mass,
+                closing_acceleration: acceleration,
+            });
+        }
+        for link in &self.links {
+            if link.rigid || link.restitution == 0.0 {
+                continue;
+            }
+            // A cable is a contact whose normal is -u and whose gap is the slack.
+            let (u, length, _) = link.geometry(&particles.position, |i| v[i]);
+            let acceleration = (closing(link.a, link.b, -u, v) - closing(link.a, link.b, -u, v0)) / h;
+            self.impacts.push(Impact {
+                a: link.a,
+                b: link.b,
+                normal: -u,
+                gap: link.length - length,
+                restitution: link.restitution,
+                mass: link.mass,
+                closing_acceleration: acceleration,
+            });
+        }
+        if self.impacts.is_empty() {
+            return;
+        }
+        let v = &mut particles.velocity;
+        for _ in 0..MAX_IMPACT_SWEEPS {
+            let mut bounced = false;
+            for impact in &self.impacts {
+                let c = closing(impact.a, impact.b, impact.normal, v);
+                if c <= threshold || impact.gap >= c * h {
+                    continue;
+                }
+                let leaving = impact.leaving_speed(c, h);
+                let p = impact.normal * (impact.mass * (leaving + c));
+                v[impact.a as usize] += p * w[impact.a as usize];
+                if impact.b != NONE {
+                    v[impact.b as usize] -= p * w[impact.b as usize];
+                }
+                bounced = true;
+            }
+            if !bounced {
+                break;
             }
         }
     }
 
-    /// Stage 5: keep impulses for the next step; report link tensions.
+    /// Stage 4: keep impulses for the next step; report link tensions.
     fn store(&mut self, h: f32, link_tension: &mut [f32]) {
         self.warm.clear();
         self.warm.resize(self.fresh.len(), Warm::default());
@@ -709,6 +768,21 @@ impl SoftStep {
     }
 }
 
+impl Impact {
+    /// Separating speed after the bounce of a pair closing at `c` (m/s); see
+    /// [`SoftStep::impacts`]. The pair then moves off from `gap` this substep.
+    fn leaving_speed(&self, c: f32, h: f32) -> f32 {
+        let (a, e, gap) = (self.closing_acceleration, self.restitution, self.gap.max(0.0));
+        // Shadow energy per unit effective mass on the way in, measured from contact.
+        let arriving = a * gap + 0.5 * c * c - 0.5 * a * h * c;
+        // On the way out the pair starts at `gap` and moves with the new speed `u` this
+        // substep: its shadow energy is a·gap + u²/2 + a·h·u/2.
+        let kinetic = (e * e * arriving - a * gap).max(0.0);
+        let half = 0.5 * a * h;
+        -half + (half * half + 2.0 * kinetic).sqrt()
+    }
+}
+
 impl SoftLink {
     /// Direction from the far end to `a` (unit), length, and the rate the length grows.
     fn geometry(&self, positions: &[Vec3], velocity: impl Fn(usize) -> Vec3) -> (Vec3, f32, f32) {
@@ -739,12 +813,14 @@ impl SoftLink {
         } else {
             // A cable is a contact whose normal is -u and whose gap is the slack.
             let slack = self.length - length;
+            if !context.use_bias && slack > 0.0 && self.impulse == 0.0 {
+                return; // slack and not pulling: as for a contact, see `solve_contact`
+            }
             let (bias, mass_scale, impulse_scale) = contact_terms(slack, context);
             let impulse = -self.mass * mass_scale * (-vrel + bias) - impulse_scale * self.impulse;
             let total = (self.impulse + impulse).max(0.0);
             let applied = total - self.impulse;
             self.impulse = total;
-            self.max_impulse = self.max_impulse.max(applied);
             -applied
         };
         velocities[self.a as usize] += u * (applied * w[self.a as usize]);
@@ -786,12 +862,6 @@ fn contact_terms(s: f32, context: Context) -> (f32, f32, f32) {
     }
 }
 
-#[inline]
-fn relative(velocities: SharedVelocities, a: u32, b: u32) -> Vec3 {
-    let va = velocities.get(a as usize);
-    if b == NONE { va } else { va - velocities.get(b as usize) }
-}
-
 /// Adds `impulse` to `a` and its opposite to `b`, each divided by its mass.
 #[inline]
 fn apply(velocities: SharedVelocities, w: &[f32], a: u32, b: u32, impulse: Vec3) {
@@ -826,13 +896,18 @@ fn solve_contact(
     let mut vb = if has_b { velocities.get(b) } else { Vec3::ZERO };
     let moved = if has_b { delta[a] - delta[b] } else { delta[a] };
     let s = c.separation + moved.dot(c.normal);
+    if !context.use_bias && s > 0.0 && c.normal_impulse == 0.0 {
+        // Relaxing a contact that has not touched: leave its closing speed alone. The
+        // next substep's solve still stops it at the surface, and the impact stage
+        // needs the speed it really arrives with to bounce it.
+        return;
+    }
     let (bias, mass_scale, impulse_scale) = contact_terms(s, context);
     let vn = (va - vb).dot(c.normal);
     let impulse = -c.mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
     let total = (c.normal_impulse + impulse).max(0.0);
     let applied = total - c.normal_impulse;
     c.normal_impulse = total;
-    c.max_normal_impulse = c.max_normal_impulse.max(applied);
     let mut p = c.normal * applied;
 
     if c.friction > 0.0 {
