@@ -188,7 +188,7 @@ impl Engine for Lab {
 
     fn state(&self) -> (Vec<Vec3>, Vec<Vec3>) {
         let p = &self.scene.world().particles;
-        (p.position.clone(), p.velocity.clone())
+        (p.positions().to_vec(), p.velocities().to_vec())
     }
 
     fn asleep(&self) -> usize {

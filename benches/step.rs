@@ -43,12 +43,12 @@ fn step(c: &mut Criterion) {
     // damping factor, and writes position, velocity and force: copy those same arrays.
     let p = &w.particles;
     let source = (
-        p.position.clone(),
-        p.velocity.clone(),
-        p.acceleration.clone(),
-        p.force.clone(),
-        p.inverse_mass.clone(),
-        p.inverse_mass.clone(),
+        p.positions().to_vec(),
+        p.velocities().to_vec(),
+        p.accelerations().to_vec(),
+        p.forces().to_vec(),
+        p.inverse_masses().to_vec(),
+        p.inverse_masses().to_vec(),
     );
     let mut target = source.clone();
     group.bench_function("plain_copy_same_bytes", |b| {

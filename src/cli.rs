@@ -390,7 +390,7 @@ fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<Link
     let p = &world.particles;
     let mut particles: Vec<ParticleJson> = (0..p.len())
         .map(|i| ParticleJson {
-            id: p.id(i).0,
+            id: p.ids()[i].0,
             p: p.position[i].to_array(),
             v: p.velocity[i].to_array(),
             r: p.radius[i],

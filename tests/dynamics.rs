@@ -40,7 +40,7 @@ fn free_fall(kind: SolverKind, substeps: f64) {
         let n = f64::from(n) * substeps;
         // y_n = y0 + v0 n h - g h² n(n+1)/2: the new velocity moves the position.
         let expected = y0 + v0 * n * h - f64::from(G) * h * h * n * (n + 1.0) / 2.0;
-        let got = f64::from(world.particles.position[0].y);
+        let got = f64::from(world.particles.positions()[0].y);
         assert!((got - expected).abs() < 1e-3, "{kind:?} substep {n}: {got} vs {expected}");
     }
 }
@@ -55,7 +55,7 @@ fn damping_keeps_that_fraction_of_velocity_per_second() {
         world.step(1.0 / 240.0).unwrap();
     }
     // One second at damping 0.5 halves the speed, whatever the step.
-    assert!((world.particles.velocity[0].x - 4.0).abs() < 1e-3, "{}", world.particles.velocity[0].x);
+    assert!((world.particles.velocities()[0].x - 4.0).abs() < 1e-3, "{}", world.particles.velocities()[0].x);
 }
 
 /// Runs the projectile scene's first round and returns (peak height, distance when it
@@ -65,16 +65,16 @@ fn fly(settings: &[&str]) -> (f32, f32) {
     let mut scene = scenes::build("projectile", &assignments).unwrap();
     let dt = 1.0 / 1000.0;
     let h = scene.params().get("height");
-    let round = scene.world().particles.id(0);
+    let round = scene.world().particles.id(0).unwrap();
     let mut peak = f32::MIN;
-    let mut previous = scene.world().particles.position[0];
+    let mut previous = scene.world().particles.positions()[0];
     for _ in 0..100_000 {
         scene.step(dt).unwrap();
         let world = scene.world();
         let Some(i) = world.particles.index(round) else { break };
-        let p = world.particles.position[i];
+        let p = world.particles.positions()[i];
         peak = peak.max(p.y);
-        if previous.y >= h && p.y < h && world.particles.velocity[i].y < 0.0 {
+        if previous.y >= h && p.y < h && world.particles.velocities()[i].y < 0.0 {
             let t = (previous.y - h) / (previous.y - p.y);
             return (peak, previous.x + t * (p.x - previous.x));
         }
@@ -124,7 +124,7 @@ fn spring_period_matches_two_pi_root_m_over_k() {
         while crossings.len() < 5 {
             scene.step(dt).unwrap();
             t += f64::from(dt);
-            let vy = scene.world().particles.velocity[0].y;
+            let vy = scene.world().particles.velocities()[0].y;
             if previous < 0.0 && vy >= 0.0 {
                 crossings.push(t);
             }
@@ -167,7 +167,7 @@ fn head_on(kind: SolverKind, mass_ratio: f32, restitution: f32) -> (f32, f32, Ve
     for _ in 0..5 {
         world.step(0.01).unwrap();
     }
-    (ma, mb, va, vb, world.particles.velocity[0], world.particles.velocity[1])
+    (ma, mb, va, vb, world.particles.velocities()[0], world.particles.velocities()[1])
 }
 
 #[test]
@@ -206,7 +206,7 @@ fn interpenetration_is_removed_in_proportion_to_inverse_mass() {
         .unwrap();
     world.add_contact_generator(SphereCollisions::elastic(0.5));
     world.step(1e-3).unwrap();
-    let (a, b) = (world.particles.position[0].x, world.particles.position[1].x);
+    let (a, b) = (world.particles.positions()[0].x, world.particles.positions()[1].x);
     let slop = world.resolver.slop;
     // Overlap 1 m (less the slop): the 1 kg sphere moves 3/4 of it, the 3 kg one 1/4.
     assert!((a + 0.75 * (1.0 - slop)).abs() < 1e-4, "a moved to {a}");
@@ -223,10 +223,10 @@ fn interpenetration_is_removed_in_proportion_to_inverse_mass() {
     world.add_contact_generator(SphereCollisions::elastic(0.5));
     for _ in 0..240 {
         world.step(1.0 / 240.0).unwrap();
-        let momentum = world.particles.velocity[0] + 3.0 * world.particles.velocity[1];
+        let momentum = world.particles.velocities()[0] + 3.0 * world.particles.velocities()[1];
         assert!(momentum.length() < 1e-4, "momentum {momentum}");
     }
-    let (a, b) = (world.particles.position[0].x, world.particles.position[1].x);
+    let (a, b) = (world.particles.positions()[0].x, world.particles.positions()[1].x);
     assert!(b - a >= 2.0 - 1e-3, "still overlapping: {}", 2.0 - (b - a));
     assert!((a / (b - 1.0) + 3.0).abs() < 1e-3, "moves {a} and {} are not 3 : 1", b - 1.0);
 }
@@ -251,13 +251,13 @@ fn ball_rests(kind: SolverKind) {
     let mut first_bounce_speed = 0.0_f32;
     for _ in 0..(240 * 5) {
         world.step(1.0 / 240.0).unwrap();
-        first_bounce_speed = first_bounce_speed.max(world.particles.velocity[0].y);
+        first_bounce_speed = first_bounce_speed.max(world.particles.velocities()[0].y);
     }
     // It bounced (restitution), then settled: at rest, resting on its radius.
     assert!(first_bounce_speed > 2.0, "{kind:?} never bounced: {first_bounce_speed}");
     for _ in 0..240 {
         world.step(1.0 / 240.0).unwrap();
-        let (p, v) = (world.particles.position[0], world.particles.velocity[0]);
+        let (p, v) = (world.particles.positions()[0], world.particles.velocities()[0]);
         assert!(v.length() < 1e-3, "{kind:?}: resting ball moves at {v:?}");
         assert!((p.y - 0.5).abs() < 1e-3, "{kind:?}: resting ball at height {}", p.y);
     }
@@ -318,8 +318,8 @@ fn bridge_with_load_settles_and_stays_up() {
             scene.step(1.0 / 240.0).unwrap();
         }
         let world = scene.world();
-        let fastest = world.particles.velocity.iter().map(|v| v.length()).fold(0.0, f32::max);
-        let lowest = world.particles.position.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+        let fastest = world.particles.velocities().iter().map(|v| v.length()).fold(0.0, f32::max);
+        let lowest = world.particles.positions().iter().map(|p| p.y).fold(f32::MAX, f32::min);
         assert!(fastest < 0.02, "{kind:?} {load:?}: still moving at {fastest} m/s");
         assert!(lowest > 1.5, "{kind:?} {load:?}: deck fell to {lowest} m");
         for link in world.links() {
@@ -358,11 +358,11 @@ fn stiff_spring_stays_finite_at_a_million_newtons_per_metre() {
             })
             .unwrap();
         world.add_force(StiffSpring::new(id, Vec3::ZERO, 1.0e6, zeta));
-        let start = world.particles.position[0].length();
+        let start = world.particles.positions()[0].length();
         for _ in 0..6000 {
             world.step(1.0 / 60.0).unwrap();
             assert!(world.is_finite());
-            assert!(world.particles.position[0].length() <= start * 1.01 + 0.01, "zeta {zeta} grew");
+            assert!(world.particles.positions()[0].length() <= start * 1.01 + 0.01, "zeta {zeta} grew");
         }
     }
 }
@@ -376,7 +376,7 @@ fn explicit_stiff_spring_explodes_where_the_closed_form_does_not() {
     for _ in 0..20 {
         world.step(1.0 / 60.0).unwrap();
     }
-    assert!(!world.is_finite() || world.particles.position[0].length() > 1e6);
+    assert!(!world.is_finite() || world.particles.positions()[0].length() > 1e6);
 }
 
 #[test]
@@ -412,8 +412,8 @@ fn immovable_particles_do_not_move() {
         })
         .unwrap();
     world.step(0.1).unwrap();
-    assert_eq!(world.particles.position[0], Vec3::ONE);
-    assert_eq!(world.particles.velocity[0], Vec3::ZERO, "contacts must not see a velocity it never uses");
+    assert_eq!(world.particles.positions()[0], Vec3::ONE);
+    assert_eq!(world.particles.velocities()[0], Vec3::ZERO, "contacts must not see a velocity it never uses");
 }
 
 #[test]
@@ -425,7 +425,11 @@ fn removing_one_target_keeps_a_shared_field_on_the_others() {
     world.remove_particle(a);
     assert_eq!(world.forces.len(), 1, "drag still acts on b");
     world.step(0.1).unwrap();
-    assert!(world.particles.velocity[0].x < 1.0, "b was not slowed: {:?}", world.particles.velocity[0]);
+    assert!(
+        world.particles.velocities()[0].x < 1.0,
+        "b was not slowed: {:?}",
+        world.particles.velocities()[0]
+    );
     world.remove_particle(b);
     assert!(world.forces.is_empty(), "drag with no targets left is dropped");
 }
@@ -455,7 +459,7 @@ fn a_float_keeps_its_energy_while_bobbing() {
     let mut lowest = f32::MAX;
     for _ in 0..(240 * 10) {
         world.step(1.0 / 240.0).unwrap();
-        lowest = lowest.min(world.particles.position[0].y);
+        lowest = lowest.min(world.particles.positions()[0].y);
         let drift = (total(&world) - start).abs();
         assert!(drift < 0.01 * start.abs().max(1.0), "energy drifted by {drift} J");
     }
@@ -475,7 +479,7 @@ fn removing_a_particle_keeps_other_ids_and_drops_its_links() {
     assert_eq!(world.particles.len(), 3);
     for &id in &ids[1..] {
         let i = world.particles.index(id).unwrap();
-        assert_eq!(world.particles.position[i].x, id.0 as f32, "id {id:?} lost its particle");
+        assert_eq!(world.particles.positions()[i].x, id.0 as f32, "id {id:?} lost its particle");
     }
     let links = world.links();
     assert_eq!(links.len(), 1, "the spring went with its particle");
@@ -490,16 +494,16 @@ fn force_registry_adds_removes_and_clears() {
     let up = world.add_force(Gravity { gravity: Vec3::Y, targets: vec![id] });
     let side = world.add_force(Gravity { gravity: Vec3::X, targets: vec![id] });
     world.step(1.0).unwrap();
-    assert_eq!(world.particles.velocity[0], Vec3::new(1.0, 1.0, 0.0));
+    assert_eq!(world.particles.velocities()[0], Vec3::new(1.0, 1.0, 0.0));
     assert!(world.forces.remove(up));
     assert!(!world.forces.remove(up));
     world.step(1.0).unwrap();
-    assert_eq!(world.particles.velocity[0], Vec3::new(2.0, 1.0, 0.0));
+    assert_eq!(world.particles.velocities()[0], Vec3::new(2.0, 1.0, 0.0));
     world.forces.clear();
     assert!(world.forces.is_empty());
     assert!(!world.forces.remove(side));
     world.step(1.0).unwrap();
-    assert_eq!(world.particles.velocity[0], Vec3::new(2.0, 1.0, 0.0));
+    assert_eq!(world.particles.velocities()[0], Vec3::new(2.0, 1.0, 0.0));
 }
 
 #[test]
@@ -510,7 +514,12 @@ fn the_same_run_gives_the_same_bits() {
             scene.step(1.0 / 240.0).unwrap();
         }
         let p = &scene.world().particles;
-        p.position.iter().chain(&p.velocity).flat_map(|v| v.to_array()).map(f32::to_bits).collect::<Vec<_>>()
+        p.positions()
+            .iter()
+            .chain(p.velocities())
+            .flat_map(|v| v.to_array())
+            .map(f32::to_bits)
+            .collect::<Vec<_>>()
     };
     assert_eq!(run(), run());
 }

@@ -24,7 +24,7 @@ fn world_with(positions: &[Vec3], velocities: &[Vec3], mass: f32) -> (World, Vec
 fn forces_of(world: &mut World, generator: &mut dyn ForceGenerator) -> Vec<Vec3> {
     world.particles.clear_forces();
     generator.apply(&mut world.particles, 0.01);
-    world.particles.force.clone()
+    world.particles.forces().to_vec()
 }
 
 #[test]
@@ -34,7 +34,7 @@ fn gravity_is_mass_times_field() {
     let f = forces_of(&mut world, &mut gravity);
     assert!(close(f[0], Vec3::new(0.0, -29.43, 0.0), 1e-4), "{f:?}");
     // Potential energy m g h at 2 m up.
-    world.particles.position[0].y = 2.0;
+    world.particles.set_position(ids[0], Vec3::new(0.0, 2.0, 0.0)).unwrap();
     assert!((gravity.potential_energy(&world.particles) - 3.0 * 9.81 * 2.0).abs() < 1e-3);
 }
 
@@ -51,7 +51,7 @@ fn drag_is_linear_plus_quadratic_against_velocity() {
     // |v| = 5 along (3, 4, 0)/5; k1 = 0.5, k2 = 0.1: magnitude 0.5*5 + 0.1*25 = 5.
     let v = Vec3::new(3.0, 4.0, 0.0);
     let (mut world, ids) = world_with(&[Vec3::ZERO], &[v], 1.0);
-    let mut drag = Drag { k1: 0.5, k2: 0.1, targets: ids };
+    let mut drag = Drag { k1: 0.5, k2: 0.1, targets: ids.clone() };
     assert!(close(drag.force(v), Vec3::new(-3.0, -4.0, 0.0), 1e-5), "{:?}", drag.force(v));
     // Over a step of 0.01 s the generator applies the backward-Euler force: with
     // a = k1/m = 0.5, b = k2/m = 0.1, t = 0.01, the new speed s solves
@@ -59,7 +59,7 @@ fn drag_is_linear_plus_quadratic_against_velocity() {
     let f = forces_of(&mut world, &mut drag);
     assert!(close(f[0], Vec3::new(3.0, 4.0, 0.0) / 5.0 * -4.9263, 1e-3), "{f:?}");
     // At rest: no force and no NaN.
-    world.particles.velocity[0] = Vec3::ZERO;
+    world.particles.set_velocity(ids[0], Vec3::ZERO).unwrap();
     assert_eq!(forces_of(&mut world, &mut drag)[0], Vec3::ZERO);
 }
 
@@ -72,7 +72,7 @@ fn spring_pulls_when_stretched_and_pushes_when_compressed() {
     assert!(close(f[0], Vec3::new(10.0, 0.0, 0.0), 1e-5), "stretched: {f:?}");
     assert!(close(f[1], Vec3::new(-10.0, 0.0, 0.0), 1e-5), "stretched: {f:?}");
     // Compressed to 1.5: 5 N pushing apart (Cyclone's abs() would pull).
-    world.particles.position[1] = Vec3::new(1.5, 0.0, 0.0);
+    world.particles.set_position(ids[1], Vec3::new(1.5, 0.0, 0.0)).unwrap();
     let f = forces_of(&mut world, &mut spring);
     assert!(close(f[0], Vec3::new(-5.0, 0.0, 0.0), 1e-5), "compressed: {f:?}");
     assert!(close(f[1], Vec3::new(5.0, 0.0, 0.0), 1e-5), "compressed: {f:?}");
@@ -87,7 +87,7 @@ fn anchored_spring_acts_towards_and_away_from_anchor() {
     let mut spring = Spring::anchored(ids[0], anchor, 2.0, 3.0);
     assert!(close(forces_of(&mut world, &mut spring)[0], Vec3::new(0.0, 2.0, 0.0), 1e-5));
     // 1 m below: compressed by 2, pushed 4 N down.
-    world.particles.position[0] = Vec3::new(0.0, 4.0, 0.0);
+    world.particles.set_position(ids[0], Vec3::new(0.0, 4.0, 0.0)).unwrap();
     assert!(close(forces_of(&mut world, &mut spring)[0], Vec3::new(0.0, -4.0, 0.0), 1e-5));
 }
 
@@ -98,7 +98,7 @@ fn bungee_pulls_only_when_stretched() {
     let f = forces_of(&mut world, &mut bungee);
     assert!(close(f[0], Vec3::new(0.0, 0.0, 6.0), 1e-5), "stretched: {f:?}");
     assert!(close(f[1], Vec3::new(0.0, 0.0, -6.0), 1e-5), "stretched: {f:?}");
-    world.particles.position[1] = Vec3::new(0.0, 0.0, 1.0);
+    world.particles.set_position(ids[1], Vec3::new(0.0, 0.0, 1.0)).unwrap();
     let f = forces_of(&mut world, &mut bungee);
     assert_eq!(f, vec![Vec3::ZERO, Vec3::ZERO], "slack bungee must not push");
     assert_eq!(bungee.potential_energy(&world.particles), 0.0);
@@ -110,7 +110,7 @@ fn anchored_bungee_pulls_only_when_stretched() {
     let (mut world, ids) = world_with(&[Vec3::new(4.0, 0.0, 0.0)], &[Vec3::ZERO], 1.0);
     let mut bungee = Spring::anchored(ids[0], anchor, 5.0, 1.0).as_bungee();
     assert!(close(forces_of(&mut world, &mut bungee)[0], Vec3::new(-10.0, 0.0, 0.0), 1e-5));
-    world.particles.position[0] = Vec3::new(1.5, 0.0, 0.0);
+    world.particles.set_position(ids[0], Vec3::new(1.5, 0.0, 0.0)).unwrap();
     assert_eq!(forces_of(&mut world, &mut bungee)[0], Vec3::ZERO);
 }
 
@@ -122,13 +122,13 @@ fn buoyancy_follows_archimedes_in_all_three_cases() {
     // Fully out (bottom at 4.5 > 2): nothing.
     assert_eq!(forces_of(&mut world, &mut buoyancy)[0], Vec3::ZERO);
     // Centre at the surface: half submerged, 0.5 * 1000 * 0.01 * 10 = 50 N up.
-    world.particles.position[0].y = 2.0;
+    world.particles.set_position(ids[0], Vec3::new(0.0, 2.0, 0.0)).unwrap();
     assert!(close(forces_of(&mut world, &mut buoyancy)[0], Vec3::new(0.0, 50.0, 0.0), 1e-3));
     // A quarter submerged: centre 0.25 above the surface -> 25 N (the paper's sign gives -25).
-    world.particles.position[0].y = 2.25;
+    world.particles.set_position(ids[0], Vec3::new(0.0, 2.25, 0.0)).unwrap();
     assert!(close(forces_of(&mut world, &mut buoyancy)[0], Vec3::new(0.0, 25.0, 0.0), 1e-3));
     // Fully under: 100 N.
-    world.particles.position[0].y = -3.0;
+    world.particles.set_position(ids[0], Vec3::new(0.0, -3.0, 0.0)).unwrap();
     assert!(close(forces_of(&mut world, &mut buoyancy)[0], Vec3::new(0.0, 100.0, 0.0), 1e-3));
 }
 
@@ -151,7 +151,7 @@ fn buoyancy_energy_is_minus_the_integral_of_its_force() {
     for y in [3.0_f32, 2.4, 2.0, 1.7, 1.2, -1.0] {
         let h = 1e-3;
         let mut energy_at = |y: f32| {
-            world.particles.position[0].y = y;
+            world.particles.set_position(ids[0], Vec3::new(0.0, y, 0.0)).unwrap();
             buoyancy.potential_energy(&world.particles)
         };
         let slope = (energy_at(y + h) - energy_at(y - h)) / (2.0 * h);
@@ -201,7 +201,7 @@ fn stiff_spring_first_step_lands_on_the_closed_form_despite_damping() {
     world.step(dt).unwrap();
     let (expected, _) =
         damped_oscillator(start.as_dvec3(), DVec3::ZERO, f64::from(k).sqrt(), 0.0, f64::from(dt));
-    let got = world.particles.position[0].as_dvec3();
+    let got = world.particles.positions()[0].as_dvec3();
     assert!((got - expected).length() < 1e-6, "got {got:?}, expected {expected:?}");
 }
 
@@ -226,7 +226,7 @@ fn stiff_spring_under_gravity_oscillates_about_the_shifted_rest_point() {
         world.step(dt).unwrap();
         (y, v) = damped_oscillator(y, v, omega, 0.0, f64::from(dt));
     }
-    let got = world.particles.position[0].as_dvec3();
+    let got = world.particles.positions()[0].as_dvec3();
     assert!((got - (rest + y)).length() < 1e-3, "got {got:?}, expected {:?}", rest + y);
 }
 
@@ -247,7 +247,7 @@ fn stiff_spring_lands_the_particle_on_the_closed_form() {
         world.step(dt).unwrap();
         (expected, velocity) = damped_oscillator(expected, velocity, omega, f64::from(zeta), f64::from(dt));
     }
-    let got = world.particles.position[0] - anchor;
+    let got = world.particles.positions()[0] - anchor;
     assert!((got.as_dvec3() - expected).length() < 1e-4, "got {got:?}, expected {expected:?}");
 }
 
@@ -262,7 +262,7 @@ fn stiff_spring_in_substeps_composes_to_the_closed_form() {
         world.step(0.01).unwrap();
         let t = 0.01 * f64::from(step);
         let (expected, _) = damped_oscillator(start.as_dvec3(), DVec3::ZERO, f64::from(k).sqrt(), 0.1, t);
-        let got = world.particles.position[0].as_dvec3();
+        let got = world.particles.positions()[0].as_dvec3();
         assert!((got - expected).length() < 1e-4, "step {step}: got {got:?}, expected {expected:?}");
     }
 }
@@ -285,10 +285,10 @@ fn drag_is_stable_for_any_coefficient_and_reaches_terminal_speed() {
         world.add_force(Drag { k1, k2, targets: vec![id] });
         for _ in 0..240 {
             world.step(1.0 / 240.0).unwrap();
-            let v = world.particles.velocity[0];
+            let v = world.particles.velocities()[0];
             assert!(v.is_finite() && v.x >= 0.0, "k1 {k1} k2 {k2}: velocity {v} reversed or blew up");
         }
-        let speed = world.particles.velocity[0].length();
+        let speed = world.particles.velocities()[0].length();
         // Both terms: k1 s + k2 s² = m g, s = (-k1 + sqrt(k1² + 4 k2 m g)) / (2 k2).
         let terminal = if terminal > 0.0 {
             terminal
@@ -315,7 +315,7 @@ fn linear_drag_decay_follows_the_exponential() {
         for step in 1..=30 {
             world.step(dt).unwrap();
             let exact = 4.0 * (-1.5 * step as f32 * dt / 0.5).exp();
-            let got = world.particles.velocity[0].x;
+            let got = world.particles.velocities()[0].x;
             assert!((got / exact - 1.0).abs() < 0.01, "dt {dt} step {step}: {got} vs {exact}");
         }
     }

@@ -83,8 +83,8 @@ fn a_bad_slider_value_is_refused_with_a_message() {
 fn picking_finds_the_particle_under_the_pointer_and_dragging_moves_it() {
     let mut lab = Lab::new("bridge", &["g=0".into()]).unwrap();
     let size = Vec2::new(800.0, 600.0);
-    let target = lab.scene.world().particles.position[3];
-    let id = lab.scene.world().particles.id(3);
+    let target = lab.scene.world().particles.positions()[3];
+    let id = lab.scene.world().particles.id(3).unwrap();
     let pixel = lab.camera.project(target, size).unwrap();
     assert_eq!(lab.pick(pixel, size), Some(id));
     assert_eq!(lab.pick(Vec2::new(5.0, 5.0), size), None, "nothing in the sky corner");
@@ -95,7 +95,7 @@ fn picking_finds_the_particle_under_the_pointer_and_dragging_moves_it() {
     assert!(goal.y > target.y + 0.1, "the drag target rose: {goal}");
     lab.run_steps(30);
     let index = lab.scene.world().particles.index(id).unwrap();
-    let now = lab.scene.world().particles.position[index];
+    let now = lab.scene.world().particles.positions()[index];
     assert!(now.distance(goal) < now.distance(target) + 1e-3, "it moved towards the pointer: {now}");
     assert!(now.y > target.y, "{now} vs {target}");
     lab.end_grab();
@@ -108,11 +108,11 @@ fn dragging_while_paused_moves_the_particle_at_once() {
     let mut lab = Lab::new("springForces", &[]).unwrap();
     lab.paused = true;
     let size = Vec2::new(800.0, 600.0);
-    let start = lab.scene.world().particles.position[0];
+    let start = lab.scene.world().particles.positions()[0];
     let pixel = lab.camera.project(start, size).unwrap();
     assert!(lab.start_grab(pixel, size));
     lab.move_grab(pixel + Vec2::new(40.0, 0.0), size);
-    let now = lab.scene.world().particles.position[0];
+    let now = lab.scene.world().particles.positions()[0];
     assert!(now.distance(start) > 0.3, "moved from {start} to {now}");
     assert_eq!(lab.scene.world().steps(), 0, "no physics ran");
 }

@@ -61,7 +61,8 @@ fn a_sleeping_pile_wakes_when_touched_moved_or_regravitated_and_sleeps_again() {
     let dt = scene.info().dt;
     // Moved from outside (as the mouse does): its island wakes on the next step.
     let world = scene.world_mut();
-    world.particles.position[10].y += 0.3;
+    let (id, lifted) = (world.particles.ids()[10], world.particles.positions()[10] + Vec3::Y * 0.3);
+    world.particles.set_position(id, lifted).unwrap();
     scene.step(dt).unwrap();
     assert_eq!(scene.world().particles.asleep_count(), 0, "moving a sleeping sphere wakes its island");
     for _ in 0..(4.0 / dt) as usize {
@@ -74,7 +75,7 @@ fn a_sleeping_pile_wakes_when_touched_moved_or_regravitated_and_sleeps_again() {
     for _ in 0..30 {
         scene.step(dt).unwrap();
     }
-    let lowest = scene.world().particles.position.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+    let lowest = scene.world().particles.positions().iter().map(|p| p.y).fold(f32::MAX, f32::min);
     assert!(lowest > 0.6, "pile did not lift off: lowest sphere at {lowest} m");
 }
 
@@ -83,7 +84,7 @@ fn sleeping_changes_what_the_pile_costs_not_where_it_rests() {
     // A ball landing on a sleeping pile wakes it, and ends where it ends on an awake one.
     let drop = |sleep: bool| {
         let (mut scene, _) = settle_with(800, 5.0, &["width=10"], sleep);
-        let top = scene.world().particles.position.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+        let top = scene.world().particles.positions().iter().map(|p| p.y).fold(f32::MIN, f32::max);
         let world = scene.world_mut();
         let desc = ParticleDesc {
             position: Vec3::new(0.0, top + 4.0, 0.0),
@@ -98,7 +99,7 @@ fn sleeping_changes_what_the_pile_costs_not_where_it_rests() {
             woke |= scene.world().particles.asleep_count() < 800;
         }
         let p = &scene.world().particles;
-        (p.position[p.index(ball).unwrap()], woke, top)
+        (p.positions()[p.index(ball).unwrap()], woke, top)
     };
     let (asleep_end, woke, top) = drop(true);
     let (awake_end, _, _) = drop(false);
@@ -133,7 +134,7 @@ fn column_of_ten_spheres_stays_a_column() {
     for step in 1..=3600 {
         world.step(1.0 / 60.0).unwrap();
         if step % 600 == 0 {
-            for (i, (p, s)) in world.particles.position.iter().zip(&start).enumerate() {
+            for (i, (p, s)) in world.particles.positions().iter().zip(&start).enumerate() {
                 let drift = Vec3::new(p.x - s.x, 0.0, p.z - s.z).length();
                 assert!(drift <= 1e-3, "step {step}: sphere {i} drifted {drift} m sideways");
                 assert!(
@@ -150,7 +151,7 @@ fn column_of_ten_spheres_stays_a_column() {
 #[test]
 fn a_ball_dropped_on_the_pile_does_not_sink_through() {
     let (mut scene, _) = settle(2000, 5.0, &[]);
-    let top = scene.world().particles.position.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    let top = scene.world().particles.positions().iter().map(|p| p.y).fold(f32::MIN, f32::max);
     // A heavy ball falling from 10 m above the pile, fast when it lands (about 14 m/s).
     let world = scene.world_mut();
     let ball = world
@@ -166,7 +167,7 @@ fn a_ball_dropped_on_the_pile_does_not_sink_through() {
     for _ in 0..(4 * 60) {
         scene.step(1.0 / 60.0).unwrap();
         let p = &scene.world().particles;
-        lowest = lowest.min(p.position[p.index(ball).unwrap()].y);
+        lowest = lowest.min(p.positions()[p.index(ball).unwrap()].y);
     }
     // It may push the top spheres aside and nestle in, but not pass through the pile.
     assert!(lowest > top - 1.5, "ball sank to {lowest} m; the pile's top was at {top} m");
@@ -187,7 +188,7 @@ fn one_thread_and_two_threads_give_the_same_bits() {
             }
             let p = &scene.world().particles;
             let bits = |v: &[Vec3]| v.iter().flat_map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>();
-            (bits(&p.position), bits(&p.velocity), scene.world().contact_count())
+            (bits(p.positions()), bits(p.velocities()), scene.world().contact_count())
         })
     };
     let one = run(1);
@@ -244,13 +245,13 @@ fn probe_big() {
 fn probe_broad_phase() {
     let (scene, _) = settle_with(8000, 4.0, &["width=30"], false);
     let p = &scene.world().particles;
-    let reach: Vec<f32> = p.radius.iter().map(|r| r + 0.0227).collect();
+    let reach: Vec<f32> = p.radii().iter().map(|r| r + 0.0227).collect();
     let mut grid = particle_lab::physics::BroadPhase::new();
     let mut pairs = Vec::new();
     for round in 0..3 {
         let t = std::time::Instant::now();
         for _ in 0..50 {
-            grid.find_pairs(&p.position, &reach, &mut pairs);
+            grid.find_pairs(&p.positions(), &reach, &mut pairs);
         }
         println!(
             "round {round}: {:.1} ns per particle, {} pairs",

@@ -103,12 +103,12 @@ fn the_falling_pile_is_coloured_by_speed() {
     // The highest sphere falls fastest: drawn at the hot end of the ramp.
     let particles = &lab.scene.world().particles;
     let top = (0..particles.len())
-        .max_by(|&a, &b| particles.position[a].y.total_cmp(&particles.position[b].y))
+        .max_by(|&a, &b| particles.positions()[a].y.total_cmp(&particles.positions()[b].y))
         .unwrap();
-    let speed = particles.velocity[top].length();
+    let speed = particles.velocities()[top].length();
     assert!(speed > 5.0, "the top sphere falls at {speed} m/s");
     let size = Vec2::new(SIZE[0] as f32, SIZE[1] as f32);
-    let screen = lab.camera.project(particles.position[top], size).unwrap();
+    let screen = lab.camera.project(particles.positions()[top], size).unwrap();
     let [r, g, b, _] = pixel(&image, SIZE, screen.x.round() as u32, screen.y.round() as u32);
     assert!(r > g && r > b + 80, "a sphere at {speed} m/s is drawn ({r}, {g}, {b}), not red");
 }
@@ -125,11 +125,11 @@ fn each_particle_is_drawn_where_the_camera_projects_it() {
         let particles = &lab.scene.world().particles;
         let i = (0..particles.len())
             .find(|&i| {
-                let screen = lab.camera.project(particles.position[i], size);
-                screen.is_some_and(|s| lab.pick(s, size) == Some(particles.id(i)))
+                let screen = lab.camera.project(particles.positions()[i], size);
+                screen.is_some_and(|s| lab.pick(s, size) == particles.id(i))
             })
             .unwrap_or_else(|| panic!("{}: no particle in sight", entry.info.name));
-        let (id, centre, radius) = (particles.id(i), particles.position[i], particles.radius[i]);
+        let (id, centre, radius) = (particles.ids()[i], particles.positions()[i], particles.radii()[i]);
         let screen = lab.camera.project(centre, size).unwrap();
         let (x, y) = (screen.x.round() as u32, screen.y.round() as u32);
         assert!(x < SIZE[0] && y < SIZE[1], "{}: particle {i} is off screen at {screen}", entry.info.name);

@@ -47,9 +47,10 @@ fn projectile_fires_round_zero_from_the_launcher() {
         scenes::build("projectile", &["height=3".into(), "angle=30".into(), "speed=10".into()]).unwrap();
     let p = &scene.world().particles;
     assert_eq!(p.len(), 1);
-    assert_eq!(p.id(0).0, 0);
-    assert_eq!(p.position[0], Vec3::new(0.0, 3.0, 0.0));
-    let v = p.velocity[0];
+    assert_eq!(p.id(0), Some(particle_lab::physics::ParticleId(0)));
+    assert_eq!(p.id(p.len()), None, "an index past the end has no id");
+    assert_eq!(p.positions()[0], Vec3::new(0.0, 3.0, 0.0));
+    let v = p.velocities()[0];
     assert!((v - Vec3::new(10.0 * 30f32.to_radians().cos(), 5.0, 0.0)).length() < 1e-5, "{v:?}");
 }
 
@@ -57,10 +58,10 @@ fn projectile_fires_round_zero_from_the_launcher() {
 fn changing_g_takes_effect_at_once() {
     let mut scene = scenes::create_default("projectile");
     scene.set_param("g", 5.0).unwrap();
-    assert_eq!(scene.world().particles.acceleration[0], Vec3::new(0.0, -5.0, 0.0));
+    assert_eq!(scene.world().particles.accelerations()[0], Vec3::new(0.0, -5.0, 0.0));
     let mut bridge = scenes::create_default("bridge");
     bridge.set_param("g", 2.0).unwrap();
-    assert!(bridge.world().particles.acceleration.iter().all(|a| *a == Vec3::new(0.0, -2.0, 0.0)));
+    assert!(bridge.world().particles.accelerations().iter().all(|a| *a == Vec3::new(0.0, -2.0, 0.0)));
 }
 
 #[test]
@@ -72,7 +73,7 @@ fn fire_adds_a_round_with_the_current_speed() {
     let p = &scene.world().particles;
     assert_eq!(p.len(), 2);
     let newest = p.index(particle_lab::physics::ParticleId(1)).unwrap();
-    assert_eq!(p.velocity[newest], Vec3::new(40.0, 0.0, 0.0));
+    assert_eq!(p.velocities()[newest], Vec3::new(40.0, 0.0, 0.0));
 }
 
 #[test]
@@ -127,5 +128,5 @@ fn stiff_spring_scene_is_stable_at_the_top_of_its_range() {
         scene.step(1.0 / 240.0).unwrap();
     }
     assert!(scene.world().is_finite());
-    assert!(scene.world().particles.position.iter().all(|p| p.length() < 50.0));
+    assert!(scene.world().particles.positions().iter().all(|p| p.length() < 50.0));
 }

@@ -15,11 +15,11 @@ fn ball(position: Vec3, velocity: Vec3, radius: f32, acceleration: Vec3) -> Part
 fn mechanical_energy(world: &World) -> f64 {
     let p = &world.particles;
     (0..p.len())
-        .filter(|&i| p.inverse_mass[i] > 0.0)
+        .filter(|&i| p.inverse_masses()[i] > 0.0)
         .map(|i| {
             let m = f64::from(p.mass(i));
-            0.5 * m * p.velocity[i].as_dvec3().length_squared()
-                - m * p.acceleration[i].as_dvec3().dot(p.position[i].as_dvec3())
+            0.5 * m * p.velocities()[i].as_dvec3().length_squared()
+                - m * p.accelerations()[i].as_dvec3().dot(p.positions()[i].as_dvec3())
         })
         .sum()
 }
@@ -104,13 +104,13 @@ fn rebound_heights(restitution: f32, hz: f32, height: f32, count: usize) -> Vec<
     let mut tops = Vec::new();
     while tops.len() < count && samples.len() < (60.0 * hz) as usize {
         world.step(1.0 / hz).unwrap();
-        samples.push(f64::from(world.particles.position[0].y));
+        samples.push(f64::from(world.particles.positions()[0].y));
         let n = samples.len();
         if n < 3 {
             continue;
         }
         let (a, b, c) = (samples[n - 3], samples[n - 2], samples[n - 1]);
-        if b > a && b >= c && world.particles.velocity[0].y <= 0.0 {
+        if b > a && b >= c && world.particles.velocities()[0].y <= 0.0 {
             // Vertex of the parabola through (-1, a), (0, b), (1, c).
             let curvature = a - 2.0 * b + c;
             tops.push(b - (c - a) * (c - a) / (8.0 * curvature));
@@ -167,7 +167,7 @@ fn cradle(n: usize, arriving: usize, hung: bool, gap: f32, hz: f32) -> Vec<f32> 
     for _ in 0..(0.05 * hz).round() as usize {
         world.step(1.0 / hz).unwrap();
     }
-    (0..n).map(|i| world.particles.velocity[i].x).collect()
+    (0..n).map(|i| world.particles.velocities()[i].x).collect()
 }
 
 #[test]
@@ -216,9 +216,9 @@ fn tunnels(obstacle: &str, speed: f32, phase: f32, restitution: f32) -> bool {
     for _ in 0..((2.0 * start / speed) / dt).ceil() as usize + 4 {
         world.step(dt).unwrap();
     }
-    let p = world.particles.position[0];
+    let p = world.particles.positions()[0];
     match obstacle {
-        "sphere" => p.x > world.particles.position[1].x,
+        "sphere" => p.x > world.particles.positions()[1].x,
         "ground" => p.y < 0.0,
         _ => p.x > 0.0,
     }

@@ -89,20 +89,25 @@ const DEAD: u32 = u32::MAX;
 ///
 /// The dense index of a particle changes when another particle is removed; use
 /// [`Particles::index`] to turn a [`ParticleId`] into the current index.
+///
+/// Outside the physics module the arrays are read-only slices (`positions()` and the
+/// like): particles come and go through [`Particles::add`] and [`Particles::remove`],
+/// so the arrays always have one length, and a state is changed through the setters,
+/// which check the value and wake a sleeping particle.
 #[derive(Clone, Debug, Default)]
 pub struct Particles {
     /// Positions (m).
-    pub position: Vec<Vec3>,
+    pub(crate) position: Vec<Vec3>,
     /// Velocities (m/s).
-    pub velocity: Vec<Vec3>,
+    pub(crate) velocity: Vec<Vec3>,
     /// Constant accelerations (m/s²), usually gravity.
-    pub acceleration: Vec<Vec3>,
+    pub(crate) acceleration: Vec<Vec3>,
     /// Force accumulated this step (N); cleared at the start of every step.
-    pub force: Vec<Vec3>,
+    pub(crate) force: Vec<Vec3>,
     /// Inverse masses (1/kg); 0 means immovable.
-    pub inverse_mass: Vec<f32>,
+    pub(crate) inverse_mass: Vec<f32>,
     /// Collision radii (m).
-    pub radius: Vec<f32>,
+    pub(crate) radius: Vec<f32>,
     /// Fraction of velocity kept per second.
     damping: Vec<f32>,
     /// `damping.powf(damping_dt)`, cached so the step does not call `powf` per particle.
@@ -215,6 +220,76 @@ impl Particles {
         self.sleep.clear();
     }
 
+    /// Positions (m), by dense index.
+    #[inline]
+    #[must_use]
+    pub fn positions(&self) -> &[Vec3] {
+        &self.position
+    }
+
+    /// Velocities (m/s), by dense index.
+    #[inline]
+    #[must_use]
+    pub fn velocities(&self) -> &[Vec3] {
+        &self.velocity
+    }
+
+    /// Constant accelerations (m/s²), by dense index.
+    #[inline]
+    #[must_use]
+    pub fn accelerations(&self) -> &[Vec3] {
+        &self.acceleration
+    }
+
+    /// Forces accumulated in the last step's last substep (N), by dense index.
+    #[inline]
+    #[must_use]
+    pub fn forces(&self) -> &[Vec3] {
+        &self.force
+    }
+
+    /// Inverse masses (1/kg; 0 is immovable), by dense index.
+    #[inline]
+    #[must_use]
+    pub fn inverse_masses(&self) -> &[f32] {
+        &self.inverse_mass
+    }
+
+    /// Collision radii (m), by dense index.
+    #[inline]
+    #[must_use]
+    pub fn radii(&self) -> &[f32] {
+        &self.radius
+    }
+
+    /// Moves a particle (a teleport: its velocity is kept). The position must be finite.
+    pub fn set_position(&mut self, id: ParticleId, position: Vec3) -> Result<(), PhysicsError> {
+        let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        if !position.is_finite() {
+            return Err(PhysicsError::InvalidParticle(format!("position must be finite, got {position}")));
+        }
+        self.position[index] = position;
+        self.disturb(index);
+        Ok(())
+    }
+
+    /// Sets a particle's velocity (m/s), which must be finite. An immovable particle
+    /// keeps velocity 0: it is refused.
+    pub fn set_velocity(&mut self, id: ParticleId, velocity: Vec3) -> Result<(), PhysicsError> {
+        let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        if !velocity.is_finite() {
+            return Err(PhysicsError::InvalidParticle(format!("velocity must be finite, got {velocity}")));
+        }
+        if self.inverse_mass[index] == 0.0 && velocity != Vec3::ZERO {
+            return Err(PhysicsError::InvalidParticle(
+                "velocity of an immovable particle must stay 0".into(),
+            ));
+        }
+        self.velocity[index] = velocity;
+        self.disturb(index);
+        Ok(())
+    }
+
     /// Whether the particle at `index` is asleep: at rest with its island, not
     /// simulated until something touches or moves it (soft solver only).
     #[inline]
@@ -254,11 +329,11 @@ impl Particles {
         }
     }
 
-    /// The id of the particle at a dense index.
+    /// The id of the particle at a dense index, or `None` past the last one.
     #[inline]
     #[must_use]
-    pub fn id(&self, index: usize) -> ParticleId {
-        self.ids[index]
+    pub fn id(&self, index: usize) -> Option<ParticleId> {
+        self.ids.get(index).copied()
     }
 
     /// Ids of all live particles, in dense order.
