@@ -207,7 +207,7 @@ fn interpenetration_is_removed_in_proportion_to_inverse_mass() {
     world.add_contact_generator(SphereCollisions::elastic(0.5));
     world.step(1e-3).unwrap();
     let (a, b) = (world.particles.positions()[0].x, world.particles.positions()[1].x);
-    let slop = world.resolver.slop;
+    let slop = world.resolver().slop;
     // Overlap 1 m (less the slop): the 1 kg sphere moves 3/4 of it, the 3 kg one 1/4.
     assert!((a + 0.75 * (1.0 - slop)).abs() < 1e-4, "a moved to {a}");
     assert!((b - 1.0 - 0.25 * (1.0 - slop)).abs() < 1e-4, "b moved to {b}");

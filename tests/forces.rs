@@ -133,13 +133,22 @@ fn buoyancy_follows_archimedes_in_all_three_cases() {
 }
 
 #[test]
-fn coincident_spring_ends_give_zero_force_not_nan() {
+fn coincident_spring_ends_push_as_their_energy_and_tension_say() {
+    // Issue 8, item 7: the spring reported 50 J and -100 N of tension but pushed
+    // nothing. Force, tension and energy now agree: it pushes `a` up by k L.
     let (mut world, ids) = world_with(&[Vec3::ONE, Vec3::ONE], &[Vec3::ZERO; 2], 1.0);
     let mut spring = Spring::between(ids[0], ids[1], 100.0, 1.0);
     let f = forces_of(&mut world, &mut spring);
-    assert_eq!(f, vec![Vec3::ZERO, Vec3::ZERO], "no direction, no force");
+    assert_eq!(f, vec![Vec3::new(0.0, 100.0, 0.0), Vec3::new(0.0, -100.0, 0.0)], "pushes apart, no NaN");
+    assert_eq!(spring.tension(&world.particles), -100.0);
+    assert_eq!(spring.potential_energy(&world.particles), 50.0);
+    // The same anchored: the particle is pushed up off the anchor.
+    let mut anchored = Spring::anchored(ids[0], Vec3::ONE, 100.0, 1.0);
+    assert_eq!(forces_of(&mut world, &mut anchored)[0], Vec3::new(0.0, 100.0, 0.0));
+    // A bungee is slack there: no force, no tension, no energy.
     let mut bungee = Spring::between(ids[0], ids[1], 100.0, 0.0).as_bungee();
     assert_eq!(forces_of(&mut world, &mut bungee), vec![Vec3::ZERO, Vec3::ZERO]);
+    assert_eq!((bungee.tension(&world.particles), bungee.potential_energy(&world.particles)), (0.0, 0.0));
 }
 
 #[test]

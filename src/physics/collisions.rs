@@ -6,11 +6,11 @@
 
 use glam::Vec3;
 
-use super::PhysicsError;
 use super::broad_phase::BroadPhase;
 use super::contacts::Contact;
 use super::links::{Constraint, LinkSpec, direction_or_zero};
 use super::particles::{ParticleId, Particles};
+use super::{NON_NEGATIVE, PhysicsError, UNIT, check, non_negative};
 
 /// An infinite plane that particles rest on by their radius: the ground, or a wall.
 /// Points `p` with `normal · p > offset` are on the free side.
@@ -65,17 +65,8 @@ impl Plane {
 
 /// Checks a restitution and friction pair.
 pub(crate) fn check_surface(restitution: f32, friction: f32) -> Result<(), PhysicsError> {
-    if !(0.0..=1.0).contains(&restitution) {
-        return Err(PhysicsError::InvalidSetting(format!(
-            "restitution must be in [0, 1], got {restitution}"
-        )));
-    }
-    if !(friction >= 0.0 && friction.is_finite()) {
-        return Err(PhysicsError::InvalidSetting(format!(
-            "friction must be finite and >= 0, got {friction}"
-        )));
-    }
-    Ok(())
+    check((0.0..=1.0).contains(&restitution), "restitution", restitution, UNIT)?;
+    check(non_negative(friction), "friction", friction, NON_NEGATIVE)
 }
 
 /// The horizontal plane `y = height` with no friction: the paper's ground.
@@ -150,6 +141,21 @@ pub enum ContactGenerator {
 }
 
 impl ContactGenerator {
+    /// Checks every setting; the error names the field and its valid range. The world
+    /// calls it before accepting the generator.
+    pub fn validate(&self) -> Result<(), PhysicsError> {
+        match self {
+            Self::Plane(plane) => {
+                let unit = plane.normal.is_finite() && (plane.normal.length() - 1.0).abs() < 1e-4;
+                check(unit, "plane normal", plane.normal, "a unit vector")?;
+                check(plane.offset.is_finite(), "plane offset", plane.offset, "a finite distance (m)")?;
+                check_surface(plane.restitution, plane.friction)
+            }
+            Self::Spheres(spheres) => check_surface(spheres.restitution, spheres.friction),
+            Self::Link(link) => link.validate(),
+        }
+    }
+
     /// Appends the paper resolver's contacts (overlaps only). `source` is this
     /// generator's index in the world, stored in contacts that belong to a link.
     pub fn generate(

@@ -12,6 +12,7 @@
 use glam::Vec3;
 
 use super::particles::Particles;
+use super::{NON_NEGATIVE, PhysicsError, check, non_negative};
 
 /// A contact source value meaning "not from a link" (ground, particle collisions).
 pub const NO_SOURCE: u32 = u32::MAX;
@@ -187,6 +188,20 @@ impl Default for ContactResolver {
 }
 
 impl ContactResolver {
+    /// Checks every setting; the error names the field and its valid range.
+    pub fn validate(&self) -> Result<(), PhysicsError> {
+        let iterations = self.max_iterations;
+        check(iterations >= 1, "resolver max_iterations", iterations, "a whole number >= 1")?;
+        check(
+            non_negative(self.velocity_epsilon),
+            "resolver velocity_epsilon",
+            self.velocity_epsilon,
+            NON_NEGATIVE,
+        )?;
+        check(non_negative(self.slop), "resolver slop", self.slop, NON_NEGATIVE)?;
+        let threshold = self.restitution_threshold;
+        check(non_negative(threshold), "resolver restitution_threshold", threshold, NON_NEGATIVE)
+    }
     /// Resolves `contacts` in place over a step of `dt` seconds: velocities, then
     /// interpenetration.
     pub fn resolve(&self, contacts: &mut [Contact], particles: &mut Particles, dt: f32) -> ResolveReport {

@@ -7,12 +7,19 @@ use glam::Vec3;
 
 use super::links::{LinkEnd, LinkKind, LinkSpec, direction_or_zero, end_position};
 use super::particles::{ParticleId, Particles};
+use super::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
 
 /// Something that adds forces to particles every step. `Send` so that a world can be
 /// handed to another thread (a benchmark's pool, a background simulation).
 pub trait ForceGenerator: Send {
     /// Adds this step's force to the particles' accumulators. `dt` is the step (s).
     fn apply(&mut self, particles: &mut Particles, dt: f32);
+
+    /// Checks every setting; the error names the field and its valid range. The
+    /// registry calls it before accepting the generator.
+    fn validate(&self) -> Result<(), PhysicsError> {
+        Ok(())
+    }
 
     /// Whether this generator refers to the particle.
     fn involves(&self, id: ParticleId) -> bool;
@@ -127,6 +134,10 @@ pub struct Gravity {
 }
 
 impl ForceGenerator for Gravity {
+    fn validate(&self) -> Result<(), PhysicsError> {
+        check(self.gravity.is_finite(), "gravity", self.gravity, "a vector of finite numbers (m/s²)")
+    }
+
     fn apply(&mut self, particles: &mut Particles, _dt: f32) {
         for &id in &self.targets {
             if let Some(i) = particles.index(id) {
@@ -216,6 +227,11 @@ impl Drag {
 }
 
 impl ForceGenerator for Drag {
+    fn validate(&self) -> Result<(), PhysicsError> {
+        check(non_negative(self.k1), "drag k1", self.k1, NON_NEGATIVE)?;
+        check(non_negative(self.k2), "drag k2", self.k2, NON_NEGATIVE)
+    }
+
     fn apply(&mut self, particles: &mut Particles, dt: f32) {
         for &id in &self.targets {
             let Some(i) = particles.index(id) else { continue };
@@ -286,6 +302,9 @@ impl Spring {
         if self.bungee && extension <= 0.0 {
             return Vec3::ZERO;
         }
+        // Coincident ends have no direction; a compressed spring there still stores
+        // k L²/2 and still pushes, so it pushes `a` up (+y), as contacts and links do.
+        let direction = if direction == Vec3::ZERO { Vec3::Y } else { direction };
         -self.k * extension * direction
     }
 
@@ -298,6 +317,21 @@ impl Spring {
 }
 
 impl ForceGenerator for Spring {
+    fn validate(&self) -> Result<(), PhysicsError> {
+        let name = if self.bungee { "bungee" } else { "spring" };
+        check(non_negative(self.k), &format!("{name} k"), self.k, NON_NEGATIVE)?;
+        check(
+            non_negative(self.rest_length),
+            &format!("{name} rest_length"),
+            self.rest_length,
+            NON_NEGATIVE,
+        )?;
+        if let LinkEnd::Anchor(anchor) = self.b {
+            check(anchor.is_finite(), &format!("{name} anchor"), anchor, "a point of finite numbers")?;
+        }
+        Ok(())
+    }
+
     fn apply(&mut self, particles: &mut Particles, _dt: f32) {
         let Some(ia) = particles.index(self.a) else { return };
         let Some(b) = end_position(particles, self.b) else { return };
@@ -370,6 +404,14 @@ impl Buoyancy {
 }
 
 impl ForceGenerator for Buoyancy {
+    fn validate(&self) -> Result<(), PhysicsError> {
+        check(self.surface.is_finite(), "buoyancy surface", self.surface, "a finite height (m)")?;
+        check(non_negative(self.half_height), "buoyancy half_height", self.half_height, NON_NEGATIVE)?;
+        check(non_negative(self.volume), "buoyancy volume", self.volume, NON_NEGATIVE)?;
+        check(non_negative(self.density), "buoyancy density", self.density, NON_NEGATIVE)?;
+        check(positive(self.g), "buoyancy g", self.g, POSITIVE)
+    }
+
     fn apply(&mut self, particles: &mut Particles, _dt: f32) {
         if let Some(i) = particles.index(self.target) {
             particles.force[i] += self.force(particles.position[i].y);

@@ -9,6 +9,7 @@ use glam::Vec3;
 
 use super::contacts::Contact;
 use super::particles::{ParticleId, Particles};
+use super::{POSITIVE, PhysicsError, UNIT, check, positive};
 
 /// Unit vector of `d` and its length, or zero and the length when `d` is (nearly) zero:
 /// coincident ends exert no directed force instead of producing NaN.
@@ -148,6 +149,22 @@ impl Constraint {
 }
 
 impl Constraint {
+    /// Checks the link's settings; the error names the field and its valid range.
+    pub fn validate(&self) -> Result<(), PhysicsError> {
+        let name = if self.rigid { "rod" } else { "cable" };
+        check(positive(self.length), &format!("{name} length"), self.length, POSITIVE)?;
+        check(
+            (0.0..=1.0).contains(&self.restitution),
+            &format!("{name} restitution"),
+            self.restitution,
+            UNIT,
+        )?;
+        if let LinkEnd::Anchor(anchor) = self.b {
+            check(anchor.is_finite(), &format!("{name} anchor"), anchor, "a point of finite numbers")?;
+        }
+        Ok(())
+    }
+
     /// Emits the paper resolver's contact when the link is too long (or, for a rod, too
     /// short). `source` is this link's generator index, kept for its tension.
     pub fn generate(&self, particles: &Particles, source: u32, out: &mut Vec<Contact>) {

@@ -26,14 +26,47 @@ pub use solver::{SolverKind, SolverSettings};
 pub use stiff_spring::StiffSpring;
 pub use world::{ContactGeneratorId, Energy, Profile, World};
 
+/// The error for a setting out of its range: names the field, the value and the range,
+/// so a user knows what to type instead.
+pub(crate) fn out_of_range(field: &str, value: impl std::fmt::Display, range: &str) -> PhysicsError {
+    PhysicsError::InvalidSetting(format!("{field} = {value} is out of range; valid range: {range}"))
+}
+
+/// `Ok` if `ok`, else [`out_of_range`].
+pub(crate) fn check(
+    ok: bool,
+    field: &str,
+    value: impl std::fmt::Display,
+    range: &str,
+) -> Result<(), PhysicsError> {
+    if ok { Ok(()) } else { Err(out_of_range(field, value, range)) }
+}
+
+/// Range text of a finite number >= 0.
+pub(crate) const NON_NEGATIVE: &str = "a finite number >= 0";
+/// Range text of a finite number > 0.
+pub(crate) const POSITIVE: &str = "a finite number > 0";
+/// Range text of a coefficient of restitution.
+pub(crate) const UNIT: &str = "0 to 1";
+
+/// A finite number >= 0.
+pub(crate) fn non_negative(x: f32) -> bool {
+    x.is_finite() && x >= 0.0
+}
+
+/// A finite number > 0.
+pub(crate) fn positive(x: f32) -> bool {
+    x.is_finite() && x > 0.0
+}
+
 /// What can go wrong when building or stepping a world.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PhysicsError {
     /// A particle description was rejected.
     #[error("invalid particle: {0}")]
     InvalidParticle(String),
-    /// A step was asked for with a non-positive or non-finite duration.
-    #[error("time step must be a positive finite number of seconds, got {0}")]
+    /// A step was asked for with a duration outside `(0, MAX_TIME_STEP]`.
+    #[error("time step dt = {0} s is out of range; valid range: more than 0 and at most {max} s", max = world::MAX_TIME_STEP)]
     InvalidTimeStep(f32),
     /// A solver or generator setting out of its range; the message names the field.
     #[error("{0}")]

@@ -73,13 +73,23 @@ impl ParticleDesc {
     }
 }
 
-/// Converts a mass to an inverse mass. Zero, negative, infinite and NaN masses are
-/// errors: an immovable particle is asked for with [`ParticleDesc::immovable`].
+/// Lightest mass a particle may have (kg): a microgram. Much lighter and `1/m` times an
+/// ordinary impulse overflows single precision.
+pub const MIN_MASS: f32 = 1e-9;
+/// Heaviest mass a particle may have (kg). Anything that should not move at all is
+/// asked for with [`ParticleDesc::immovable`] instead.
+pub const MAX_MASS: f32 = 1e12;
+
+/// Converts a mass to an inverse mass. A mass outside `[MIN_MASS, MAX_MASS]` (zero,
+/// negative, infinite, NaN, or so small its inverse overflows) is an error: an
+/// immovable particle is asked for with [`ParticleDesc::immovable`].
 pub fn inverse_mass(mass: f32) -> Result<f32, PhysicsError> {
-    if mass > 0.0 && mass.is_finite() {
+    if (MIN_MASS..=MAX_MASS).contains(&mass) {
         Ok(1.0 / mass)
     } else {
-        Err(PhysicsError::InvalidParticle(format!("mass must be a finite number > 0, got {mass}")))
+        Err(PhysicsError::InvalidParticle(format!(
+            "mass = {mass} kg is out of range; valid range: {MIN_MASS} to {MAX_MASS} kg"
+        )))
     }
 }
 
@@ -351,10 +361,33 @@ impl Particles {
         if inverse > 0.0 { 1.0 / inverse } else { f32::INFINITY }
     }
 
-    /// Sets the mass of a particle (kg); see [`inverse_mass`] for what is accepted.
+    /// Sets the mass of a movable particle (kg); see [`inverse_mass`] for what is
+    /// accepted. An immovable particle is refused: giving it a mass would set it free,
+    /// which is [`Particles::set_movable`]'s job.
     pub fn set_mass(&mut self, id: ParticleId, mass: f32) -> Result<(), PhysicsError> {
         let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        if self.inverse_mass[index] == 0.0 {
+            return Err(PhysicsError::InvalidParticle(format!(
+                "particle {} is immovable, so it has no mass to set (use set_movable to free it)",
+                id.0
+            )));
+        }
         self.inverse_mass[index] = inverse_mass(mass)?;
+        self.disturb(index);
+        Ok(())
+    }
+
+    /// Makes a particle movable with the given mass, or (with `None`) immovable, which
+    /// also stops it. The explicit call for what `set_mass` refuses.
+    pub fn set_movable(&mut self, id: ParticleId, mass: Option<f32>) -> Result<(), PhysicsError> {
+        let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        self.inverse_mass[index] = match mass {
+            Some(mass) => inverse_mass(mass)?,
+            None => {
+                self.velocity[index] = Vec3::ZERO;
+                0.0
+            }
+        };
         self.disturb(index);
         Ok(())
     }

@@ -19,6 +19,7 @@ use glam::{DVec3, Vec3};
 use super::forces::ForceGenerator;
 use super::links::{LinkEnd, LinkKind, LinkSpec};
 use super::particles::{ParticleId, Particles};
+use super::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
 
 /// An anchored spring of zero rest length whose motion is integrated analytically.
 /// Register it after the particle's other force generators: their forces this step are
@@ -71,6 +72,17 @@ pub fn damped_oscillator(y0: DVec3, v0: DVec3, omega: f64, zeta: f64, t: f64) ->
 }
 
 impl ForceGenerator for StiffSpring {
+    fn validate(&self) -> Result<(), PhysicsError> {
+        check(positive(self.k), "stiff spring k", self.k, POSITIVE)?;
+        check(
+            non_negative(self.damping_ratio),
+            "stiff spring damping_ratio",
+            self.damping_ratio,
+            NON_NEGATIVE,
+        )?;
+        check(self.anchor.is_finite(), "stiff spring anchor", self.anchor, "a point of finite numbers")
+    }
+
     fn apply(&mut self, particles: &mut Particles, dt: f32) {
         let Some(i) = particles.index(self.target) else { return };
         let inverse_mass = particles.inverse_mass[i];

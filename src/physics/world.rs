@@ -4,7 +4,6 @@ use glam::Vec3;
 
 use std::time::Instant;
 
-use super::PhysicsError;
 use super::broad_phase::BroadPhase;
 use super::collisions::{ContactGenerator, Scratch};
 use super::contacts::{Contact, ContactResolver, NO_SOURCE, ResolveReport};
@@ -13,6 +12,7 @@ use super::links::{LinkState, link_geometry};
 use super::particles::{ParticleDesc, ParticleId, Particles};
 use super::soft_step::SoftStep;
 use super::solver::{SolverKind, SolverSettings};
+use super::{PhysicsError, check};
 
 /// Handle to a registered contact generator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -41,6 +41,13 @@ pub struct Profile {
     pub total_ms: f32,
 }
 
+/// Most extra position passes of the paper's resolver.
+pub const MAX_POSITION_PASSES: usize = 64;
+
+/// Longest step [`World::step`] accepts (s). A longer step is a mistake (a pause
+/// measured in wall time, seconds typed as milliseconds): nothing stays stable over it.
+pub const MAX_TIME_STEP: f32 = 1.0;
+
 /// A mass-aggregate world.
 #[derive(Default)]
 pub struct World {
@@ -49,7 +56,7 @@ pub struct World {
     /// Force generators, applied every step in order.
     pub forces: ForceRegistry,
     /// Settings of the paper's resolver (used when the solver is [`SolverKind::Paper`]).
-    pub resolver: ContactResolver,
+    resolver: ContactResolver,
     solver: SolverSettings,
     contact_generators: Vec<(ContactGeneratorId, ContactGenerator)>,
     broad_phase: BroadPhase,
@@ -64,7 +71,7 @@ pub struct World {
     /// interpenetration" after the main resolution. The resolver's position phase is
     /// linearised; these passes see the true geometry, so chains of rods and cables
     /// hold their lengths. 0 gives the paper's single pass.
-    pub position_passes: usize,
+    position_passes: usize,
     /// Tension from the last step's contact impulses, per contact generator (N).
     link_tension: Vec<f32>,
     last_report: ResolveReport,
@@ -145,9 +152,36 @@ impl World {
         Ok(())
     }
 
+    /// Settings of the paper's resolver.
+    #[must_use]
+    pub fn resolver(&self) -> &ContactResolver {
+        &self.resolver
+    }
+
+    /// Replaces the paper resolver's settings after checking them; on an error the
+    /// world keeps the old ones.
+    pub fn set_resolver(&mut self, resolver: ContactResolver) -> Result<(), PhysicsError> {
+        resolver.validate()?;
+        self.resolver = resolver;
+        Ok(())
+    }
+
+    /// Extra position passes of the paper's resolver (see the field).
+    #[must_use]
+    pub fn position_passes(&self) -> usize {
+        self.position_passes
+    }
+
+    /// Sets the paper resolver's extra position passes, 0 to [`MAX_POSITION_PASSES`].
+    pub fn set_position_passes(&mut self, passes: usize) -> Result<(), PhysicsError> {
+        check(passes <= MAX_POSITION_PASSES, "position_passes", passes, "0 to 64")?;
+        self.position_passes = passes;
+        Ok(())
+    }
+
     /// Advances the world by `dt` seconds with the chosen solver.
     pub fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
-        if !(dt > 0.0 && dt.is_finite()) {
+        if !(dt > 0.0 && dt <= MAX_TIME_STEP) {
             return Err(PhysicsError::InvalidTimeStep(dt));
         }
         self.link_tension.clear();

@@ -30,6 +30,7 @@ static PARAMS: &[Param] = &[
     Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false },
     Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
     Param { name: "stiff_k", unit: "N/m", default: 10_000.0, min: 10.0, max: 1_000_000.0, help: "Stiffness of the closed-form stiff spring (stable at any value)", logarithmic: true },
+    Param { name: "stiff_zeta", unit: "", default: 0.05, min: 0.0, max: 2.0, help: "Damping ratio of the stiff spring (0 rings forever, 1 critical); apart from `damping`", logarithmic: false },
 ];
 
 static INFO: SceneInfo = SceneInfo {
@@ -87,7 +88,12 @@ impl SpringForces {
         world.add_force(Spring::between(left, right, k, rest));
         world.add_force(Spring::anchored(jumper, BUNGEE_ANCHOR, k, rest).as_bungee());
         let float_force = world.add_force(float_buoyancy(float, g));
-        world.add_force(StiffSpring::new(stiff, STIFF_ANCHOR, params.get("stiff_k"), 0.05));
+        world.add_force(StiffSpring::new(
+            stiff,
+            STIFF_ANCHOR,
+            params.get("stiff_k"),
+            params.get("stiff_zeta"),
+        ));
         world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 });
         world.add_contact_generator(SphereCollisions::elastic(0.5));
         Ok(Self { world, params, bob, float_force, float })
