@@ -206,7 +206,7 @@ fn stiff_spring_first_step_lands_on_the_closed_form_despite_damping() {
     let id = world
         .add_particle(ParticleDesc { position: start, damping: 0.5, ..ParticleDesc::default() })
         .unwrap();
-    world.add_force(StiffSpring::new(id, anchor, k, 0.0));
+    world.add_force(StiffSpring::new(id, anchor, k, 0.0)).unwrap();
     world.step(dt).unwrap();
     let (expected, _) =
         damped_oscillator(start.as_dvec3(), DVec3::ZERO, f64::from(k).sqrt(), 0.0, f64::from(dt));
@@ -227,7 +227,7 @@ fn stiff_spring_under_gravity_oscillates_about_the_shifted_rest_point() {
             ..ParticleDesc::default()
         })
         .unwrap();
-    world.add_force(StiffSpring::new(id, anchor, k, 0.0));
+    world.add_force(StiffSpring::new(id, anchor, k, 0.0)).unwrap();
     let omega = f64::from(k / mass).sqrt();
     let rest = anchor.as_dvec3() - DVec3::Y * f64::from(g * mass / k);
     let (mut y, mut v) = (anchor.as_dvec3() - rest, DVec3::ZERO);
@@ -248,7 +248,7 @@ fn stiff_spring_lands_the_particle_on_the_closed_form() {
     let (k, mass, zeta, dt) = (400.0_f32, 2.0_f32, 0.1_f32, 0.01_f32);
     let mut world = World::new();
     let id = world.add_particle(ParticleDesc { position: start, mass, ..ParticleDesc::default() }).unwrap();
-    world.add_force(StiffSpring::new(id, anchor, k, zeta));
+    world.add_force(StiffSpring::new(id, anchor, k, zeta)).unwrap();
     let omega = f64::from(k / mass).sqrt();
     let mut expected = (start - anchor).as_dvec3();
     let mut velocity = DVec3::ZERO;
@@ -266,7 +266,7 @@ fn stiff_spring_in_substeps_composes_to_the_closed_form() {
     let (anchor, start, k) = (Vec3::ZERO, Vec3::new(0.5, 0.0, 0.0), 400.0_f32);
     let mut world = World::new();
     let id = world.add_particle(ParticleDesc { position: start, ..ParticleDesc::default() }).unwrap();
-    world.add_force(StiffSpring::new(id, anchor, k, 0.1));
+    world.add_force(StiffSpring::new(id, anchor, k, 0.1)).unwrap();
     for step in 1..=50 {
         world.step(0.01).unwrap();
         let t = 0.01 * f64::from(step);
@@ -291,7 +291,7 @@ fn drag_is_stable_for_any_coefficient_and_reaches_terminal_speed() {
                 ..ParticleDesc::default()
             })
             .unwrap();
-        world.add_force(Drag { k1, k2, targets: vec![id] });
+        world.add_force(Drag { k1, k2, targets: vec![id] }).unwrap();
         for _ in 0..240 {
             world.step(1.0 / 240.0).unwrap();
             let v = world.particles.velocities()[0];
@@ -320,7 +320,7 @@ fn linear_drag_decay_follows_the_exponential() {
                 ..ParticleDesc::default()
             })
             .unwrap();
-        world.add_force(Drag { k1: 1.5, k2: 0.0, targets: vec![id] });
+        world.add_force(Drag { k1: 1.5, k2: 0.0, targets: vec![id] }).unwrap();
         for step in 1..=30 {
             world.step(dt).unwrap();
             let exact = 4.0 * (-1.5 * step as f32 * dt / 0.5).exp();

@@ -51,20 +51,20 @@ proptest! {
         let lightest = if fixed_a { mb } else if fixed_b { ma } else { ma.min(mb) };
         // Two springs share a particle pair; the stiffest mode is about 4k / m.
         let stable = (4.0 * k / lightest).sqrt() * h < 2.0;
-        world.add_force(Gravity { gravity: Vec3::new(0.0, -9.81, 0.0), targets: vec![a, b] });
-        world.add_force(Drag { k1: 0.1, k2: 0.01, targets: vec![a, b] });
-        world.add_force(Spring::between(a, b, k, rest));
-        world.add_force(Spring::between(a, b, k, rest).as_bungee());
-        world.add_force(Spring::anchored(b, pa, k, rest));
-        world.add_force(Spring::anchored(a, pb, k, rest).as_bungee());
-        world.add_force(Buoyancy { target: a, surface: 0.5, half_height: radius, volume: 0.1, density: 1000.0, g: 9.81 });
-        world.add_force(StiffSpring::new(b, pa, k.max(1.0), zeta));
-        world.add_contact_generator(GroundPlane { height: 0.0, restitution });
-        world.add_contact_generator(SphereCollisions::elastic(restitution));
-        world.add_contact_generator(Constraint::rod(a, b, rest));
-        world.add_contact_generator(Constraint::cable(a, b, rest, restitution));
-        world.add_contact_generator(Constraint::support_rod(a, pb, rest));
-        world.add_contact_generator(Constraint::support_cable(b, pa, rest, restitution));
+        world.add_force(Gravity { gravity: Vec3::new(0.0, -9.81, 0.0), targets: vec![a, b] }).unwrap();
+        world.add_force(Drag { k1: 0.1, k2: 0.01, targets: vec![a, b] }).unwrap();
+        world.add_force(Spring::between(a, b, k, rest)).unwrap();
+        world.add_force(Spring::between(a, b, k, rest).as_bungee()).unwrap();
+        world.add_force(Spring::anchored(b, pa, k, rest)).unwrap();
+        world.add_force(Spring::anchored(a, pb, k, rest).as_bungee()).unwrap();
+        world.add_force(Buoyancy { target: a, surface: 0.5, half_height: radius, volume: 0.1, density: 1000.0, g: 9.81 }).unwrap();
+        world.add_force(StiffSpring::new(b, pa, k.max(1.0), zeta)).unwrap();
+        world.add_contact_generator(GroundPlane { height: 0.0, restitution }).unwrap();
+        world.add_contact_generator(SphereCollisions::elastic(restitution)).unwrap();
+        world.add_contact_generator(Constraint::rod(a, b, rest)).unwrap();
+        world.add_contact_generator(Constraint::cable(a, b, rest, restitution)).unwrap();
+        world.add_contact_generator(Constraint::support_rod(a, pb, rest)).unwrap();
+        world.add_contact_generator(Constraint::support_cable(b, pa, rest, restitution)).unwrap();
         // Several steps: the stiff spring's remembered velocity and repeated contacts
         // are exercised too. Explicit springs may legitimately grow; NaN never.
         for _ in 0..5 {
@@ -99,7 +99,7 @@ proptest! {
         };
         add(pa, va, ma);
         add(Vec3::ZERO, vb, mb);
-        world.add_contact_generator(SphereCollisions::elastic(restitution));
+        world.add_contact_generator(SphereCollisions::elastic(restitution)).unwrap();
         let before = world.energy().kinetic;
         world.step(1e-3).unwrap();
         let after = world.energy().kinetic;

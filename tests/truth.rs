@@ -38,7 +38,7 @@ fn pendulum(links: usize, rigid: bool, solver: SolverKind) -> World {
             (Some(up), true) => Constraint::rod(id, up, 1.0),
             (Some(up), false) => Constraint::cable(id, up, 1.0, 0.0),
         };
-        world.add_contact_generator(link);
+        world.add_contact_generator(link).unwrap();
         previous = Some(id);
     }
     world
@@ -99,7 +99,7 @@ fn a_double_pendulum_keeps_its_energy_for_a_minute() {
 fn rebound_heights(restitution: f32, hz: f32, height: f32, count: usize) -> Vec<f64> {
     let mut world = World::new();
     world.add_particle(ball(Vec3::new(0.0, height, 0.0), Vec3::ZERO, 0.0, DOWN)).unwrap();
-    world.add_contact_generator(Plane::ground(0.0, restitution, 0.0));
+    world.add_contact_generator(Plane::ground(0.0, restitution, 0.0)).unwrap();
     let mut samples = vec![f64::from(height)];
     let mut tops = Vec::new();
     while tops.len() < count && samples.len() < (60.0 * hz) as usize {
@@ -160,10 +160,12 @@ fn cradle(n: usize, arriving: usize, hung: bool, gap: f32, hz: f32) -> Vec<f32> 
         }
         let id = world.add_particle(ball(Vec3::new(x, 0.0, 0.0), v, r, gravity)).unwrap();
         if hung {
-            world.add_contact_generator(Constraint::support_cable(id, Vec3::new(x, 1.0, 0.0), 1.0, 0.0));
+            world
+                .add_contact_generator(Constraint::support_cable(id, Vec3::new(x, 1.0, 0.0), 1.0, 0.0))
+                .unwrap();
         }
     }
-    world.add_contact_generator(SphereCollisions::elastic(1.0));
+    world.add_contact_generator(SphereCollisions::elastic(1.0)).unwrap();
     for _ in 0..(0.05 * hz).round() as usize {
         world.step(1.0 / hz).unwrap();
     }
@@ -202,15 +204,17 @@ fn tunnels(obstacle: &str, speed: f32, phase: f32, restitution: f32) -> bool {
         "sphere" => {
             world.add_particle(ball(Vec3::new(-start, 0.0, 0.0), Vec3::X * speed, 0.05, Vec3::ZERO)).unwrap();
             world.add_particle(ball(Vec3::ZERO, Vec3::ZERO, 0.05, Vec3::ZERO)).unwrap();
-            world.add_contact_generator(SphereCollisions::elastic(restitution));
+            world.add_contact_generator(SphereCollisions::elastic(restitution)).unwrap();
         }
         "ground" => {
             world.add_particle(ball(Vec3::new(0.0, start, 0.0), Vec3::NEG_Y * speed, 0.05, DOWN)).unwrap();
-            world.add_contact_generator(Plane::ground(0.0, restitution, 0.0));
+            world.add_contact_generator(Plane::ground(0.0, restitution, 0.0)).unwrap();
         }
         _ => {
             world.add_particle(ball(Vec3::new(-start, 0.0, 0.0), Vec3::X * speed, 0.05, Vec3::ZERO)).unwrap();
-            world.add_contact_generator(Plane::new(Vec3::NEG_X, Vec3::ZERO, restitution, 0.0).unwrap());
+            world
+                .add_contact_generator(Plane::new(Vec3::NEG_X, Vec3::ZERO, restitution, 0.0).unwrap())
+                .unwrap();
         }
     }
     for _ in 0..((2.0 * start / speed) / dt).ceil() as usize + 4 {

@@ -59,12 +59,14 @@ pub struct ForceRegistry {
 }
 
 impl ForceRegistry {
-    /// Registers a generator and returns its handle.
-    pub fn add(&mut self, generator: Box<dyn ForceGenerator>) -> ForceId {
+    /// Registers a generator and returns its handle, after checking its settings
+    /// ([`ForceGenerator::validate`]); on an error nothing is added.
+    pub fn add(&mut self, generator: Box<dyn ForceGenerator>) -> Result<ForceId, PhysicsError> {
+        generator.validate()?;
         let id = ForceId(self.next);
         self.next += 1;
         self.entries.push((id, generator));
-        id
+        Ok(id)
     }
 
     /// Unregisters a generator; false if it was not registered.
@@ -75,15 +77,17 @@ impl ForceRegistry {
     }
 
     /// Swaps the generator behind `id` for another, keeping its place in the order;
-    /// false if `id` is not registered.
-    pub fn replace(&mut self, id: ForceId, generator: Box<dyn ForceGenerator>) -> bool {
-        match self.entries.iter_mut().find(|(entry, _)| *entry == id) {
+    /// `Ok(false)` if `id` is not registered. A generator whose settings are invalid
+    /// is refused and the old one kept.
+    pub fn replace(&mut self, id: ForceId, generator: Box<dyn ForceGenerator>) -> Result<bool, PhysicsError> {
+        generator.validate()?;
+        Ok(match self.entries.iter_mut().find(|(entry, _)| *entry == id) {
             Some(entry) => {
                 entry.1 = generator;
                 true
             }
             None => false,
-        }
+        })
     }
 
     /// Tells every generator the particle is gone, dropping those left with nothing.

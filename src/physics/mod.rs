@@ -26,19 +26,49 @@ pub use solver::{SolverKind, SolverSettings};
 pub use stiff_spring::StiffSpring;
 pub use world::{ContactGeneratorId, Energy, Profile, World};
 
+/// A value as an error message shows it: numbers far from 1 in scientific notation
+/// (`2e-39`, not thirty-eight zeros).
+pub(crate) trait Shown {
+    fn shown(&self) -> String;
+}
+
+impl Shown for f32 {
+    fn shown(&self) -> String {
+        let x = self.abs();
+        if x != 0.0 && x.is_finite() && !(1e-4..1e7).contains(&x) {
+            format!("{self:e}")
+        } else {
+            format!("{self}")
+        }
+    }
+}
+
+impl Shown for usize {
+    fn shown(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl Shown for u32 {
+    fn shown(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl Shown for glam::Vec3 {
+    fn shown(&self) -> String {
+        format!("({}, {}, {})", self.x.shown(), self.y.shown(), self.z.shown())
+    }
+}
+
 /// The error for a setting out of its range: names the field, the value and the range,
 /// so a user knows what to type instead.
-pub(crate) fn out_of_range(field: &str, value: impl std::fmt::Display, range: &str) -> PhysicsError {
-    PhysicsError::InvalidSetting(format!("{field} = {value} is out of range; valid range: {range}"))
+pub(crate) fn out_of_range(field: &str, value: impl Shown, range: &str) -> PhysicsError {
+    PhysicsError::InvalidSetting(format!("{field} = {} is out of range; valid range: {range}", value.shown()))
 }
 
 /// `Ok` if `ok`, else [`out_of_range`].
-pub(crate) fn check(
-    ok: bool,
-    field: &str,
-    value: impl std::fmt::Display,
-    range: &str,
-) -> Result<(), PhysicsError> {
+pub(crate) fn check(ok: bool, field: &str, value: impl Shown, range: &str) -> Result<(), PhysicsError> {
     if ok { Ok(()) } else { Err(out_of_range(field, value, range)) }
 }
 

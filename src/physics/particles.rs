@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::PhysicsError;
+use super::{PhysicsError, Shown};
 
 /// A stable handle to a particle. Ids are never reused within one [`Particles`] store.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -88,7 +88,10 @@ pub fn inverse_mass(mass: f32) -> Result<f32, PhysicsError> {
         Ok(1.0 / mass)
     } else {
         Err(PhysicsError::InvalidParticle(format!(
-            "mass = {mass} kg is out of range; valid range: {MIN_MASS} to {MAX_MASS} kg"
+            "mass = {} kg is out of range; valid range: {} to {} kg",
+            mass.shown(),
+            MIN_MASS.shown(),
+            MAX_MASS.shown()
         )))
     }
 }

@@ -107,18 +107,26 @@ impl World {
         true
     }
 
-    /// Registers a force generator.
-    pub fn add_force(&mut self, generator: impl ForceGenerator + 'static) -> ForceId {
+    /// Registers a force generator after checking its settings
+    /// ([`ForceGenerator::validate`]); on an error nothing is added.
+    pub fn add_force(&mut self, generator: impl ForceGenerator + 'static) -> Result<ForceId, PhysicsError> {
         self.forces.add(Box::new(generator))
     }
 
-    /// Registers a contact generator (plane, sphere collisions, rod, cable, ...).
-    pub fn add_contact_generator(&mut self, generator: impl Into<ContactGenerator>) -> ContactGeneratorId {
+    /// Registers a contact generator (plane, sphere collisions, rod, cable, ...) after
+    /// checking its settings ([`ContactGenerator::validate`]); on an error nothing is
+    /// added.
+    pub fn add_contact_generator(
+        &mut self,
+        generator: impl Into<ContactGenerator>,
+    ) -> Result<ContactGeneratorId, PhysicsError> {
+        let generator = generator.into();
+        generator.validate()?;
         let id = ContactGeneratorId(self.next_contact_generator);
         self.next_contact_generator += 1;
-        self.contact_generators.push((id, generator.into()));
+        self.contact_generators.push((id, generator));
         self.link_tension.clear();
-        id
+        Ok(id)
     }
 
     /// Unregisters a contact generator; false if it was not registered.

@@ -7,7 +7,9 @@ use glam::Vec3;
 use super::{
     ActionInfo, CameraHint, Marker, Param, ParamError, ParamValues, Scene, SceneAction, SceneEntry, SceneInfo,
 };
-use crate::physics::{Constraint, GroundPlane, ParticleDesc, ParticleId, PhysicsError, ResolveReport, World};
+use crate::physics::{
+    Constraint, ContactGenerator, GroundPlane, ParticleDesc, ParticleId, PhysicsError, ResolveReport, World,
+};
 
 /// Mass of each deck particle without the load (kg).
 pub const BASE_MASS: f32 = 1.0;
@@ -63,17 +65,22 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
                 .expect("bridge particles are valid")
         })
         .collect();
+    let mut add = |generator: ContactGenerator| {
+        world
+            .add_contact_generator(generator)
+            .expect("the bridge's links and ground are constants, all valid");
+    };
     for i in 0..6 {
-        world.add_contact_generator(Constraint::rod(particles[2 * i], particles[2 * i + 1], 2.0));
+        add(Constraint::rod(particles[2 * i], particles[2 * i + 1], 2.0).into());
     }
     for i in 0..10 {
-        world.add_contact_generator(Constraint::cable(particles[i], particles[i + 2], 1.9, 0.3));
+        add(Constraint::cable(particles[i], particles[i + 2], 1.9, 0.3).into());
     }
     for (i, &max_length) in SUPPORT_LENGTHS.iter().enumerate() {
         let anchor = Vec3::new((i / 2) as f32 * 2.2 - 5.5, 6.0, (i % 2) as f32 * 1.6 - 0.8);
-        world.add_contact_generator(Constraint::support_cable(particles[i], anchor, max_length, 0.5));
+        add(Constraint::support_cable(particles[i], anchor, max_length, 0.5).into());
     }
-    world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 });
+    add(GroundPlane { height: 0.0, restitution: 0.2 }.into());
     let mut bridge = Bridge { world, params, particles };
     bridge.distribute_load();
     Box::new(bridge)

@@ -67,9 +67,11 @@ fn build_world(params: &ParamValues) -> World {
     for (normal, point) in walls {
         let plane =
             Plane::new(normal, point, restitution, friction).expect("parameter ranges keep planes valid");
-        world.add_contact_generator(plane);
+        world.add_contact_generator(plane).expect("a plane from Plane::new is valid");
     }
-    world.add_contact_generator(SphereCollisions { restitution, friction });
+    world
+        .add_contact_generator(SphereCollisions { restitution, friction })
+        .expect("parameter ranges keep restitution and friction valid");
     for position in starting_grid(count(params), radius, width) {
         world
             .add_particle(ParticleDesc {

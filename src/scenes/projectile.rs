@@ -54,7 +54,7 @@ pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let mut world = World::new();
-    world.add_contact_generator(SphereCollisions::elastic(0.8));
+    world.add_contact_generator(SphereCollisions::elastic(0.8)).expect("a constant restitution in range");
     let mut scene = Projectile { world, params, rounds: Vec::new() };
     scene.fire().expect("default parameters describe a valid round");
     Box::new(scene)

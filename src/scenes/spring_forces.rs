@@ -84,18 +84,18 @@ impl SpringForces {
         let float = add(Vec3::new(POOL.center.x, POOL.height + 2.5, POOL.center.y))?;
         let stiff = add(STIFF_ANCHOR + Vec3::new(0.8, 0.0, 0.0))?;
 
-        world.add_force(Spring::anchored(bob, BOB_ANCHOR, k, rest));
-        world.add_force(Spring::between(left, right, k, rest));
-        world.add_force(Spring::anchored(jumper, BUNGEE_ANCHOR, k, rest).as_bungee());
-        let float_force = world.add_force(float_buoyancy(float, g));
+        world.add_force(Spring::anchored(bob, BOB_ANCHOR, k, rest))?;
+        world.add_force(Spring::between(left, right, k, rest))?;
+        world.add_force(Spring::anchored(jumper, BUNGEE_ANCHOR, k, rest).as_bungee())?;
+        let float_force = world.add_force(float_buoyancy(float, g))?;
         world.add_force(StiffSpring::new(
             stiff,
             STIFF_ANCHOR,
             params.get("stiff_k"),
             params.get("stiff_zeta"),
-        ));
-        world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 });
-        world.add_contact_generator(SphereCollisions::elastic(0.5));
+        ))?;
+        world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 })?;
+        world.add_contact_generator(SphereCollisions::elastic(0.5))?;
         Ok(Self { world, params, bob, float_force, float })
     }
 }
@@ -127,7 +127,10 @@ impl Scene for SpringForces {
         match name {
             "g" => {
                 self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
-                self.world.forces.replace(self.float_force, Box::new(float_buoyancy(self.float, value)));
+                self.world
+                    .forces
+                    .replace(self.float_force, Box::new(float_buoyancy(self.float, value)))
+                    .expect("g is range-checked, so the float's buoyancy is valid");
                 self.params = params;
             }
             "mass" => {
