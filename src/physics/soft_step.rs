@@ -312,7 +312,7 @@ impl SoftStep {
     }
 
     /// Stage 5: islands whose every particle has been slow for `sleep_time` fall
-    /// asleep. An island is the particles joined by touching contacts and links
+    /// asleep. An island is the particles joined by contacts (speculative ones too) and links
     /// (immovable particles and planes join nothing).
     fn fall_asleep(&mut self, particles: &mut Particles, settings: &SolverSettings, dt: f32) {
         let mut ready = false;
@@ -342,13 +342,12 @@ impl SoftStep {
         self.parent.clear();
         self.parent.extend(0..n as u32);
         let movable = |i: u32| i != NONE && particles.inverse_mass[i as usize] > 0.0;
-        let delta = &self.delta;
+        // Every contact joins, speculative ones too: a pair close enough to have a
+        // contact is close enough that the next step's contact would wake one from the
+        // other, so two islands split by a near miss would wake each other in turn.
         for c in &self.contacts {
             if movable(c.a) && movable(c.b) {
-                let moved = delta[c.a as usize] - delta[c.b as usize];
-                if c.separation + moved.dot(c.normal) < settings.speculative_distance {
-                    union(&mut self.parent, c.a, c.b);
-                }
+                union(&mut self.parent, c.a, c.b);
             }
         }
         for link in &self.links {
