@@ -31,6 +31,7 @@ use rayon::prelude::*;
 use super::broad_phase::BroadPhase;
 use super::collisions::{ContactGenerator, Plane, Scratch, SphereCollisions};
 use super::forces::ForceRegistry;
+use super::integrator::{Integration, Integrator};
 use super::links::{Constraint, LinkEnd, direction_or_zero};
 use super::particles::{AWAKE, Particles, Sleep};
 use super::solver::{Softness, SolverSettings};
@@ -148,6 +149,8 @@ pub struct SoftStep {
     margin: Vec<f32>,
     /// Contacts and cables with restitution this step, refreshed every substep.
     impacts: Vec<Impact>,
+    /// Buffers of the integrators other than semi-implicit Euler.
+    integration: Integration,
     /// Velocities at the start of the substep, kept while anything can bounce.
     substep_velocity: Vec<Vec3>,
     /// Per particle: asleep at the start of this collide pass.
@@ -271,13 +274,18 @@ impl SoftStep {
         let parallel = particles.len() >= PARALLEL_PARTICLES;
         let bouncy = self.contacts.iter().any(|c| c.restitution > 0.0)
             || self.links.iter().any(|l| !l.rigid && l.restitution > 0.0);
+        let integrator = settings.integrator;
         for _ in 0..substeps {
-            particles.clear_forces();
-            forces.apply(particles, h);
             if bouncy {
                 self.substep_velocity.clone_from(&particles.velocity);
             }
-            particles.integrate_velocities(h, parallel);
+            if integrator == Integrator::SemiImplicitEuler {
+                particles.clear_forces();
+                forces.apply(particles, h);
+                particles.integrate_velocities(h, parallel);
+            } else {
+                self.integration.predict(integrator, particles, forces, h);
+            }
             if bouncy {
                 self.impacts(particles, h, settings.restitution_threshold);
             }
@@ -285,6 +293,9 @@ impl SoftStep {
             self.solve(particles, contact_context, joint_context);
             particles.integrate_positions(h, &mut self.delta, parallel);
             self.solve(particles, relax, relax);
+            if integrator != Integrator::SemiImplicitEuler {
+                self.integration.finish(particles);
+            }
         }
         self.store(h, link_tension);
         let max_penetration = self.deepest_overlap();

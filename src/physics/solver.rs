@@ -1,6 +1,7 @@
 //! Which solver a world uses, and its settings: one struct, documented once, validated.
 
 use super::PhysicsError;
+use super::integrator::Integrator;
 
 /// The constraint solvers a world can use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -55,6 +56,9 @@ pub const SUBSTEP_RANGE: std::ops::RangeInclusive<u32> = 1..=64;
 pub struct SolverSettings {
     /// Which solver. Default [`SolverKind::Soft`].
     pub kind: SolverKind,
+    /// How motion is advanced each (sub)step. Default [`Integrator::SemiImplicitEuler`],
+    /// the paper's; see [`super::integrator`] for what the others do with contacts.
+    pub integrator: Integrator,
     /// Substeps per step for the soft solver, 1 to 64. Default 4: each substep
     /// integrates, solves every contact and link once with position feedback, and once
     /// without ("relax"). More substeps make stiff links and tall piles converge better.
@@ -102,6 +106,7 @@ impl Default for SolverSettings {
     fn default() -> Self {
         Self {
             kind: SolverKind::Soft,
+            integrator: Integrator::SemiImplicitEuler,
             substeps: 4,
             contact_hertz: 60.0,
             contact_damping_ratio: 10.0,
@@ -205,6 +210,7 @@ mod tests {
         let s = SolverSettings::default();
         s.validate().unwrap();
         assert_eq!((s.kind, s.substeps), (SolverKind::Soft, 4));
+        assert_eq!(s.integrator, Integrator::SemiImplicitEuler);
         assert_eq!((s.contact_hertz, s.contact_damping_ratio), (60.0, 10.0));
         assert_eq!((s.joint_hertz, s.joint_damping_ratio), (240.0, 1.0));
         assert_eq!((s.max_push_speed, s.restitution_threshold, s.speculative_distance), (3.0, 0.1, 0.02));

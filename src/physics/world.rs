@@ -8,6 +8,7 @@ use super::broad_phase::BroadPhase;
 use super::collisions::{ContactGenerator, Scratch};
 use super::contacts::{Contact, ContactResolver, NO_SOURCE, ResolveReport};
 use super::forces::{ForceGenerator, ForceId, ForceRegistry};
+use super::integrator::{Integration, Integrator};
 use super::links::{LinkState, link_geometry};
 use super::particles::{ParticleDesc, ParticleId, Particles};
 use super::soft_step::SoftStep;
@@ -62,6 +63,10 @@ pub struct World {
     broad_phase: BroadPhase,
     scratch: Scratch,
     soft: SoftStep,
+    /// Buffers of the integrators other than semi-implicit Euler (paper's solver).
+    integration: Integration,
+    /// How far each particle moved in an integration (scratch).
+    moved: Vec<Vec3>,
     profile: Profile,
     next_contact_generator: u32,
     contacts: Vec<Contact>,
@@ -232,9 +237,22 @@ impl World {
         let started = Instant::now();
         // Before the generators: the stiff spring reads this step's damping factor.
         self.particles.prepare_damping(dt);
-        self.particles.clear_forces();
-        self.forces.apply(&mut self.particles, dt);
-        self.particles.integrate(dt);
+        let integrator = self.solver.integrator;
+        if integrator == Integrator::SemiImplicitEuler {
+            self.particles.clear_forces();
+            self.forces.apply(&mut self.particles, dt);
+            self.particles.integrate(dt);
+        } else {
+            // No constraints inside the paper's integration: move, then take the end
+            // velocity; the resolver works on that afterwards.
+            self.integration.predict(integrator, &mut self.particles, &mut self.forces, dt);
+            let mut moved = std::mem::take(&mut self.moved);
+            moved.clear();
+            moved.resize(self.particles.len(), Vec3::ZERO);
+            self.particles.integrate_positions(dt, &mut moved, false);
+            self.moved = moved;
+            self.integration.finish(&mut self.particles);
+        }
 
         let collide = Instant::now();
         self.generate_paper_contacts(false);
