@@ -6,7 +6,9 @@ use std::io::{self, Write};
 use clap::{Parser, Subcommand, ValueEnum};
 use serde::Serialize;
 
-use crate::physics::{LinkEnd, LinkState, SolverKind, SolverSettings, World, solver::SUBSTEP_RANGE};
+use crate::physics::{
+    Integrator, LinkEnd, LinkState, SolverKind, SolverSettings, World, solver::SUBSTEP_RANGE,
+};
 use crate::scenes::{self, SCENES, Scene};
 
 /// Exit code for input the user can fix.
@@ -40,6 +42,10 @@ pub struct SolverArgs {
     /// Substeps per physics step for the soft solver, 1 to 64.
     #[arg(long, value_name = "N", default_value_t = 4)]
     pub substeps: u32,
+    /// Integrator: explicit-euler, semi-implicit-euler (the paper's, the default),
+    /// verlet or rk4.
+    #[arg(long, value_name = "NAME", default_value = "semi-implicit-euler")]
+    pub integrator: String,
 }
 
 impl SolverArgs {
@@ -54,7 +60,8 @@ impl SolverArgs {
                 SUBSTEP_RANGE.end()
             ));
         }
-        Ok(SolverSettings { kind, substeps: self.substeps, ..SolverSettings::default() })
+        let integrator = Integrator::parse(&self.integrator)?;
+        Ok(SolverSettings { kind, substeps: self.substeps, integrator, ..SolverSettings::default() })
     }
 }
 

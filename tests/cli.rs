@@ -127,6 +127,19 @@ fn simulate_applies_set_and_dt() {
 }
 
 #[test]
+fn simulate_uses_the_integrator_asked_for() {
+    // Under a constant force Verlet and RK4 are exact: 1.5 + 10 t - 5 t² = 6.5 m at 1 s,
+    // where semi-implicit Euler is 0.05 m low (paper solver, h = 0.01 s) and explicit
+    // Euler 0.05 m high.
+    for (name, expected) in
+        [("verlet", 6.5), ("rk4", 6.5), ("semi-implicit-euler", 6.45), ("explicit-euler", 6.55)]
+    {
+        let (_, y) = straight_up(&["--solver", "paper", "--integrator", name]);
+        assert!((y - expected).abs() < 1e-3, "{name}: y {y}, expected {expected}");
+    }
+}
+
+#[test]
 fn bad_solver_flags_get_one_line() {
     assert_usage_error(
         &["simulate", "--scene", "bridge", "--solver", "pgs"],
@@ -138,6 +151,14 @@ fn bad_solver_flags_get_one_line() {
         &["--substeps 65"],
     );
     assert_usage_error(&["--solver", "nope"], &["unknown solver 'nope'"]);
+    assert_usage_error(
+        &["simulate", "--scene", "bridge", "--integrator", "leapfrog"],
+        &["unknown integrator 'leapfrog'", "explicit-euler, semi-implicit-euler, verlet, rk4"],
+    );
+    assert_usage_error(
+        &["render", "--scene", "bridge", "--integrator", "x", "--out", "x.png"],
+        &["integrator"],
+    );
 }
 
 fn assert_usage_error(args: &[&str], expected: &[&str]) {
