@@ -374,6 +374,13 @@ struct LinkJson {
 struct EnergyJson {
     kinetic: f32,
     potential: f32,
+    /// Taken out since step 0 (damping, drag, contacts and links), cumulative (J).
+    dissipated: f32,
+    /// Put in from outside the steps since step 0, cumulative (J).
+    work: f32,
+    /// kinetic + potential + dissipated - work, minus its value at step 0: the
+    /// integrator's error (J).
+    error: f32,
 }
 
 #[derive(Serialize)]
@@ -435,7 +442,13 @@ fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<Link
             iterations: world.last_report().iterations(),
             max_penetration: world.last_report().max_penetration,
         },
-        energy: EnergyJson { kinetic: energy.kinetic, potential: energy.potential },
+        energy: EnergyJson {
+            kinetic: energy.kinetic,
+            potential: energy.potential,
+            dissipated: energy.dissipated,
+            work: energy.work,
+            error: energy.error,
+        },
     };
     serde_json::to_writer(out, &state).map_err(io::Error::other)
 }

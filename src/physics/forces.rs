@@ -247,7 +247,10 @@ impl ForceGenerator for Drag {
             let other = particles.acceleration[i] + particles.force[i] * w;
             let landed = self.velocity_after(v, other, w, dt);
             // The integrator adds (a + F/m) dt: choose the drag force that makes it `landed`.
-            particles.force[i] += ((landed - v) / dt - other) / w;
+            let drag = ((landed - v) / dt - other) / w;
+            particles.force[i] += drag;
+            // Its share of the step's change of kinetic energy, F·(v + v')/2 dt, is lost.
+            particles.dissipated -= f64::from(drag.dot(v + landed) * 0.5 * dt);
         }
     }
 

@@ -169,7 +169,12 @@ impl Integration {
             }
         }
         for i in (0..n).filter(|&i| moves[i]) {
-            self.end[i] *= particles.damping_per_step(i);
+            let (d, undamped) = (particles.damping_per_step(i), self.end[i]);
+            self.end[i] *= d;
+            // What damping took, for the energy budget.
+            let mass = 1.0 / f64::from(particles.inverse_mass[i]);
+            particles.dissipated +=
+                0.5 * mass * f64::from(undamped.length_squared()) * f64::from(1.0 - d * d);
         }
         let moving = &self.moving;
         set_state(particles, moves, |i| (x[i], moving[i]));

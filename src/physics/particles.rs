@@ -128,6 +128,9 @@ pub struct Particles {
     damping_dt: f32,
     /// Sleep state, per particle: see [`Sleep`].
     pub(crate) sleep: Vec<Sleep>,
+    /// Energy taken out by drag, damped springs and damping since the world last read
+    /// it (J); see [`super::world::Energy::dissipated`].
+    pub(crate) dissipated: f64,
     /// Dense index -> id.
     ids: Vec<ParticleId>,
     /// Id -> dense index, or `DEAD`.
@@ -155,6 +158,7 @@ impl Particles {
             damping_per_step: Vec::with_capacity(n),
             damping_dt: 0.0,
             sleep: Vec::with_capacity(n),
+            dissipated: 0.0,
             ids: Vec::with_capacity(n),
             slots: Vec::with_capacity(n),
         }
@@ -430,6 +434,30 @@ impl Particles {
                 *factor = damping_factor(damping, dt);
             }
         }
+    }
+
+    /// Kinetic energy of the movable particles (J), in f64 and in index order.
+    pub(crate) fn kinetic_energy(&self) -> f64 {
+        let bodies = self.velocity.iter().zip(&self.inverse_mass).filter(|(_, w)| **w > 0.0);
+        0.5 * bodies.map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum::<f64>()
+    }
+
+    /// Adds to `dissipated` what damping took this step: each damped particle's end
+    /// velocity is `d` times what it would have been, so it lost `½ m v² (1/d² - 1)`.
+    pub(crate) fn count_damping_loss(&mut self) {
+        let mut lost = 0.0;
+        let bodies = self.velocity.iter().zip(&self.inverse_mass).zip(&self.damping_per_step);
+        for ((v, &w), &d) in bodies {
+            if w > 0.0 && d < 1.0 && d > 0.0 {
+                lost += 0.5 * f64::from(v.length_squared()) / f64::from(w) * (1.0 / f64::from(d * d) - 1.0);
+            }
+        }
+        self.dissipated += lost;
+    }
+
+    /// Whether any movable particle is damped (damping below 1).
+    pub(crate) fn any_damping(&self) -> bool {
+        self.damping.iter().zip(&self.inverse_mass).any(|(&d, &w)| w > 0.0 && d < 1.0)
     }
 
     /// Zeroes every force accumulator.

@@ -275,6 +275,12 @@ impl SoftStep {
         let bouncy = self.contacts.iter().any(|c| c.restitution > 0.0)
             || self.links.iter().any(|l| !l.rigid && l.restitution > 0.0);
         let integrator = settings.integrator;
+        let damped = particles.any_damping();
+        // The energy the contacts and links add (negative: take out) in the solve and
+        // the relax passes, measured as the change of kinetic energy across them
+        // (positions do not move there). Nothing to measure without constraints.
+        let constrained = !self.contacts.is_empty() || !self.links.is_empty();
+        let mut constraint_work = 0.0;
         for _ in 0..substeps {
             if bouncy {
                 self.substep_velocity.clone_from(&particles.velocity);
@@ -283,20 +289,32 @@ impl SoftStep {
                 particles.clear_forces();
                 forces.apply(particles, h);
                 particles.integrate_velocities(h, parallel);
+                if damped {
+                    particles.count_damping_loss();
+                }
             } else {
                 self.integration.predict(integrator, particles, forces, h);
             }
+            let before = if constrained { particles.kinetic_energy() } else { 0.0 };
             if bouncy {
                 self.impacts(particles, h, settings.restitution_threshold);
             }
             self.warm_start(particles);
             self.solve(particles, contact_context, joint_context);
+            if constrained {
+                constraint_work += particles.kinetic_energy() - before;
+            }
             particles.integrate_positions(h, &mut self.delta, parallel);
+            let before = if constrained { particles.kinetic_energy() } else { 0.0 };
             self.solve(particles, relax, relax);
+            if constrained {
+                constraint_work += particles.kinetic_energy() - before;
+            }
             if integrator != Integrator::SemiImplicitEuler {
                 self.integration.finish(particles);
             }
         }
+        particles.dissipated -= constraint_work;
         self.store(h, link_tension);
         let max_penetration = self.deepest_overlap();
         if settings.sleep {
@@ -379,6 +397,10 @@ impl SoftStep {
         for i in 0..n {
             let root = find(&mut self.parent, i as u32);
             if particles.inverse_mass[i] > 0.0 && self.island_timer[root as usize] >= settings.sleep_time {
+                // Falling asleep stops what little motion was left: count it as lost.
+                let v = particles.velocity[i];
+                particles.dissipated +=
+                    0.5 * f64::from(v.length_squared()) / f64::from(particles.inverse_mass[i]);
                 particles.velocity[i] = Vec3::ZERO;
                 particles.sleep[i] = Sleep { timer: 0.0, island: root, rest: particles.position[i] };
             }

@@ -104,6 +104,12 @@ impl ForceGenerator for StiffSpring {
         let h = f64::from(dt);
         let y0 = position.as_dvec3() - rest;
         let (y1, v1) = damped_oscillator(y0, velocity.as_dvec3(), omega, zeta, h);
+        if zeta > 0.0 {
+            // The oscillator's energy the damping took this step (exact; 0 when undamped).
+            let energy =
+                |y: DVec3, v: DVec3| 0.5 * mass * (v.length_squared() + omega * omega * y.length_squared());
+            particles.dissipated += energy(y0, velocity.as_dvec3()) - energy(y1, v1);
+        }
         let target = rest + y1;
         // The integrator does v' = (v + a h) d, p' = p + v' h, with d the damping factor.
         let damp = f64::from(particles.damping_per_step(i)).max(1e-6);

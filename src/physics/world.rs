@@ -19,7 +19,11 @@ use super::{PhysicsError, check};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ContactGeneratorId(pub u32);
 
-/// Kinetic and potential energy of a world (J).
+/// The energy budget of a world (J).
+///
+/// `kinetic + potential + dissipated - work` would stay at its value before the first
+/// step if the integrator were exact; `error` is how far it is from that, which is the
+/// integrator's (and the solver's numerical) error, shown as such.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energy {
     /// `Σ ½ m v²` over movable particles.
@@ -27,6 +31,26 @@ pub struct Energy {
     /// Gravitational (from each particle's constant acceleration and from gravity
     /// generators) plus elastic energy stored in springs.
     pub potential: f32,
+    /// Taken out since the first step, cumulative: by damping, drag, a damped stiff
+    /// spring, contacts and links (inelastic bounces, friction, the solver's pushes),
+    /// and what was left when particles fell asleep.
+    pub dissipated: f32,
+    /// Put in from outside the step since the first step, cumulative: anything that
+    /// changed the energy between steps (dragging with the mouse, changing g or a mass).
+    pub work: f32,
+    /// `kinetic + potential + dissipated - work` minus its value before the first step.
+    pub error: f32,
+}
+
+/// Running totals of the energy budget, in f64.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Ledger {
+    /// `kinetic + potential` before the first step, once stepped.
+    start: Option<f64>,
+    /// `kinetic + potential` at the end of the last step.
+    last: f64,
+    dissipated: f64,
+    work: f64,
 }
 
 /// Wall time of the stages of the last step (ms), for the panel and the benchmarks.
@@ -80,6 +104,7 @@ pub struct World {
     /// Tension from the last step's contact impulses, per contact generator (N).
     link_tension: Vec<f32>,
     last_report: ResolveReport,
+    ledger: Ledger,
     time: f64,
     steps: u64,
 }
@@ -98,11 +123,18 @@ impl World {
 
     /// Removes a particle with every generator and link that refers to it.
     pub fn remove_particle(&mut self, id: ParticleId) -> bool {
+        let before = self.ledger.start.map(|_| self.mechanical_energy());
         if !self.particles.remove(id) {
             return false;
         }
         self.forces.remove_involving(id);
         self.contact_generators.retain(|(_, g)| !g.involves(id));
+        if let Some(before) = before {
+            // The energy leaves with the particle: neither work nor loss.
+            let change = self.mechanical_energy() - before;
+            self.ledger.start = self.ledger.start.map(|start| start + change);
+            self.ledger.last += change;
+        }
         // Contact indices refer to the old dense order; drop them until the next step.
         self.contacts.clear();
         self.soft.forget();
@@ -199,10 +231,19 @@ impl World {
         }
         self.link_tension.clear();
         self.link_tension.resize(self.contact_generators.len(), 0.0);
+        // Whatever changed the energy since the last step came from outside.
+        let now = self.mechanical_energy();
+        match self.ledger.start {
+            None => self.ledger.start = Some(now),
+            Some(_) => self.ledger.work += now - self.ledger.last,
+        }
+        self.particles.dissipated = 0.0;
         self.last_report = match self.solver.kind {
             SolverKind::Soft => self.step_soft(dt),
             SolverKind::Paper => self.step_paper(dt),
         };
+        self.ledger.dissipated += self.particles.dissipated;
+        self.ledger.last = self.mechanical_energy();
         self.time += f64::from(dt);
         self.steps += 1;
         Ok(self.last_report)
@@ -254,7 +295,12 @@ impl World {
             self.integration.finish(&mut self.particles);
         }
 
+        if self.particles.any_damping() && integrator == Integrator::SemiImplicitEuler {
+            self.particles.count_damping_loss();
+        }
+
         let collide = Instant::now();
+        let before = self.mechanical_energy();
         self.generate_paper_contacts(false);
         let solve = Instant::now();
         let mut report = self.resolver.resolve(&mut self.contacts, &mut self.particles, dt);
@@ -269,6 +315,8 @@ impl World {
             }
         }
         report.contacts = self.contacts.len();
+        // What the resolver's impulses and position corrections added (or took out).
+        self.particles.dissipated -= self.mechanical_energy() - before;
 
         for contact in &self.contacts {
             if contact.source != NO_SOURCE {
@@ -336,18 +384,37 @@ impl World {
     /// Kinetic and potential energy now.
     #[must_use]
     pub fn energy(&self) -> Energy {
+        let (kinetic, potential) = self.kinetic_and_potential();
+        let ledger = &self.ledger;
+        let start = ledger.start.unwrap_or(kinetic + potential);
+        Energy {
+            kinetic: kinetic as f32,
+            potential: potential as f32,
+            dissipated: ledger.dissipated as f32,
+            work: ledger.work as f32,
+            error: (kinetic + potential + ledger.dissipated - ledger.work - start) as f32,
+        }
+    }
+
+    /// Kinetic and potential energy (J), summed in f64.
+    fn kinetic_and_potential(&self) -> (f64, f64) {
         let p = &self.particles;
-        let mut energy = Energy::default();
+        let mut potential = 0.0;
         for i in 0..p.len() {
             let inverse_mass = p.inverse_mass[i];
             if inverse_mass > 0.0 {
-                let mass = 1.0 / inverse_mass;
-                energy.kinetic += 0.5 * mass * p.velocity[i].length_squared();
-                energy.potential -= mass * p.acceleration[i].dot(p.position[i]);
+                let mass = 1.0 / f64::from(inverse_mass);
+                potential -= mass * p.acceleration[i].as_dvec3().dot(p.position[i].as_dvec3());
             }
         }
-        energy.potential += self.forces.iter().map(|g| g.potential_energy(p)).sum::<f32>();
-        energy
+        potential += self.forces.iter().map(|g| f64::from(g.potential_energy(p))).sum::<f64>();
+        (p.kinetic_energy(), potential)
+    }
+
+    /// Kinetic plus potential energy (J).
+    fn mechanical_energy(&self) -> f64 {
+        let (kinetic, potential) = self.kinetic_and_potential();
+        kinetic + potential
     }
 
     /// Writes every link (springs, rods, cables, supports) in its current state into
