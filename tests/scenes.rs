@@ -130,3 +130,48 @@ fn stiff_spring_scene_is_stable_at_the_top_of_its_range() {
     assert!(scene.world().is_finite());
     assert!(scene.world().particles.positions().iter().all(|p| p.length() < 50.0));
 }
+
+/// Flies the round the scene fires at start until it is removed below the ground;
+/// returns how far it went and the scene's "range to the ground" read-out.
+fn fly(set: &[&str]) -> (f32, f32) {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    let mut scene = scenes::build("projectile", &set).unwrap();
+    let readouts = scene.readouts(1.0 / 240.0);
+    let read = |name: &str| {
+        let value = &readouts.iter().find(|(n, _)| n == name).unwrap().1;
+        value.trim_end_matches(" m").parse::<f32>().unwrap()
+    };
+    let predicted = read("range to the ground (no drag)");
+    let mut landed = 0.0;
+    for _ in 0..(20 * 240) {
+        let (p, v) = (scene.world().particles.positions(), scene.world().particles.velocities());
+        if p.is_empty() {
+            break;
+        }
+        // Where the last sample above the ground was heading when it crossed y = 0.
+        landed = if v[0].y < 0.0 { p[0].x + v[0].x * p[0].y / -v[0].y } else { p[0].x };
+        scene.step(1.0 / 240.0).unwrap();
+    }
+    (landed, predicted)
+}
+
+#[test]
+fn the_range_read_out_is_right_at_every_angle_and_drag_shortens_the_flight() {
+    // The pistol preset fires level: the read-out said 0 m while the round flew 60 m.
+    let (flown, predicted) = fly(&["g=1", "speed=35", "angle=0", "damping=1"]);
+    assert!((predicted - 35.0 * 3.0_f32.sqrt()).abs() < 0.01, "pistol read-out {predicted} m");
+    assert!((flown - predicted).abs() < 0.01 * predicted, "pistol flew {flown} m, read-out {predicted} m");
+    for angle in ["-30", "20", "45", "80"] {
+        let angle_set = format!("angle={angle}");
+        let (flown, predicted) = fly(&["damping=1", &angle_set]);
+        assert!(
+            (flown - predicted).abs() < 0.01 * predicted.max(1.0),
+            "{angle}°: flew {flown}, read-out {predicted}"
+        );
+    }
+    // With the paper's drag the round falls short of the no-drag range.
+    let (flown, predicted) = fly(&["damping=1", "k1=50"]);
+    assert!(flown < 0.9 * predicted, "with k1 = 50 N·s/m: flew {flown} m of {predicted} m");
+    let (flown, predicted) = fly(&["damping=1", "k2=2"]);
+    assert!(flown < 0.9 * predicted, "with k2 = 2: flew {flown} m of {predicted} m");
+}

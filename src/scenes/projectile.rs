@@ -7,7 +7,7 @@ use super::{
     ActionInfo, CameraHint, Marker, Param, ParamError, ParamValues, Preset, Scene, SceneAction, SceneEntry,
     SceneInfo,
 };
-use crate::physics::{ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions, World};
+use crate::physics::{Drag, ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions, World};
 
 /// Rounds older than this are removed (s), as in Cyclone's ballistic demo.
 pub const MAX_AGE: f64 = 5.0;
@@ -24,6 +24,8 @@ static PARAMS: &[Param] = &[
     Param { name: "mass", unit: "kg", default: 200.0, min: 0.1, max: 1000.0, help: "Mass of the next round (matters when rounds collide)", logarithmic: true },
     Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity a round keeps per second (1 = no drag)", logarithmic: false },
     Param { name: "height", unit: "m", default: 1.5, min: 0.0, max: 50.0, help: "Height of the launcher above the ground", logarithmic: false },
+    Param { name: "k1", unit: "N·s/m", default: 0.0, min: 0.0, max: 100.0, help: "Linear drag of the next round, F = -k1 v (the paper's drag)", logarithmic: false },
+    Param { name: "k2", unit: "N·s²/m²", default: 0.0, min: 0.0, max: 10.0, help: "Quadratic drag of the next round, F = -k2 |v| v", logarithmic: false },
 ];
 
 #[rustfmt::skip]
@@ -88,6 +90,11 @@ impl Projectile {
             radius: ROUND_RADIUS,
             immovable: false,
         })?;
+        let (k1, k2) = (self.params.get("k1"), self.params.get("k2"));
+        if k1 > 0.0 || k2 > 0.0 {
+            // Its own drag generator, which goes when the round does.
+            self.world.add_force(Drag { k1, k2, targets: vec![id] })?;
+        }
         self.rounds.push((id, self.world.time()));
         Ok(id)
     }
@@ -170,13 +177,25 @@ impl Scene for Projectile {
         let angle = self.params.get("angle").to_radians();
         let mut out = vec![("rounds in flight".into(), self.rounds.len().to_string())];
         if g > 0.0 {
-            let vy = v * angle.sin();
+            let (vx, vy) = (v * angle.cos(), v * angle.sin());
             out.push(("peak (no drag)".into(), format!("{:.2} m", h + vy.max(0.0).powi(2) / (2.0 * g))));
             out.push((
-                "range at launch height (no drag)".into(),
-                format!("{:.2} m", v * v * (2.0 * angle).sin() / g),
+                "range to the ground (no drag)".into(),
+                format!("{:.2} m", ground_range(vx, vy, h, g)),
             ));
+            // Back at launch height only if it went up first.
+            let level =
+                if vy > 0.0 { format!("{:.2} m", 2.0 * vx * vy / g) } else { "never comes back up".into() };
+            out.push(("range at launch height (no drag)".into(), level));
         }
         out
     }
+}
+
+/// Horizontal distance (m) a round launched at `(vx, vy)` from height `h` flies before
+/// reaching the ground under gravity `g > 0`, without drag: it lands at
+/// `t = (vy + √(vy² + 2 g h)) / g`.
+#[must_use]
+pub fn ground_range(vx: f32, vy: f32, h: f32, g: f32) -> f32 {
+    vx * (vy + (vy * vy + 2.0 * g * h).sqrt()) / g
 }
