@@ -8,6 +8,7 @@
 pub mod broad_phase;
 pub mod collisions;
 pub mod contacts;
+pub mod exact;
 pub mod forces;
 pub mod integrator;
 pub mod links;
