@@ -124,7 +124,7 @@ pub struct Particles {
     /// Fraction of velocity kept per second.
     damping: Vec<f32>,
     /// `damping.powf(damping_dt)`, cached so the step does not call `powf` per particle.
-    damping_per_step: Vec<f32>,
+    pub(crate) damping_per_step: Vec<f32>,
     damping_dt: f32,
     /// Sleep state, per particle: see [`Sleep`].
     pub(crate) sleep: Vec<Sleep>,
