@@ -20,14 +20,14 @@ fn scenes_lists_every_scene_in_text_and_json() {
     let text = run(&["scenes"]);
     assert!(text.status.success());
     let text = String::from_utf8_lossy(&text.stdout);
-    for name in ["projectile", "springForces", "bridge", "pile"] {
+    for name in ["projectile", "springForces", "bridge", "pile", "pendulum", "cradle"] {
         assert!(text.contains(name), "{name} missing from:\n{text}");
     }
     let json = run(&["scenes", "--format", "json"]);
     assert!(json.status.success());
     let list: Value = serde_json::from_slice(&json.stdout).unwrap();
     let list = list.as_array().unwrap();
-    assert_eq!(list.len(), 4);
+    assert_eq!(list.len(), 6);
     let projectile = list.iter().find(|s| s["name"] == "projectile").unwrap();
     let g = projectile["params"].as_array().unwrap().iter().find(|p| p["name"] == "g").unwrap();
     assert_eq!(g["default"], 20.0);

@@ -3,7 +3,9 @@
 //! and adds its own rules on top of the world's step (firing rounds, moving a load).
 
 mod bridge;
+mod cradle;
 mod params;
+mod pendulum;
 pub mod pile;
 mod projectile;
 mod spring_forces;
@@ -159,7 +161,8 @@ impl SceneEntry {
 }
 
 /// Every scene, in menu order.
-pub static SCENES: &[SceneEntry] = &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY, pile::ENTRY];
+pub static SCENES: &[SceneEntry] =
+    &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY, pile::ENTRY, pendulum::ENTRY, cradle::ENTRY];
 
 /// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works).
 pub fn find(name: &str) -> Result<&'static SceneEntry, String> {

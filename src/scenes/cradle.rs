@@ -1,0 +1,151 @@
+//! cradle: Newton's cradle. `balls` equal spheres hang on cables from a row of anchors,
+//! touching at rest; the first `lifted` are pulled back to `angle` and let go. With
+//! restitution 1 the blow passes down the row and as many balls leave at the far end as
+//! came in: the soft solver's impact stage bounces one pair at a time.
+//!
+//! The balls are particles 0.. in order along the row (left to right), so the lifted
+//! ones come first and particle 0 is the outermost.
+
+use glam::Vec3;
+
+use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
+use crate::physics::{Constraint, ParticleDesc, PhysicsError, ResolveReport, SphereCollisions, World};
+
+/// Ball radius (m).
+const RADIUS: f32 = 0.1;
+/// Cable length (m).
+const CABLE: f32 = 1.0;
+/// Height of the anchors (m).
+const TOP: f32 = 1.6;
+
+#[rustfmt::skip]
+static PARAMS: &[Param] = &[
+    Param { name: "balls", unit: "", default: 5.0, min: 2.0, max: 9.0, help: "Number of balls in the row (rounded)", logarithmic: false },
+    Param { name: "lifted", unit: "", default: 1.0, min: 1.0, max: 8.0, help: "Balls pulled back and released (rounded; at most balls - 1)", logarithmic: false },
+    Param { name: "angle", unit: "°", default: 30.0, min: 1.0, max: 80.0, help: "How far the lifted balls are pulled back on their cables", logarithmic: false },
+    Param { name: "restitution", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between the balls", logarithmic: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
+];
+
+static INFO: SceneInfo = SceneInfo {
+    name: "cradle",
+    summary: "Newton's cradle: as many balls leave as came in",
+    dt: 1.0 / 240.0,
+    default_steps: 2400,
+    params: PARAMS,
+    presets: &[],
+    actions: &[],
+    trails: false,
+    color_by_speed: false,
+};
+
+pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+
+fn create(params: ParamValues) -> Box<dyn Scene> {
+    Box::new(Cradle::build(params))
+}
+
+/// The number of balls, and of lifted balls: `lifted` is held to `balls - 1` (a
+/// parameter range cannot depend on another parameter, so the scene clamps it and its
+/// read-out says so).
+fn counts(params: &ParamValues) -> (usize, usize) {
+    let balls = params.get("balls").round().clamp(2.0, 9.0) as usize;
+    let lifted = (params.get("lifted").round().max(1.0) as usize).min(balls - 1);
+    (balls, lifted)
+}
+
+/// Anchor of ball `i` of `balls`, the row centred on x = 0.
+fn anchor(i: usize, balls: usize) -> Vec3 {
+    Vec3::new((i as f32 - (balls as f32 - 1.0) / 2.0) * 2.0 * RADIUS, TOP, 0.0)
+}
+
+struct Cradle {
+    world: World,
+    params: ParamValues,
+}
+
+impl Cradle {
+    fn build(params: ParamValues) -> Self {
+        let (balls, lifted) = counts(&params);
+        let angle = params.get("angle").to_radians();
+        let g = params.get("g");
+        let mut world = World::new();
+        for i in 0..balls {
+            let top = anchor(i, balls);
+            // Lifted balls swing back (to -x) on their taut cables, still touching.
+            let swing = if i < lifted { angle } else { 0.0 };
+            let position = top + Vec3::new(-swing.sin(), -swing.cos(), 0.0) * CABLE;
+            let ball = world
+                .add_particle(ParticleDesc {
+                    position,
+                    acceleration: Vec3::new(0.0, -g, 0.0),
+                    mass: 1.0,
+                    radius: RADIUS,
+                    ..ParticleDesc::default()
+                })
+                .expect("parameter ranges keep every ball valid");
+            world
+                .add_contact_generator(Constraint::support_cable(ball, top, CABLE, 0.0))
+                .expect("a constant cable is valid");
+        }
+        world
+            .add_contact_generator(SphereCollisions::elastic(params.get("restitution")))
+            .expect("restitution is range-checked");
+        Self { world, params }
+    }
+}
+
+impl Scene for Cradle {
+    fn info(&self) -> &'static SceneInfo {
+        &INFO
+    }
+
+    fn world(&self) -> &World {
+        &self.world
+    }
+
+    fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    fn params(&self) -> &ParamValues {
+        &self.params
+    }
+
+    fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
+        let mut params = self.params.clone();
+        params.set(name, value)?;
+        if name == "g" {
+            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
+            self.params = params;
+        } else {
+            // Anything else changes the row or its release: start again.
+            let solver = *self.world.solver();
+            *self = Self::build(params);
+            self.world.set_solver(solver).expect("the running world's settings were valid");
+        }
+        Ok(())
+    }
+
+    fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
+        self.world.step(dt)
+    }
+
+    fn camera(&self) -> CameraHint {
+        CameraHint { target: Vec3::new(0.0, TOP - 0.6, 0.0), distance: 3.6, yaw: 0.0, pitch: 0.08 }
+    }
+
+    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+        let (balls, lifted) = counts(&self.params);
+        let asked = self.params.get("lifted").round() as usize;
+        let lifted_text = if asked > lifted {
+            format!("{lifted} of {balls} (asked {asked}; at most balls - 1)")
+        } else {
+            format!("{lifted} of {balls}")
+        };
+        // The speed the lifted balls reach at the bottom, √(2 g L (1 - cos θ)).
+        let (g, angle) = (self.params.get("g"), self.params.get("angle").to_radians());
+        let arriving = (2.0 * g * CABLE * (1.0 - angle.cos())).sqrt();
+        vec![("lifted".into(), lifted_text), ("speed at the bottom".into(), format!("{arriving:.3} m/s"))]
+    }
+}
