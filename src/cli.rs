@@ -101,6 +101,9 @@ pub struct RenderArgs {
     /// Draw the panel over the scene, as the window does.
     #[arg(long)]
     pub ui: bool,
+    /// Draw the path each fast particle swept in the last step (View → Swept paths).
+    #[arg(long)]
+    pub swept: bool,
     /// Where to write the PNG.
     #[arg(long, value_name = "FILE.png")]
     pub out: std::path::PathBuf,
@@ -127,6 +130,7 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     }
     let solver = args.solver.settings().map_err(|e| (2, e))?;
     let mut lab = crate::ui::Lab::with_solver(&args.scene, &args.set, solver).map_err(|e| (2, e))?;
+    lab.view.swept |= args.swept;
     lab.run_steps_recorded(args.steps);
     let mut snapshotter = crate::snapshot::Snapshotter::new().map_err(|e| (1, e))?;
     let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;

@@ -261,7 +261,7 @@ fn probe_broad_phase() {
     for round in 0..3 {
         let t = std::time::Instant::now();
         for _ in 0..50 {
-            grid.find_pairs(&p.positions(), &reach, &mut pairs);
+            grid.find_pairs(p.positions(), &reach, &mut pairs);
         }
         println!(
             "round {round}: {:.1} ns per particle, {} pairs",

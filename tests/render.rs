@@ -248,3 +248,27 @@ fn without_a_gpu_adapter_it_says_what_to_install() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(!Path::new("never.png").exists());
 }
+
+#[test]
+fn swept_paths_show_how_far_a_fast_round_went_in_the_last_step() {
+    use particle_lab::render::{FrameBuilder, ViewOptions};
+    let set = ["speed=150".to_string(), "angle=10".to_string()];
+    let mut scene = particle_lab::scenes::build("projectile", &set).unwrap();
+    for _ in 0..3 {
+        scene.step(1.0 / 60.0).unwrap();
+    }
+    let mut builder = FrameBuilder::default();
+    let options = ViewOptions { trails: false, swept: false, ..ViewOptions::default() };
+    let without = builder.build(scene.as_ref(), None, 0.0, options, None).clone();
+    let with = builder.build(scene.as_ref(), None, 0.0, ViewOptions { swept: true, ..options }, None).clone();
+    assert!(without.trails.is_empty());
+    assert_eq!(with.trails.len(), 1, "one band for the one fast round");
+    let (p, moved) = (scene.world().particles.positions()[0], scene.world().last_motion()[0]);
+    // At 150 m/s a step of 1/60 s carries the round 2.5 m, eight times its radius.
+    assert!((moved.length() - 2.5).abs() < 0.1, "{moved}");
+    let band = with.trails[0];
+    assert_eq!(band.to, p.to_array());
+    assert!((glam::Vec3::from(band.from) - (p - moved)).length() < 1e-5);
+    // And a ghost where it started, besides the round and the launcher's markers.
+    assert_eq!(with.spheres.len(), without.spheres.len() + 1);
+}

@@ -221,6 +221,11 @@ struct Context {
 }
 
 impl SoftStep {
+    /// How far each particle moved in the last step (m), by dense index.
+    pub(crate) fn motion(&self) -> &[Vec3] {
+        &self.delta
+    }
+
     /// Forgets warm-start memory (after particles or generators were removed, when
     /// dense indices no longer mean what they did).
     pub fn forget(&mut self) {

@@ -91,6 +91,10 @@ pub struct World {
     integration: Integration,
     /// How far each particle moved in an integration (scratch).
     moved: Vec<Vec3>,
+    /// How far each particle moved in the last step with the paper's resolver.
+    paper_motion: Vec<Vec3>,
+    /// Positions at the start of a paper step (scratch).
+    paper_start: Vec<Vec3>,
     profile: Profile,
     next_contact_generator: u32,
     contacts: Vec<Contact>,
@@ -276,6 +280,7 @@ impl World {
     /// contacts, resolve them worst first, then a few position passes on fresh contacts.
     fn step_paper(&mut self, dt: f32) -> ResolveReport {
         let started = Instant::now();
+        self.paper_start.clone_from(&self.particles.position);
         // Before the generators: the stiff spring reads this step's damping factor.
         self.particles.prepare_damping(dt);
         let integrator = self.solver.integrator;
@@ -315,6 +320,9 @@ impl World {
             }
         }
         report.contacts = self.contacts.len();
+        self.paper_motion.clear();
+        let moves = self.particles.position.iter().zip(&self.paper_start);
+        self.paper_motion.extend(moves.map(|(&now, &start)| now - start));
         // What the resolver's impulses and position corrections added (or took out).
         self.particles.dissipated -= self.mechanical_energy() - before;
 
@@ -342,6 +350,18 @@ impl World {
         for (source, (_, generator)) in self.contact_generators.iter().enumerate() {
             generator.generate(&self.particles, source as u32, &mut self.broad_phase, &mut self.scratch, out);
         }
+    }
+
+    /// How far each particle moved in the last step (m), by dense index: what a
+    /// continuous collision test has to cover, and what the view draws as swept paths.
+    /// Empty before the first step, and after particles were added or removed since.
+    #[must_use]
+    pub fn last_motion(&self) -> &[Vec3] {
+        let motion = match self.solver.kind {
+            SolverKind::Soft => self.soft.motion(),
+            SolverKind::Paper => &self.paper_motion,
+        };
+        if motion.len() == self.particles.len() { motion } else { &[] }
     }
 
     /// Wall time of the last step's stages.

@@ -80,6 +80,9 @@ pub struct ViewOptions {
     pub msaa: bool,
     /// Colour particles by speed ([`speed_color`]) instead of by id.
     pub color_by_speed: bool,
+    /// Draw the path each fast particle swept in the last step (what continuous
+    /// collision has to catch), from a ghost of where it started.
+    pub swept: bool,
 }
 
 impl Default for ViewOptions {
@@ -91,6 +94,7 @@ impl Default for ViewOptions {
             stats: true,
             msaa: true,
             color_by_speed: false,
+            swept: false,
         }
     }
 }
@@ -370,6 +374,10 @@ impl FrameBuilder {
             frame.water = None;
         }
 
+        if options.swept {
+            swept_paths(world, &mut frame.trails, &mut frame.spheres);
+        }
+
         if let (true, Some(trails)) = (options.trails, trails) {
             for trail in trails.points.values() {
                 for ((a, _), (b, tb)) in trail.iter().zip(trail.iter().skip(1)) {
@@ -385,5 +393,40 @@ impl FrameBuilder {
             }
         }
         &self.frame
+    }
+}
+
+/// Most swept paths drawn in one frame: enough for any scene a student fires rounds
+/// in, and a bound on the cost in a pile where everything falls at once.
+pub const SWEPT_LIMIT: usize = 512;
+
+/// For each particle that moved more than its radius in the last step (at most
+/// [`SWEPT_LIMIT`] of them): a translucent band from where it started to where it is,
+/// and a translucent ghost where it started. A sphere that moves more than its own size
+/// in one step would pass through a thin obstacle unless collision is continuous.
+fn swept_paths(
+    world: &crate::physics::World,
+    bands: &mut Vec<SegmentInstance>,
+    ghosts: &mut Vec<SphereInstance>,
+) {
+    let particles = &world.particles;
+    let motion = world.last_motion();
+    let bodies = particles.positions().iter().zip(particles.radii()).zip(motion);
+    for ((&position, &radius), &moved) in
+        bodies.filter(|((_, r), m)| m.length() > r.max(0.05)).take(SWEPT_LIMIT)
+    {
+        let start = position - moved;
+        bands.push(SegmentInstance {
+            from: start.to_array(),
+            width: 6.0,
+            to: position.to_array(),
+            pad: 0.0,
+            color: [0.35, 0.85, 1.0, 0.6],
+        });
+        ghosts.push(SphereInstance {
+            center: start.to_array(),
+            radius: radius.max(0.05),
+            color: [0.35, 0.85, 1.0, 0.35],
+        });
     }
 }

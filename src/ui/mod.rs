@@ -114,6 +114,10 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
             let crowded = lab.scene.world().particles.len() > Trails::PARTICLE_LIMIT;
             ui.add_enabled(!crowded, egui::Checkbox::new(&mut lab.view.trails, "Trails"))
                 .on_disabled_hover_text(format!("No trails above {} particles", Trails::PARTICLE_LIMIT));
+            ui.checkbox(&mut lab.view.swept, "Swept paths (last step)").on_hover_text(
+                "For each particle that moved more than its radius in the last step: the path it swept, \
+                 from a ghost of where it started. Continuous collision has to catch everything along it.",
+            );
             ui.checkbox(&mut lab.view.color_by_speed, "Colour by speed")
                 .on_hover_text("Particles coloured by how fast they move; the scale is in the panel");
             ui.checkbox(&mut lab.view.tension_colors, "Link colours by tension");
