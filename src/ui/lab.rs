@@ -65,6 +65,10 @@ pub struct EnergySample {
     pub kinetic: f32,
     /// Potential energy (J).
     pub potential: f32,
+    /// Dissipated since the start, cumulative (J).
+    pub dissipated: f32,
+    /// Put in from outside since the start, cumulative (J).
+    pub work: f32,
 }
 
 /// A particle held by the mouse: it follows the pointer in the plane through its
@@ -245,6 +249,7 @@ impl Lab {
                     SolverKind::Soft => log::info!("solver: soft with {} substeps", solver.substeps),
                     SolverKind::Paper => log::info!("solver: paper"),
                 }
+                log::info!("integrator: {}", solver.integrator.name());
                 self.solver = solver;
                 self.readouts_taken = None;
             }
@@ -419,7 +424,13 @@ impl Lab {
         if self.energy.len() == HISTORY {
             self.energy.pop_front();
         }
-        self.energy.push_back(EnergySample { t, kinetic: energy.kinetic, potential: energy.potential });
+        self.energy.push_back(EnergySample {
+            t,
+            kinetic: energy.kinetic,
+            potential: energy.potential,
+            dissipated: energy.dissipated,
+            work: energy.work,
+        });
     }
 
     /// Moves the dragged particle to the pointer, with the velocity that takes it there.

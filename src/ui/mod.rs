@@ -8,8 +8,8 @@ pub mod paint;
 use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
 use glam::Vec2;
 
-use crate::physics::SolverKind;
 use crate::physics::solver::SUBSTEP_RANGE;
+use crate::physics::{Integrator, SolverKind};
 use crate::render::Trails;
 use crate::render::frame::{SPEED_SCALE, ramp_srgb, speed_fraction};
 use crate::scenes::{SCENES, SceneAction};
@@ -282,6 +282,9 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             row("resolver iterations", report.iterations().to_string());
             row("kinetic energy", format!("{:.2} J", energy.kinetic));
             row("potential energy", format!("{:.2} J", energy.potential));
+            row("dissipated", format!("{:.2} J", energy.dissipated));
+            row("work put in", format!("{:.2} J", energy.work));
+            row("integrator error", format!("{:+.3} J", energy.error));
         });
         energy_plot(ui, lab);
     }
@@ -315,6 +318,20 @@ fn solver_controls(ui: &mut egui::Ui, lab: &mut Lab) {
         .on_hover_text("Substeps per physics step: more make piles and chains stiffer, and cost more")
         .on_disabled_hover_text("Only the soft solver takes substeps");
         ui.label("solver");
+    });
+    ui.horizontal(|ui| {
+        egui::ComboBox::from_id_salt("integrator")
+            .selected_text(settings.integrator.name())
+            .width(150.0)
+            .show_ui(ui, |ui| {
+                for integrator in Integrator::ALL {
+                    ui.selectable_value(&mut settings.integrator, integrator, integrator.name())
+                        .on_hover_text(integrator.summary());
+                }
+            })
+            .response
+            .on_hover_text(settings.integrator.summary());
+        ui.label("integrator");
     });
     if settings != lab.solver() {
         lab.set_solver(settings);
@@ -363,15 +380,19 @@ fn speed_legend(ui: &mut egui::Ui) {
 const TIME_SCALE: std::ops::RangeInclusive<f32> = lab::TIME_SCALE_RANGE;
 const PHYSICS_RATE: std::ops::RangeInclusive<f32> = lab::PHYSICS_RATE_RANGE;
 
-/// Kinetic, potential and total energy over the last few seconds.
+/// One curve of the energy plot.
+type EnergySeries = (&'static str, Color32, fn(&lab::EnergySample) -> f32);
+
+/// Kinetic, potential and total energy over the last few seconds, with the budget:
+/// total + dissipated - work, flat but for the integrator's error.
 fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
     let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 110.0), Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 2.0, Color32::from_gray(20));
     let samples = &lab.energy;
     let (Some(first), Some(last)) = (samples.front(), samples.back()) else { return };
-    let totals = samples.iter().map(|s| s.kinetic + s.potential);
-    let values = samples.iter().flat_map(|s| [s.kinetic, s.potential]).chain(totals);
+    let budget = |s: &lab::EnergySample| s.kinetic + s.potential + s.dissipated - s.work;
+    let values = samples.iter().flat_map(|s| [s.kinetic, s.potential, s.kinetic + s.potential, budget(s)]);
     let (low, high) = values.fold((f32::MAX, f32::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
     let span_t = (last.t - first.t).max(1e-6);
     let span_e = (high - low).max(1e-6);
@@ -381,10 +402,13 @@ fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
             rect.bottom() - 4.0 - (e - low) / span_e * (rect.height() - 8.0),
         )
     };
-    let series: [(&str, Color32, fn(&lab::EnergySample) -> f32); 3] = [
+    let series: [EnergySeries; 4] = [
         ("kinetic", Color32::from_rgb(240, 140, 40), |s| s.kinetic),
         ("potential", Color32::from_rgb(80, 160, 240), |s| s.potential),
         ("total", Color32::from_rgb(220, 220, 220), |s| s.kinetic + s.potential),
+        ("total + dissipated - work", Color32::from_rgb(110, 210, 120), |s| {
+            s.kinetic + s.potential + s.dissipated - s.work
+        }),
     ];
     for (k, (name, color, value)) in series.iter().enumerate() {
         let points: Vec<egui::Pos2> = samples.iter().map(|s| to_screen(s.t, value(s))).collect();
