@@ -172,12 +172,12 @@ fn a_person_switches_scene_drags_a_slider_pauses_resizes_minimises_and_closes() 
     display.xdotool(&["mousemove", "--window", &window, "36", "85", "click", "1"]);
     app.expect_log("scene: bridge");
 
-    // Drag the g slider (4th parameter, under the solver row) to the right, in small
+    // Drag the g slider (4th parameter, under the solver and integrator rows) to the right, in small
     // steps like a hand.
-    display.xdotool(&["mousemove", "--window", &window, "41", "291", "mousedown", "1"]);
+    display.xdotool(&["mousemove", "--window", &window, "41", "314", "mousedown", "1"]);
     for step in 1..=6 {
         std::thread::sleep(Duration::from_millis(100));
-        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "291"]);
+        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "314"]);
     }
     display.xdotool(&["mouseup", "1"]);
     app.expect_log("set bridge.g = ");
