@@ -733,9 +733,11 @@ impl SoftStep {
     ///
     /// The bounce is exact for the integrator. Semi-implicit Euler in steps of `h`
     /// under a constant closing acceleration `a` keeps `a·gap + c²/2 - a·h·c/2` for the
-    /// closing speed `c` it moved with (its "shadow" energy, see `PHYSICS.md`); the
-    /// bounce leaves with the speed whose shadow energy is `e²` times the one it came
-    /// with, so a ball dropped on the ground returns to `e²` of its height at any step.
+    /// closing speed `c` it moved with: its "shadow" energy, conserved exactly where
+    /// `a·gap + c²/2` drifts by `a²h²/2` every substep, and at the top of a flight
+    /// (`c` = 0) simply `a` times the height. The bounce leaves with the speed whose
+    /// shadow energy is `e²` times the one it came with, so a ball dropped on the
+    /// ground returns to `e²` of its height at any step (tests/truth.rs).
     fn impacts(&mut self, particles: &mut Particles, h: f32, threshold: f32) {
         let (v, v0, w) = (&particles.velocity, &self.substep_velocity, &particles.inverse_mass);
         let closing = |a: u32, b: u32, n: Vec3, v: &[Vec3]| {
