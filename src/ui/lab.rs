@@ -69,6 +69,8 @@ pub struct EnergySample {
     pub dissipated: f32,
     /// Put in from outside since the start, cumulative (J).
     pub work: f32,
+    /// The budget's remainder: the integrator's error (J).
+    pub error: f32,
 }
 
 /// A particle held by the mouse: it follows the pointer in the plane through its
@@ -430,6 +432,7 @@ impl Lab {
             potential: energy.potential,
             dissipated: energy.dissipated,
             work: energy.work,
+            error: energy.error,
         });
     }
 

@@ -242,6 +242,9 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
         ui.separator();
         speed_legend(ui);
     }
+    // Above the stats, so it is in view at 1280x720.
+    ui.separator();
+    energy_plot(ui, lab);
 
     if lab.view.stats {
         ui.separator();
@@ -286,7 +289,6 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             row("work put in", format!("{:.2} J", energy.work));
             row("integrator error", format!("{:+.3} J", energy.error));
         });
-        energy_plot(ui, lab);
     }
 }
 
@@ -383,16 +385,35 @@ const PHYSICS_RATE: std::ops::RangeInclusive<f32> = lab::PHYSICS_RATE_RANGE;
 /// One curve of the energy plot.
 type EnergySeries = (&'static str, Color32, fn(&lab::EnergySample) -> f32);
 
-/// Kinetic, potential and total energy over the last few seconds, with the budget:
-/// total + dissipated - work, flat but for the integrator's error.
+/// Seconds of simulated time the energy plot shows (and scales to): a transient at the
+/// start leaves the plot once it is this old.
+const PLOT_SECONDS: f64 = 10.0;
+
+/// Kinetic, potential and total energy over the last [`PLOT_SECONDS`], and the budget's
+/// remainder (total + dissipated - work, less its start: zero but for the integrator's
+/// error). The legend is a row above the curves; the scale fits what is shown.
 fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 110.0), Sense::hover());
+    let series: [EnergySeries; 4] = [
+        ("kinetic", Color32::from_rgb(240, 140, 40), |s| s.kinetic),
+        ("potential", Color32::from_rgb(80, 160, 240), |s| s.potential),
+        ("total", Color32::from_rgb(220, 220, 220), |s| s.kinetic + s.potential),
+        // What the budget leaves over: total + dissipated - work, less its start.
+        ("integrator error", Color32::from_rgb(110, 210, 120), |s| s.error),
+    ];
+    ui.horizontal_wrapped(|ui| {
+        ui.label(egui::RichText::new("Energy").strong());
+        for (name, color, _) in &series {
+            ui.label(egui::RichText::new(*name).color(*color).small());
+        }
+    });
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 90.0), Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 2.0, Color32::from_gray(20));
-    let samples = &lab.energy;
-    let (Some(first), Some(last)) = (samples.front(), samples.back()) else { return };
-    let budget = |s: &lab::EnergySample| s.kinetic + s.potential + s.dissipated - s.work;
-    let values = samples.iter().flat_map(|s| [s.kinetic, s.potential, s.kinetic + s.potential, budget(s)]);
+    let Some(newest) = lab.energy.back() else { return };
+    let shown = lab.energy.iter().filter(|s| s.t >= newest.t - PLOT_SECONDS);
+    let samples: Vec<&lab::EnergySample> = shown.collect();
+    let (Some(first), Some(last)) = (samples.first().copied(), samples.last().copied()) else { return };
+    let values = samples.iter().flat_map(|s| series.map(|(_, _, value)| value(s)));
     let (low, high) = values.fold((f32::MAX, f32::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
     let span_t = (last.t - first.t).max(1e-6);
     let span_e = (high - low).max(1e-6);
@@ -402,24 +423,9 @@ fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
             rect.bottom() - 4.0 - (e - low) / span_e * (rect.height() - 8.0),
         )
     };
-    let series: [EnergySeries; 4] = [
-        ("kinetic", Color32::from_rgb(240, 140, 40), |s| s.kinetic),
-        ("potential", Color32::from_rgb(80, 160, 240), |s| s.potential),
-        ("total", Color32::from_rgb(220, 220, 220), |s| s.kinetic + s.potential),
-        ("total + dissipated - work", Color32::from_rgb(110, 210, 120), |s| {
-            s.kinetic + s.potential + s.dissipated - s.work
-        }),
-    ];
-    for (k, (name, color, value)) in series.iter().enumerate() {
+    for (_, color, value) in &series {
         let points: Vec<egui::Pos2> = samples.iter().map(|s| to_screen(s.t, value(s))).collect();
         painter.add(egui::Shape::line(points, Stroke::new(1.5, *color)));
-        painter.text(
-            rect.left_top() + egui::vec2(6.0, 4.0 + 13.0 * k as f32),
-            egui::Align2::LEFT_TOP,
-            *name,
-            egui::FontId::proportional(11.0),
-            *color,
-        );
     }
     painter.text(
         rect.right_top() + egui::vec2(-6.0, 4.0),
