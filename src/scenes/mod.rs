@@ -17,6 +17,15 @@ use crate::physics::{PhysicsError, ResolveReport, World};
 pub use bridge::LOAD_STEP;
 pub use params::{Param, ParamError, ParamValues, Preset};
 
+/// Surface gravity of a few worlds (m/s²), as presets that set `g` alone.
+#[rustfmt::skip]
+pub static GRAVITY_PRESETS: &[Preset] = &[
+    Preset { name: "Earth", help: "g = 9.81 m/s²", values: &[("g", 9.81)] },
+    Preset { name: "Moon", help: "g = 1.62 m/s²", values: &[("g", 1.62)] },
+    Preset { name: "Mars", help: "g = 3.71 m/s²", values: &[("g", 3.71)] },
+    Preset { name: "Jupiter", help: "g = 24.79 m/s² (at the cloud tops)", values: &[("g", 24.79)] },
+];
+
 /// Static description of a scene.
 #[derive(Debug)]
 pub struct SceneInfo {

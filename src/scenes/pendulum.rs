@@ -30,7 +30,7 @@ static INFO: SceneInfo = SceneInfo {
     dt: 1.0 / 240.0,
     default_steps: 2400,
     params: PARAMS,
-    presets: &[],
+    presets: super::GRAVITY_PRESETS,
     actions: &[],
     trails: true,
     color_by_speed: false,

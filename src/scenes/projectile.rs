@@ -35,6 +35,10 @@ static PRESETS: &[Preset] = &[
     Preset { name: "artillery", help: "200 kg at (40, 30) m/s, g = 20 m/s²", values: &[("g", 20.0), ("speed", 50.0), ("angle", 36.869_9), ("mass", 200.0), ("damping", 0.99)] },
     Preset { name: "fireball", help: "1 kg at 10 m/s that floats upwards", values: &[("g", -0.6), ("speed", 10.0), ("angle", 0.0), ("mass", 1.0), ("damping", 0.9)] },
     Preset { name: "laser", help: "0.1 kg at 100 m/s, no gravity", values: &[("g", 0.0), ("speed", 100.0), ("angle", 0.0), ("mass", 0.1), ("damping", 0.99)] },
+    Preset { name: "Earth", help: "g = 9.81 m/s², the round unchanged", values: &[("g", 9.81)] },
+    Preset { name: "Moon", help: "g = 1.62 m/s², the round unchanged", values: &[("g", 1.62)] },
+    Preset { name: "Mars", help: "g = 3.71 m/s², the round unchanged", values: &[("g", 3.71)] },
+    Preset { name: "Jupiter", help: "g = 24.79 m/s², the round unchanged", values: &[("g", 24.79)] },
 ];
 
 #[rustfmt::skip]

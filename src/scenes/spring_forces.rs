@@ -39,7 +39,7 @@ static INFO: SceneInfo = SceneInfo {
     dt: 1.0 / 240.0,
     default_steps: 1200,
     params: PARAMS,
-    presets: &[],
+    presets: super::GRAVITY_PRESETS,
     actions: &[],
     trails: true,
     color_by_speed: false,
