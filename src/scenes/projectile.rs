@@ -158,6 +158,13 @@ impl Scene for Projectile {
     fn markers(&self, out: &mut Vec<Marker>) {
         let launcher = self.launcher();
         out.push(Marker { position: launcher, radius: 0.45, color: [0.3, 0.32, 0.35] });
+        // The barrel, pointing where the next round goes: 1.5 m of overlapping balls.
+        let aim = self.params.get("angle").to_radians();
+        let barrel = Vec3::new(aim.cos(), aim.sin(), 0.0);
+        for k in 1..=10 {
+            let position = launcher + barrel * (0.15 * k as f32);
+            out.push(Marker { position, radius: 0.16, color: [0.42, 0.44, 0.48] });
+        }
         // Where the next round would go without drag: dots every 0.1 s of flight.
         let g = self.params.get("g");
         let angle = self.params.get("angle").to_radians();
