@@ -175,3 +175,32 @@ fn the_range_read_out_is_right_at_every_angle_and_drag_shortens_the_flight() {
     let (flown, predicted) = fly(&["damping=1", "k2=2"]);
     assert!(flown < 0.9 * predicted, "with k2 = 2: flew {flown} m of {predicted} m");
 }
+
+#[test]
+fn the_spring_slider_warns_before_the_spring_blows_up() {
+    let scene = scenes::build("springForces", &["k=500".into(), "mass=0.1".into()]).unwrap();
+    // ω = √(500 / 0.1) = 70.7 /s.
+    assert_eq!(scene.param_warning("k", 1.0 / 240.0), None, "ω·h = 0.29");
+    let near = scene.param_warning("k", 1.0 / 60.0).expect("ω·h = 1.18 warns");
+    assert!(near.contains("1.18") && near.contains("blow up at 2"), "{near}");
+    let past = scene.param_warning("mass", 1.0 / 30.0).expect("ω·h = 2.36 warns");
+    assert!(past.contains("2.36") && past.contains("explode"), "{past}");
+    assert_eq!(scene.param_warning("g", 1.0 / 30.0), None);
+    // And it is true: with the paper's solver (no substeps) at 30 Hz the springs do blow up.
+    let mut scene =
+        scenes::build("springForces", &["k=500".into(), "mass=0.1".into(), "damping=1".into()]).unwrap();
+    scene
+        .world_mut()
+        .set_solver(particle_lab::physics::SolverSettings {
+            kind: particle_lab::physics::SolverKind::Paper,
+            ..Default::default()
+        })
+        .unwrap();
+    let mut blew_up = false;
+    for _ in 0..300 {
+        scene.step(1.0 / 30.0).unwrap();
+        blew_up |= !scene.world().is_finite()
+            || scene.world().particles.velocities().iter().any(|v| v.length() > 1e4);
+    }
+    assert!(blew_up, "ω·h = 2.36 should be unstable");
+}

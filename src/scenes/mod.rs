@@ -151,6 +151,12 @@ pub trait Scene: Send {
     fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
         Vec::new()
     }
+
+    /// A warning to show under a parameter's slider, given the integrator's step `h`
+    /// (s): e.g. a spring's stability number approaching its limit, before it blows up.
+    fn param_warning(&self, _name: &str, _h: f32) -> Option<String> {
+        None
+    }
 }
 
 /// A scene in the registry: its description and how to build it.

@@ -169,6 +169,21 @@ impl Scene for SpringForces {
         CameraHint { target: Vec3::new(2.5, 3.5, 0.0), distance: 19.0, yaw: 0.0, pitch: 0.3 }
     }
 
+    fn param_warning(&self, name: &str, h: f32) -> Option<String> {
+        if !matches!(name, "k" | "mass") {
+            return None;
+        }
+        // Semi-implicit Euler on a spring is stable while ω·h < 2; warn from 1.
+        let omega_h = (self.params.get("k") / self.params.get("mass")).sqrt() * h;
+        if omega_h >= 2.0 {
+            Some(format!("ω·h = {omega_h:.2} ≥ 2: the springs explode; lower k, raise the mass or the rate"))
+        } else if omega_h >= 1.0 {
+            Some(format!("ω·h = {omega_h:.2}: the springs blow up at 2"))
+        } else {
+            None
+        }
+    }
+
     fn readouts(&self, dt: f32) -> Vec<(String, String)> {
         let (k, mass) = (self.params.get("k"), self.params.get("mass"));
         let omega = (k / mass).sqrt();

@@ -303,6 +303,16 @@ impl Lab {
         }
     }
 
+    /// The integrator's step (s): the physics step, divided by the substeps for the
+    /// soft solver.
+    #[must_use]
+    pub fn integration_step(&self) -> f32 {
+        match self.solver.kind {
+            SolverKind::Soft => self.dt() / self.solver.substeps as f32,
+            SolverKind::Paper => self.dt(),
+        }
+    }
+
     /// The scene's read-outs for the panel. While the scene runs they are recomputed
     /// at most every [`READOUT_INTERVAL`]; at once after a reset, a parameter change,
     /// an action, a single step or a new time step.

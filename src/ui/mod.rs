@@ -204,6 +204,9 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
         if response.changed() && edited != value {
             changes.push((param.name, edited));
         }
+        if let Some(warning) = lab.scene.param_warning(param.name, lab.integration_step()) {
+            ui.colored_label(Color32::from_rgb(240, 170, 60), warning);
+        }
     }
     for (name, value) in changes {
         lab.set_param(name, value);
