@@ -204,3 +204,35 @@ fn the_spring_slider_warns_before_the_spring_blows_up() {
     }
     assert!(blew_up, "ω·h = 2.36 should be unstable");
 }
+
+#[test]
+fn ghosts_of_the_exact_answer_follow_the_round_and_the_bob() {
+    // The default round (damping 0.99, no drag) and the springForces bob (damping 0.99),
+    // each beside its closed form: within the integrator's first-order error.
+    let readout = |scene: &dyn scenes::Scene, name: &str| -> f32 {
+        let all = scene.readouts(1.0 / 240.0);
+        let value = &all.iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no {name}: {all:?}")).1;
+        value.trim_end_matches(" mm").parse().unwrap()
+    };
+    let mut projectile = scenes::build("projectile", &[]).unwrap();
+    let mut springs = scenes::build("springForces", &[]).unwrap();
+    for _ in 0..240 {
+        projectile.step(1.0 / 240.0).unwrap();
+        springs.step(1.0 / 240.0).unwrap();
+    }
+    let round = readout(projectile.as_ref(), "newest round from its exact path");
+    let bob = readout(springs.as_ref(), "bob from its exact path");
+    // Semi-implicit Euler with 4 substeps at 240 Hz: g h t / 2 = 20 / 960 / 2 m after 1 s.
+    assert!(round > 0.1 && round < 15.0, "round {round} mm from its exact path");
+    assert!(bob > 0.01 && bob < 10.0, "bob {bob} mm from its exact path");
+    // Halving the step halves the distance: it is the integrator's error, not a bias.
+    let mut fine = scenes::build("projectile", &[]).unwrap();
+    for _ in 0..480 {
+        fine.step(1.0 / 480.0).unwrap();
+    }
+    let halved = readout(fine.as_ref(), "newest round from its exact path");
+    assert!((round / halved - 2.0).abs() < 0.2, "{round} mm, then {halved} mm");
+    // With quadratic drag there is no closed form, and no ghost.
+    let dragged = scenes::build("projectile", &["k2=0.5".into()]).unwrap();
+    assert!(dragged.readouts(1.0 / 240.0).iter().all(|(n, _)| n != "newest round from its exact path"));
+}

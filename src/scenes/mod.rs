@@ -4,6 +4,7 @@
 
 mod bridge;
 mod cradle;
+pub mod ghost;
 mod params;
 mod pendulum;
 pub mod pile;

@@ -3,10 +3,12 @@
 
 use glam::Vec3;
 
+use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::{
     ActionInfo, CameraHint, Marker, Param, ParamError, ParamValues, Preset, Scene, SceneAction, SceneEntry,
     SceneInfo,
 };
+use crate::physics::exact::damping_rate;
 use crate::physics::{Drag, ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions, World};
 
 /// Rounds older than this are removed (s), as in Cyclone's ballistic demo.
@@ -61,7 +63,7 @@ pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let mut world = World::new();
     world.add_contact_generator(SphereCollisions::elastic(0.8)).expect("a constant restitution in range");
-    let mut scene = Projectile { world, params, rounds: Vec::new() };
+    let mut scene = Projectile { world, params, rounds: Vec::new(), ghosts: Vec::new() };
     scene.fire().expect("default parameters describe a valid round");
     Box::new(scene)
 }
@@ -71,6 +73,9 @@ struct Projectile {
     params: ParamValues,
     /// Live rounds and the time each was fired (s).
     rounds: Vec<(ParticleId, f64)>,
+    /// The exact path of each round without quadratic drag (k2 = 0): the drag-free
+    /// parabola, or its exponential form with linear drag and damping.
+    ghosts: Vec<Ghost>,
 }
 
 impl Projectile {
@@ -100,7 +105,16 @@ impl Projectile {
             self.world.add_force(Drag { k1, k2, targets: vec![id] })?;
         }
         self.rounds.push((id, self.world.time()));
+        if k2 == 0.0 {
+            let motion = self.motion(k1, self.params.get("mass"), self.params.get("damping"));
+            self.ghosts.extend(Ghost::new(&self.world, id, motion));
+        }
         Ok(id)
+    }
+
+    /// The closed form of a round of mass `m` with linear drag `k1` and damping.
+    fn motion(&self, k1: f32, m: f32, damping: f32) -> Motion {
+        Motion::Projectile { g: self.gravity().as_dvec3(), lambda: f64::from(k1 / m) + damping_rate(damping) }
     }
 }
 
@@ -126,13 +140,25 @@ impl Scene for Projectile {
         if name == "g" {
             let gravity = self.gravity();
             self.world.set_acceleration_all(gravity).expect("g is range-checked");
+            // Rounds in flight now fall differently: their ghosts start again from here.
+            for ghost in &mut self.ghosts {
+                if let Motion::Projectile { lambda, .. } = ghost.motion() {
+                    ghost.restart(&self.world, Motion::Projectile { g: gravity.as_dvec3(), lambda });
+                }
+            }
         }
         // Launch settings apply to the next round fired.
         Ok(())
     }
 
     fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
+        for ghost in &mut self.ghosts {
+            ghost.before_step(&self.world);
+        }
         let report = self.world.step(dt)?;
+        for ghost in &mut self.ghosts {
+            ghost.after_step(&self.world);
+        }
         let now = self.world.time();
         let launcher = self.launcher();
         let world = &mut self.world;
@@ -145,6 +171,8 @@ impl Scene for Projectile {
             }
             !expired
         });
+        let world = &self.world;
+        self.ghosts.retain(|ghost| world.particles.index(ghost.particle).is_some());
         Ok(report)
     }
 
@@ -156,6 +184,10 @@ impl Scene for Projectile {
     }
 
     fn markers(&self, out: &mut Vec<Marker>) {
+        for ghost in &self.ghosts {
+            let position = ghost.position(&self.world);
+            out.push(Marker { position, radius: 0.8 * ROUND_RADIUS, color: GHOST_COLOR });
+        }
         let launcher = self.launcher();
         out.push(Marker { position: launcher, radius: 0.45, color: [0.3, 0.32, 0.35] });
         // The barrel, pointing where the next round goes: 1.5 m of overlapping balls.
@@ -187,6 +219,9 @@ impl Scene for Projectile {
         let (g, v, h) = (self.params.get("g"), self.params.get("speed"), self.params.get("height"));
         let angle = self.params.get("angle").to_radians();
         let mut out = vec![("rounds in flight".into(), self.rounds.len().to_string())];
+        if let Some(error) = self.ghosts.last().and_then(|ghost| ghost.error(&self.world)) {
+            out.push(("newest round from its exact path".into(), format!("{:.1} mm", error * 1000.0)));
+        }
         if g > 0.0 {
             let (vx, vy) = (v * angle.cos(), v * angle.sin());
             out.push(("peak (no drag)".into(), format!("{:.2} m", h + vy.max(0.0).powi(2) / (2.0 * g))));

@@ -2,9 +2,11 @@
 //! spring-like generator: a free spring between two particles, a bungee, a float in
 //! water and a closed-form stiff spring.
 
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
-use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water};
+use super::ghost::{GHOST_COLOR, Ghost, Motion};
+use super::{CameraHint, Marker, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water};
+use crate::physics::exact::{SpringMotion, damping_rate};
 use crate::physics::{
     Buoyancy, ForceId, GroundPlane, ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions,
     Spring, StiffSpring, World,
@@ -57,6 +59,9 @@ struct SpringForces {
     bob: ParticleId,
     float_force: ForceId,
     float: ParticleId,
+    /// The bob's exact twin: the damped harmonic oscillator about where the spring
+    /// holds its weight (it moves on the vertical line under its anchor).
+    ghost: Option<Ghost>,
 }
 
 impl SpringForces {
@@ -96,7 +101,31 @@ impl SpringForces {
         ))?;
         world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 })?;
         world.add_contact_generator(SphereCollisions::elastic(0.5))?;
-        Ok(Self { world, params, bob, float_force, float })
+        let mut scene = Self { world, params, bob, float_force, float, ghost: None };
+        scene.ghost = Ghost::new(&scene.world, bob, scene.bob_motion());
+        Ok(scene)
+    }
+
+    /// The closed form of the bob's motion with the current parameters.
+    fn bob_motion(&self) -> Motion {
+        let p = &self.params;
+        Motion::Spring(SpringMotion {
+            anchor: BOB_ANCHOR.as_dvec3(),
+            rest_offset: DVec3::new(0.0, -f64::from(p.get("rest_length")), 0.0),
+            k: f64::from(p.get("k")),
+            m: f64::from(p.get("mass")),
+            g: DVec3::new(0.0, -f64::from(p.get("g")), 0.0),
+            lambda: damping_rate(p.get("damping")),
+        })
+    }
+
+    /// After a parameter change that keeps the world: the bob's ghost starts again
+    /// from where the bob is, under the new parameters.
+    fn restart_ghost(&mut self) {
+        let motion = self.bob_motion();
+        if let Some(ghost) = &mut self.ghost {
+            ghost.restart(&self.world, motion);
+        }
     }
 }
 
@@ -132,6 +161,7 @@ impl Scene for SpringForces {
                     .replace(self.float_force, Box::new(float_buoyancy(self.float, value)))
                     .expect("g is range-checked, so the float's buoyancy is valid");
                 self.params = params;
+                self.restart_ghost();
             }
             "mass" => {
                 let ids = self.world.particles.ids().to_vec();
@@ -139,6 +169,7 @@ impl Scene for SpringForces {
                     self.world.particles.set_mass(id, value).expect("range checked above");
                 }
                 self.params = params;
+                self.restart_ghost();
             }
             "damping" => {
                 let ids = self.world.particles.ids().to_vec();
@@ -146,6 +177,7 @@ impl Scene for SpringForces {
                     self.world.particles.set_damping(id, value).expect("range checked above");
                 }
                 self.params = params;
+                self.restart_ghost();
             }
             // Spring constants and lengths shape the whole scene: start it again.
             _ => {
@@ -158,11 +190,28 @@ impl Scene for SpringForces {
     }
 
     fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
-        self.world.step(dt)
+        if let Some(ghost) = &mut self.ghost {
+            ghost.before_step(&self.world);
+        }
+        let report = self.world.step(dt)?;
+        if let Some(ghost) = &mut self.ghost {
+            ghost.after_step(&self.world);
+        }
+        Ok(report)
     }
 
     fn water(&self) -> Option<Water> {
         Some(POOL)
+    }
+
+    fn markers(&self, out: &mut Vec<Marker>) {
+        if let Some(ghost) = &self.ghost {
+            out.push(Marker {
+                position: ghost.position(&self.world),
+                radius: 0.8 * RADIUS,
+                color: GHOST_COLOR,
+            });
+        }
     }
 
     fn camera(&self) -> CameraHint {
@@ -198,6 +247,12 @@ impl Scene for SpringForces {
                 format!("{:.2} ({}; solved exactly)", stiff_omega * dt, verdict(stiff_omega)),
             ),
             ("bob height".into(), format!("{bob_y:.3} m")),
+            (
+                "bob from its exact path".into(),
+                self.ghost
+                    .and_then(|g| g.error(&self.world))
+                    .map_or("—".into(), |e| format!("{:.2} mm", e * 1000.0)),
+            ),
         ]
     }
 }

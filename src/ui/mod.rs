@@ -433,17 +433,23 @@ fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
     painter.text(
         rect.right_top() + egui::vec2(-6.0, 4.0),
         egui::Align2::RIGHT_TOP,
-        format!("{high:.1} J"),
+        joules(high),
         egui::FontId::monospace(10.0),
         Color32::GRAY,
     );
     painter.text(
         rect.right_bottom() + egui::vec2(-6.0, -4.0),
         egui::Align2::RIGHT_BOTTOM,
-        format!("{low:.1} J"),
+        joules(low),
         egui::FontId::monospace(10.0),
         Color32::GRAY,
     );
+}
+
+/// An energy for the plot's scale: one decimal, or scientific notation once it is so
+/// large (a spring exploding) that the digits would run off the plot.
+fn joules(e: f32) -> String {
+    if e.abs() < 1e5 { format!("{e:.1} J") } else { format!("{e:.2e} J") }
 }
 
 fn help(ui: &mut egui::Ui) {
