@@ -104,6 +104,9 @@ pub struct RenderArgs {
     /// Draw the path each fast particle swept in the last step (View → Swept paths).
     #[arg(long)]
     pub swept: bool,
+    /// Select this particle (by id) for the inspector and its arrows, as a click does.
+    #[arg(long, value_name = "ID")]
+    pub select: Option<u32>,
     /// Where to write the PNG.
     #[arg(long, value_name = "FILE.png")]
     pub out: std::path::PathBuf,
@@ -131,6 +134,17 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     let solver = args.solver.settings().map_err(|e| (2, e))?;
     let mut lab = crate::ui::Lab::with_solver(&args.scene, &args.set, solver).map_err(|e| (2, e))?;
     lab.view.swept |= args.swept;
+    if let Some(id) = args.select {
+        let id = crate::physics::ParticleId(id);
+        if lab.scene.world().particles.index(id).is_none() {
+            let count = lab.scene.world().particles.len();
+            return Err((
+                2,
+                format!("--select {}: no particle with that id ({count} particles at the start)", id.0),
+            ));
+        }
+        lab.select(Some(id));
+    }
     lab.run_steps_recorded(args.steps);
     let mut snapshotter = crate::snapshot::Snapshotter::new().map_err(|e| (1, e))?;
     let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;

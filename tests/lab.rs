@@ -198,3 +198,28 @@ fn a_crowd_turns_msaa_off_and_a_smaller_scene_turns_it_back_on() {
     lab.reset();
     assert!(lab.view.msaa, "turned back on by the user");
 }
+
+#[test]
+fn the_inspector_measures_the_net_force_on_the_selected_particle() {
+    // A round in free flight, no damping: the net force over a step is its weight.
+    let mut lab = Lab::new("projectile", &["damping=1".into(), "mass=2".into()]).unwrap();
+    let id = lab.scene.world().particles.ids()[0];
+    lab.select(Some(id));
+    lab.paused = true;
+    lab.run_steps(1);
+    let expected = glam::Vec3::new(0.0, -2.0 * 20.0, 0.0);
+    assert!((lab.net_force - expected).length() < 1e-2, "{} N", lab.net_force);
+    // On the ground of the pile, a resting sphere's net force is nothing: its weight is
+    // held by contacts.
+    let mut lab = Lab::new("pile", &["count=1".into()]).unwrap();
+    let id = lab.scene.world().particles.ids()[0];
+    lab.select(Some(id));
+    lab.paused = true;
+    for _ in 0..120 {
+        lab.run_steps(1);
+    }
+    assert!(lab.net_force.length() < 0.05, "resting: {} N", lab.net_force);
+    // Clearing the selection forgets the force.
+    lab.select(None);
+    assert_eq!(lab.net_force, glam::Vec3::ZERO);
+}

@@ -129,6 +129,11 @@ pub struct Lab {
     pub hovered: Option<ParticleId>,
     /// The particle being dragged.
     pub grab: Option<Grab>,
+    /// The particle the inspector shows (clicked or dragged last).
+    pub selected: Option<ParticleId>,
+    /// The selected particle's net force over the last step (N), from its change of
+    /// velocity: forces, contacts and links together.
+    pub net_force: Vec3,
     /// Requests for the window.
     pub requests: Requests,
     last_frame: Option<Instant>,
@@ -169,6 +174,8 @@ impl Lab {
             show_help: false,
             hovered: None,
             grab: None,
+            selected: None,
+            net_force: Vec3::ZERO,
             requests: Requests::default(),
             last_frame: None,
             readouts: Vec::new(),
@@ -392,6 +399,7 @@ impl Lab {
             let step_started = Instant::now();
             ran += 1;
             self.hold_grabbed(dt);
+            let before = self.selected_state();
             if let Err(error) = self.scene.step(dt) {
                 self.status = error.to_string();
                 self.paused = true;
@@ -404,6 +412,9 @@ impl Lab {
                 log::warn!("{}", self.status);
                 self.paused = true;
                 break;
+            }
+            if let (Some((v0, _)), Some((v1, m))) = (before, self.selected_state()) {
+                self.net_force = (v1 - v0) * (m / dt);
             }
             last_step = step_started.elapsed();
         }
@@ -444,6 +455,21 @@ impl Lab {
             work: energy.work,
             error: energy.error,
         });
+    }
+
+    /// The selected particle's velocity and mass, if it is there and movable.
+    fn selected_state(&self) -> Option<(Vec3, f32)> {
+        let particles = &self.scene.world().particles;
+        let i = particles.index(self.selected?)?;
+        (particles.inverse_masses()[i] > 0.0).then(|| (particles.velocities()[i], particles.mass(i)))
+    }
+
+    /// Selects a particle for the inspector (or none).
+    pub fn select(&mut self, id: Option<ParticleId>) {
+        if self.selected != id {
+            self.selected = id;
+            self.net_force = Vec3::ZERO;
+        }
     }
 
     /// Moves the dragged particle to the pointer, with the velocity that takes it there.
@@ -494,6 +520,7 @@ impl Lab {
         let point = particles.position[i];
         let normal = (self.camera.eye() - self.camera.target).normalize_or_zero();
         self.grab = Some(Grab { id, plane_point: point, plane_normal: normal, target: point });
+        self.select(Some(id));
         log::info!("grab: particle {}", id.0);
         true
     }

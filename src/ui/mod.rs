@@ -6,7 +6,7 @@ pub mod lab;
 pub mod paint;
 
 use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 use crate::physics::solver::SUBSTEP_RANGE;
 use crate::physics::{Integrator, SolverKind};
@@ -245,9 +245,13 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
         ui.separator();
         speed_legend(ui);
     }
-    // Above the stats, so it is in view at 1280x720.
+    // Above the inspector and the stats, so it is in view at 1280x720.
     ui.separator();
     energy_plot(ui, lab);
+    if lab.selected.is_some() {
+        ui.separator();
+        inspector(ui, lab);
+    }
 
     if lab.view.stats {
         ui.separator();
@@ -385,6 +389,84 @@ fn speed_legend(ui: &mut egui::Ui) {
 const TIME_SCALE: std::ops::RangeInclusive<f32> = lab::TIME_SCALE_RANGE;
 const PHYSICS_RATE: std::ops::RangeInclusive<f32> = lab::PHYSICS_RATE_RANGE;
 
+/// Arrow scales of the inspector's vectors: metres of arrow per m/s of velocity and per
+/// m/s² of acceleration (force over mass).
+pub const VELOCITY_ARROW: f32 = 0.25;
+/// See [`VELOCITY_ARROW`].
+pub const ACCELERATION_ARROW: f32 = 0.1;
+
+/// The selected particle: what it is, where, how fast, and the forces on it, with
+/// units; while paused its mass and velocity can be edited.
+fn inspector(ui: &mut egui::Ui, lab: &mut Lab) {
+    let Some(id) = lab.selected else { return };
+    let world = lab.scene.world();
+    let particles = &world.particles;
+    let Some(i) = particles.index(id) else {
+        lab.select(None);
+        return;
+    };
+    let (p, v) = (particles.positions()[i], particles.velocities()[i]);
+    let movable = particles.inverse_masses()[i] > 0.0;
+    let mass = particles.mass(i);
+    let weight = if movable { particles.accelerations()[i] * mass } else { Vec3::ZERO };
+    let generators = particles.forces()[i];
+    // Damping keeps a fraction d of the velocity per second: a force -m ln(1/d) v.
+    let damping = if movable { -v * (mass * -particles.damping(i).max(1e-6).ln()) } else { Vec3::ZERO };
+    let net = if movable { lab.net_force } else { Vec3::ZERO };
+    let vector = |x: Vec3, unit: &str| format!("({:.1}, {:.1}, {:.1}) {unit}", x.x, x.y, x.z);
+    ui.horizontal(|ui| {
+        ui.label(egui::RichText::new(format!("Particle {}", id.0)).strong());
+        if ui.small_button("clear").on_hover_text("Clear the selection (or click empty space)").clicked() {
+            lab.select(None);
+        }
+    });
+    let rows = [
+        ("mass", if movable { format!("{mass:.3} kg") } else { "immovable".into() }),
+        ("position", vector(p, "m")),
+        ("velocity", vector(v, "m/s")),
+        ("speed", format!("{:.2} m/s", v.length())),
+        ("weight (m·a)", vector(weight, "N")),
+        ("force generators", vector(generators, "N")),
+        ("damping", vector(damping, "N")),
+        ("contacts and links", vector(net - weight - generators - damping, "N")),
+        ("net force (last step)", vector(net, "N")),
+        ("acceleration", vector(if movable { net / mass } else { Vec3::ZERO }, "m/s²")),
+    ];
+    egui::Grid::new("inspector").num_columns(2).striped(true).show(ui, |ui| {
+        for (name, value) in rows {
+            ui.label(name);
+            ui.monospace(value);
+            ui.end_row();
+        }
+    });
+    ui.label(
+        egui::RichText::new(format!(
+            "Arrows: velocity (green) 1 m per {:.0} m/s; acceleration (red) 1 m per {:.0} m/s²",
+            1.0 / VELOCITY_ARROW,
+            1.0 / ACCELERATION_ARROW
+        ))
+        .small(),
+    );
+    if lab.paused && movable {
+        let (mut new_mass, mut new_v) = (mass, v);
+        ui.horizontal(|ui| {
+            ui.label("edit:");
+            ui.add(egui::DragValue::new(&mut new_mass).range(0.001..=1e6).speed(0.05).suffix(" kg"));
+            for component in [&mut new_v.x, &mut new_v.y, &mut new_v.z] {
+                ui.add(egui::DragValue::new(component).speed(0.05));
+            }
+            ui.label("m/s");
+        });
+        let particles = &mut lab.scene.world_mut().particles;
+        let mass_change = (new_mass != mass).then(|| particles.set_mass(id, new_mass));
+        let velocity_change = (new_v != v).then(|| particles.set_velocity(id, new_v));
+        // A refused edit (a mass out of range) says why in the status line.
+        for error in [mass_change, velocity_change].into_iter().flatten().filter_map(Result::err) {
+            lab.status = error.to_string();
+        }
+    }
+}
+
 /// One curve of the energy plot.
 type EnergySeries = (&'static str, Color32, fn(&lab::EnergySample) -> f32);
 
@@ -490,6 +572,11 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
     }
     if response.drag_stopped() {
         lab.end_grab();
+    }
+    if response.clicked_by(PointerButton::Primary) {
+        // A click selects the particle under it for the inspector, or clears it.
+        let picked = response.interact_pointer_pos().and_then(|p| lab.pick(local(p), size));
+        lab.select(picked);
     }
     if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
         let d = response.drag_delta();

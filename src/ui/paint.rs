@@ -1,8 +1,9 @@
 //! Paints one frame, the 3D view then the egui panel, into any pair of texture views.
 //! The window, its screenshots and `render` all go through here.
 
+use crate::render::frame::{SegmentInstance, SphereInstance};
 use crate::render::renderer::DEFAULT_SAMPLE_COUNT;
-use crate::render::{FrameBuilder, Renderer};
+use crate::render::{FrameBuilder, FrameData, Renderer};
 use crate::ui::Lab;
 
 /// The egui side of a frame: what to draw and at what scale.
@@ -78,7 +79,9 @@ impl Painter {
         }
         let highlight = lab.grab.map(|g| g.id).or(lab.hovered);
         let now = lab.scene.world().time();
-        let frame = self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
+        self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
+        inspector_arrows(lab, &mut self.builder.frame);
+        let frame = &self.builder.frame;
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         self.renderer.render(device, queue, &mut encoder, srgb_view, size, viewport, &lab.camera, frame);
@@ -105,5 +108,37 @@ impl Painter {
             self.egui.render(&mut pass, ui.primitives, &screen);
         }
         queue.submit(extra.into_iter().chain([encoder.finish()]));
+    }
+}
+
+/// The selected particle's velocity (green) and acceleration (red, the net force over
+/// its mass) as arrows from its centre, to the scales the inspector states; a small
+/// ball marks each tip.
+fn inspector_arrows(lab: &Lab, frame: &mut FrameData) {
+    let Some(id) = lab.selected else { return };
+    let particles = &lab.scene.world().particles;
+    let Some(i) = particles.index(id) else { return };
+    if particles.inverse_masses()[i] == 0.0 {
+        return;
+    }
+    let p = particles.positions()[i];
+    let acceleration = lab.net_force / particles.mass(i);
+    let arrows = [
+        (particles.velocities()[i] * super::VELOCITY_ARROW, [0.3, 0.9, 0.35]),
+        (acceleration * super::ACCELERATION_ARROW, [0.95, 0.3, 0.25]),
+    ];
+    for (arrow, [r, g, b]) in arrows {
+        if arrow.length() < 1e-3 {
+            continue;
+        }
+        let tip = p + arrow;
+        frame.segments.push(SegmentInstance {
+            from: p.to_array(),
+            width: 4.0,
+            to: tip.to_array(),
+            pad: 0.0,
+            color: [r, g, b, 1.0],
+        });
+        frame.spheres.push(SphereInstance { center: tip.to_array(), radius: 0.06, color: [r, g, b, 1.0] });
     }
 }
