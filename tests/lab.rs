@@ -223,3 +223,23 @@ fn the_inspector_measures_the_net_force_on_the_selected_particle() {
     lab.select(None);
     assert_eq!(lab.net_force, glam::Vec3::ZERO);
 }
+
+#[test]
+fn the_energy_history_exports_as_csv() {
+    let mut lab = Lab::new("springForces", &[]).unwrap();
+    lab.paused = true;
+    for _ in 0..10 {
+        lab.run_steps(1);
+    }
+    let path = std::env::temp_dir().join(format!("particle-lab-energy-{}.csv", std::process::id()));
+    lab.export_energy_csv(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,kinetic,potential,total,dissipated,work,error"));
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), lab.energy.len());
+    let last = rows.last().unwrap();
+    let energy = lab.scene.world().energy();
+    assert!((last[1] - f64::from(energy.kinetic)).abs() < 1e-3 && (last[3] - last[1] - last[2]).abs() < 1e-3);
+}

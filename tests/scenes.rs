@@ -236,3 +236,23 @@ fn ghosts_of_the_exact_answer_follow_the_round_and_the_bob() {
     let dragged = scenes::build("projectile", &["k2=0.5".into()]).unwrap();
     assert!(dragged.readouts(1.0 / 240.0).iter().all(|(n, _)| n != "newest round from its exact path"));
 }
+
+#[test]
+fn the_stopwatch_measures_the_bobs_period_beside_two_pi_root_m_over_k() {
+    for k in ["20", "80"] {
+        let mut scene = scenes::build("springForces", &[format!("k={k}"), "damping=1".into()]).unwrap();
+        for _ in 0..(4 * 240) {
+            scene.step(1.0 / 240.0).unwrap();
+        }
+        let readouts = scene.readouts(1.0 / 240.0);
+        let read = |name: &str| -> f32 {
+            let value = &readouts.iter().find(|(n, _)| n == name).unwrap().1;
+            value.trim_end_matches(" s").parse().unwrap()
+        };
+        let (measured, formula) = (read("bob's period, measured"), read("spring period 2π√(m/k)"));
+        assert!(
+            (measured - formula).abs() < 0.005 * formula,
+            "k {k}: measured {measured} s, 2π√(m/k) {formula} s"
+        );
+    }
+}

@@ -62,6 +62,9 @@ struct SpringForces {
     /// The bob's exact twin: the damped harmonic oscillator about where the spring
     /// holds its weight (it moves on the vertical line under its anchor).
     ghost: Option<Ghost>,
+    /// The stopwatch on the bob: its vertical velocity after the last step, the last
+    /// time it turned at the bottom (s), and the period between the last two turns.
+    stopwatch: (f32, Option<f64>, Option<f64>),
 }
 
 impl SpringForces {
@@ -101,9 +104,26 @@ impl SpringForces {
         ))?;
         world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 })?;
         world.add_contact_generator(SphereCollisions::elastic(0.5))?;
-        let mut scene = Self { world, params, bob, float_force, float, ghost: None };
+        let mut scene =
+            Self { world, params, bob, float_force, float, ghost: None, stopwatch: (0.0, None, None) };
         scene.ghost = Ghost::new(&scene.world, bob, scene.bob_motion());
         Ok(scene)
+    }
+
+    /// The stopwatch: the bob turns at the bottom when its vertical velocity goes from
+    /// down to up; the time between two turns is the period. The turn is placed
+    /// between the two steps by where the velocity crosses zero.
+    fn time_the_bob(&mut self, dt: f32) {
+        let Some(i) = self.world.particles.index(self.bob) else { return };
+        let vy = self.world.particles.velocities()[i].y;
+        let (before, last_turn, _) = self.stopwatch;
+        if before < 0.0 && vy >= 0.0 {
+            let fraction = f64::from(-before / (vy - before));
+            let turn = self.world.time() - f64::from(dt) * (1.0 - fraction);
+            self.stopwatch.2 = last_turn.map(|t| turn - t);
+            self.stopwatch.1 = Some(turn);
+        }
+        self.stopwatch.0 = vy;
     }
 
     /// The closed form of the bob's motion with the current parameters.
@@ -122,6 +142,7 @@ impl SpringForces {
     /// After a parameter change that keeps the world: the bob's ghost starts again
     /// from where the bob is, under the new parameters.
     fn restart_ghost(&mut self) {
+        self.stopwatch = (0.0, None, None);
         let motion = self.bob_motion();
         if let Some(ghost) = &mut self.ghost {
             ghost.restart(&self.world, motion);
@@ -197,6 +218,7 @@ impl Scene for SpringForces {
         if let Some(ghost) = &mut self.ghost {
             ghost.after_step(&self.world);
         }
+        self.time_the_bob(dt);
         Ok(report)
     }
 
@@ -241,6 +263,10 @@ impl Scene for SpringForces {
         let bob_y = self.world.particles.index(self.bob).map_or(0.0, |i| self.world.particles.position[i].y);
         vec![
             ("spring period 2π√(m/k)".into(), format!("{:.3} s", std::f32::consts::TAU / omega)),
+            (
+                "bob's period, measured".into(),
+                self.stopwatch.2.map_or("timing…".into(), |period| format!("{period:.3} s")),
+            ),
             ("spring ω·dt (explicit limit 2)".into(), format!("{:.3} ({})", omega * dt, verdict(omega))),
             (
                 "stiff spring ω·dt".into(),

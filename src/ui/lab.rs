@@ -553,6 +553,23 @@ impl Lab {
         self.grab = None;
     }
 
+    /// Writes the energy history (every sample kept, not only the plotted window) as
+    /// CSV to `path`: `t,kinetic,potential,total,dissipated,work,error`, in J.
+    pub fn export_energy_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
+        use std::io::Write;
+        let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+        writeln!(out, "t,kinetic,potential,total,dissipated,work,error")?;
+        for s in &self.energy {
+            let total = s.kinetic + s.potential;
+            writeln!(
+                out,
+                "{},{},{},{total},{},{},{}",
+                s.t, s.kinetic, s.potential, s.dissipated, s.work, s.error
+            )?;
+        }
+        out.flush()
+    }
+
     /// Points the camera where the scene asks.
     pub fn frame_scene(&mut self) {
         self.camera = OrbitCamera::from_hint(self.scene.camera());

@@ -248,6 +248,21 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
     // Above the inspector and the stats, so it is in view at 1280x720.
     ui.separator();
     energy_plot(ui, lab);
+    if ui
+        .small_button("Export energy as CSV")
+        .on_hover_text("Every sample kept, to the current directory")
+        .clicked()
+    {
+        let path = std::path::PathBuf::from(format!(
+            "energy-{}-t{:.0}s.csv",
+            lab.entry.info.name,
+            lab.scene.world().time()
+        ));
+        lab.status = match lab.export_energy_csv(&path) {
+            Ok(()) => format!("energy written to {}", path.display()),
+            Err(error) => format!("could not write {}: {error}", path.display()),
+        };
+    }
     if lab.selected.is_some() {
         ui.separator();
         inspector(ui, lab);
