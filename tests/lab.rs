@@ -243,3 +243,27 @@ fn the_energy_history_exports_as_csv() {
     let energy = lab.scene.world().energy();
     assert!((last[1] - f64::from(energy.kinetic)).abs() < 1e-3 && (last[3] - last[1] - last[2]).abs() < 1e-3);
 }
+
+#[test]
+fn the_tape_measure_reads_the_distance_between_two_particles_or_ground_points() {
+    // springForces' free spring: two spheres 1.5 x rest length = 3 m apart at the start.
+    let mut lab = Lab::new("springForces", &[]).unwrap();
+    lab.tape = true;
+    let size = Vec2::new(1280.0, 720.0);
+    let (a, b) = {
+        let p = lab.scene.world().particles.positions();
+        (p[1], p[2])
+    };
+    for point in [a, b] {
+        let pixel = lab.camera.project(point, size).unwrap();
+        lab.tape_click(pixel, size);
+    }
+    assert_eq!(lab.tape_points, vec![a, b], "snapped to the particles' centres");
+    assert!(lab.status.starts_with("tape: 3.000 m"), "{}", lab.status);
+    // A third click starts again; on empty ground it lands on y = 0 under the pointer.
+    let ground = glam::Vec3::new(4.0, 0.0, 3.0);
+    let pixel = lab.camera.project(ground, size).unwrap();
+    lab.tape_click(pixel, size);
+    assert_eq!(lab.tape_points.len(), 1);
+    assert!((lab.tape_points[0] - ground).length() < 0.01, "{}", lab.tape_points[0]);
+}

@@ -131,6 +131,10 @@ pub struct Lab {
     pub grab: Option<Grab>,
     /// The particle the inspector shows (clicked or dragged last).
     pub selected: Option<ParticleId>,
+    /// The tape measure: on, clicks place its ends instead of selecting.
+    pub tape: bool,
+    /// The tape's ends placed so far (0 to 2), in metres.
+    pub tape_points: Vec<Vec3>,
     /// The selected particle's net force over the last step (N), from its change of
     /// velocity: forces, contacts and links together.
     pub net_force: Vec3,
@@ -176,6 +180,8 @@ impl Lab {
             grab: None,
             selected: None,
             net_force: Vec3::ZERO,
+            tape: false,
+            tape_points: Vec::new(),
             requests: Requests::default(),
             last_frame: None,
             readouts: Vec::new(),
@@ -462,6 +468,39 @@ impl Lab {
         let particles = &self.scene.world().particles;
         let i = particles.index(self.selected?)?;
         (particles.inverse_masses()[i] > 0.0).then(|| (particles.velocities()[i], particles.mass(i)))
+    }
+
+    /// Places an end of the tape where `pixel` points: the centre of the particle
+    /// there, else where the ray meets the ground (y = 0), else the plane through the
+    /// camera's target facing it. A third click starts a new tape.
+    pub fn tape_click(&mut self, pixel: Vec2, viewport: Vec2) {
+        let point = match self.pick(pixel, viewport) {
+            Some(id) => {
+                let particles = &self.scene.world().particles;
+                particles.index(id).map(|i| particles.positions()[i])
+            }
+            None => {
+                let (origin, direction) = self.camera.ray(pixel, viewport);
+                let ground = (direction.y < -1e-4).then(|| origin + direction * (-origin.y / direction.y));
+                ground.or_else(|| {
+                    let normal = (self.camera.eye() - self.camera.target).normalize_or_zero();
+                    let facing = direction.dot(normal);
+                    (facing.abs() > 1e-4)
+                        .then(|| origin + direction * ((self.camera.target - origin).dot(normal) / facing))
+                })
+            }
+        };
+        let Some(point) = point else { return };
+        if self.tape_points.len() == 2 {
+            self.tape_points.clear();
+        }
+        self.tape_points.push(point);
+        if let [a, b] = self.tape_points[..] {
+            let d = b - a;
+            self.status =
+                format!("tape: {:.3} m (Δx {:.3}, Δy {:.3}, Δz {:.3} m)", d.length(), d.x, d.y, d.z);
+            log::info!("{}", self.status);
+        }
     }
 
     /// Selects a particle for the inspector (or none).

@@ -114,6 +114,13 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
             let crowded = lab.scene.world().particles.len() > Trails::PARTICLE_LIMIT;
             ui.add_enabled(!crowded, egui::Checkbox::new(&mut lab.view.trails, "Trails"))
                 .on_disabled_hover_text(format!("No trails above {} particles", Trails::PARTICLE_LIMIT));
+            if ui
+                .checkbox(&mut lab.tape, "Tape measure")
+                .on_hover_text("Click two points (a particle's centre, or the ground): the status line gives the distance")
+                .changed()
+            {
+                lab.tape_points.clear();
+            }
             ui.checkbox(&mut lab.view.swept, "Swept paths (last step)").on_hover_text(
                 "For each particle that moved more than its radius in the last step: the path it swept, \
                  from a ghost of where it started. Continuous collision has to catch everything along it.",
@@ -589,9 +596,16 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
         lab.end_grab();
     }
     if response.clicked_by(PointerButton::Primary) {
-        // A click selects the particle under it for the inspector, or clears it.
-        let picked = response.interact_pointer_pos().and_then(|p| lab.pick(local(p), size));
-        lab.select(picked);
+        if let Some(p) = response.interact_pointer_pos() {
+            if lab.tape {
+                // With the tape measure on, a click places one of its ends.
+                lab.tape_click(local(p), size);
+            } else {
+                // A click selects the particle under it for the inspector, or clears it.
+                let picked = lab.pick(local(p), size);
+                lab.select(picked);
+            }
+        }
     }
     if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
         let d = response.drag_delta();

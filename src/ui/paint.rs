@@ -81,6 +81,7 @@ impl Painter {
         let now = lab.scene.world().time();
         self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
         inspector_arrows(lab, &mut self.builder.frame);
+        tape(lab, &mut self.builder.frame);
         let frame = &self.builder.frame;
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
@@ -140,5 +141,28 @@ fn inspector_arrows(lab: &Lab, frame: &mut FrameData) {
             color: [r, g, b, 1.0],
         });
         frame.spheres.push(SphereInstance { center: tip.to_array(), radius: 0.06, color: [r, g, b, 1.0] });
+    }
+}
+
+/// The tape measure: its ends as small white balls and, once both are down, the tape.
+fn tape(lab: &Lab, frame: &mut FrameData) {
+    if !lab.tape {
+        return;
+    }
+    for point in &lab.tape_points {
+        frame.spheres.push(SphereInstance {
+            center: point.to_array(),
+            radius: 0.07,
+            color: [0.95, 0.95, 0.95, 1.0],
+        });
+    }
+    if let [a, b] = lab.tape_points[..] {
+        frame.segments.push(SegmentInstance {
+            from: a.to_array(),
+            width: 3.0,
+            to: b.to_array(),
+            pad: 0.0,
+            color: [0.95, 0.95, 0.95, 1.0],
+        });
     }
 }
