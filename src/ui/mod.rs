@@ -595,16 +595,15 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
     if response.drag_stopped() {
         lab.end_grab();
     }
-    if response.clicked_by(PointerButton::Primary) {
-        if let Some(p) = response.interact_pointer_pos() {
-            if lab.tape {
-                // With the tape measure on, a click places one of its ends.
-                lab.tape_click(local(p), size);
-            } else {
-                // A click selects the particle under it for the inspector, or clears it.
-                let picked = lab.pick(local(p), size);
-                lab.select(picked);
-            }
+    let click = response.interact_pointer_pos().filter(|_| response.clicked_by(PointerButton::Primary));
+    if let Some(p) = click {
+        if lab.tape {
+            // With the tape measure on, a click places one of its ends.
+            lab.tape_click(local(p), size);
+        } else {
+            // A click selects the particle under it for the inspector, or clears it.
+            let picked = lab.pick(local(p), size);
+            lab.select(picked);
         }
     }
     if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
