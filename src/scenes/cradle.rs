@@ -96,21 +96,7 @@ impl Cradle {
 }
 
 impl Scene for Cradle {
-    fn info(&self) -> &'static SceneInfo {
-        &INFO
-    }
-
-    fn world(&self) -> &World {
-        &self.world
-    }
-
-    fn world_mut(&mut self) -> &mut World {
-        &mut self.world
-    }
-
-    fn params(&self) -> &ParamValues {
-        &self.params
-    }
+    scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
         let mut params = self.params.clone();

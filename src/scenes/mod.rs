@@ -2,6 +2,28 @@
 //! panel's sliders, the `--set` flags and their validation all come from that table),
 //! and adds its own rules on top of the world's step (firing rounds, moving a load).
 
+/// The four accessors every scene writes the same way, for a scene struct with `world`
+/// and `params` fields and a `static INFO`: its description, world and parameters.
+macro_rules! scene_basics {
+    () => {
+        fn info(&self) -> &'static SceneInfo {
+            &INFO
+        }
+
+        fn world(&self) -> &World {
+            &self.world
+        }
+
+        fn world_mut(&mut self) -> &mut World {
+            &mut self.world
+        }
+
+        fn params(&self) -> &ParamValues {
+            &self.params
+        }
+    };
+}
+
 mod bridge;
 mod cradle;
 pub mod ghost;

@@ -91,21 +91,7 @@ impl Pendulum {
 }
 
 impl Scene for Pendulum {
-    fn info(&self) -> &'static SceneInfo {
-        &INFO
-    }
-
-    fn world(&self) -> &World {
-        &self.world
-    }
-
-    fn world_mut(&mut self) -> &mut World {
-        &mut self.world
-    }
-
-    fn params(&self) -> &ParamValues {
-        &self.params
-    }
+    scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
         let mut params = self.params.clone();

@@ -194,21 +194,7 @@ struct Pile {
 }
 
 impl Scene for Pile {
-    fn info(&self) -> &'static SceneInfo {
-        &INFO
-    }
-
-    fn world(&self) -> &World {
-        &self.world
-    }
-
-    fn world_mut(&mut self) -> &mut World {
-        &mut self.world
-    }
-
-    fn params(&self) -> &ParamValues {
-        &self.params
-    }
+    scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
         self.params.set(name, value)?;

@@ -119,21 +119,7 @@ impl Projectile {
 }
 
 impl Scene for Projectile {
-    fn info(&self) -> &'static SceneInfo {
-        &INFO
-    }
-
-    fn world(&self) -> &World {
-        &self.world
-    }
-
-    fn world_mut(&mut self) -> &mut World {
-        &mut self.world
-    }
-
-    fn params(&self) -> &ParamValues {
-        &self.params
-    }
+    scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
         self.params.set(name, value)?;
