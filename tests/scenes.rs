@@ -256,3 +256,22 @@ fn the_stopwatch_measures_the_bobs_period_beside_two_pi_root_m_over_k() {
         );
     }
 }
+
+#[test]
+fn scenes_name_their_objects_for_the_labels() {
+    let expect = [
+        ("springForces", &["bob", "free spring", "bungee", "float", "stiff spring"][..]),
+        ("projectile", &["launcher", "round"][..]),
+        ("bridge", &["load"][..]),
+        ("pendulum", &["pivot", "bob 0"][..]),
+    ];
+    for (name, wanted) in expect {
+        let scene = scenes::build(name, &[]).unwrap();
+        let mut labels = Vec::new();
+        scene.labels(&mut labels);
+        let names: Vec<&str> = labels.iter().map(|(_, n)| *n).collect();
+        assert_eq!(names, wanted, "{name}");
+        // Each label sits above a particle or marker, in the air, where the camera looks.
+        assert!(labels.iter().all(|(p, _)| p.is_finite() && p.y > 0.0), "{name}: {labels:?}");
+    }
+}

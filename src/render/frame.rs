@@ -83,6 +83,8 @@ pub struct ViewOptions {
     /// Draw the path each fast particle swept in the last step (what continuous
     /// collision has to catch), from a ghost of where it started.
     pub swept: bool,
+    /// Names of objects and links, and metre ticks along the x axis.
+    pub labels: bool,
 }
 
 impl Default for ViewOptions {
@@ -95,6 +97,7 @@ impl Default for ViewOptions {
             msaa: true,
             color_by_speed: false,
             swept: false,
+            labels: true,
         }
     }
 }

@@ -166,6 +166,11 @@ impl Scene for Bridge {
         }
     }
 
+    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+        let radius = 0.2 * (self.params.get("load_mass") / BASE_MASS).cbrt().max(1.0);
+        out.push((self.load_position() + Vec3::Y * (2.0 * radius + 0.3), "load"));
+    }
+
     fn camera(&self) -> CameraHint {
         CameraHint { target: Vec3::new(0.0, 3.2, 0.0), distance: 14.0, yaw: 0.55, pitch: 0.32 }
     }

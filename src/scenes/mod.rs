@@ -175,6 +175,10 @@ pub trait Scene: Send {
         Vec::new()
     }
 
+    /// Names of the scene's objects, at the points to write them (the view's labels):
+    /// the bob, the launcher, the load. Links are labelled by kind without help.
+    fn labels(&self, _out: &mut Vec<(Vec3, &'static str)>) {}
+
     /// A warning to show under a parameter's slider, given the integrator's step `h`
     /// (s): e.g. a spring's stability number approaching its limit, before it blows up.
     fn param_warning(&self, _name: &str, _h: f32) -> Option<String> {

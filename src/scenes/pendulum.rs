@@ -121,6 +121,13 @@ impl Scene for Pendulum {
         self.world.step(dt)
     }
 
+    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+        out.push((pivot(&self.params) + Vec3::Y * 0.25, "pivot"));
+        if let Some(&bob) = self.world.particles.positions().first() {
+            out.push((bob + Vec3::Y * 0.25, "bob 0"));
+        }
+    }
+
     fn camera(&self) -> CameraHint {
         let reach = links(&self.params) as f32 * self.params.get("length");
         CameraHint {

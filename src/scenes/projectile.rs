@@ -169,6 +169,14 @@ impl Scene for Projectile {
         }
     }
 
+    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+        out.push((self.launcher() + Vec3::new(0.0, 0.9, 0.0), "launcher"));
+        let newest = self.rounds.last().and_then(|&(id, _)| self.world.particles.index(id));
+        if let Some(i) = newest {
+            out.push((self.world.particles.positions()[i] + Vec3::Y * 0.7, "round"));
+        }
+    }
+
     fn markers(&self, out: &mut Vec<Marker>) {
         for ghost in &self.ghosts {
             let position = ghost.position(&self.world);

@@ -212,6 +212,16 @@ impl Scene for SpringForces {
         Some(POOL)
     }
 
+    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+        let p = self.world.particles.positions();
+        let named = [(0, "bob"), (1, "free spring"), (3, "bungee"), (4, "float"), (5, "stiff spring")];
+        for (i, name) in named {
+            if let Some(&position) = p.get(i) {
+                out.push((position + Vec3::Y * (RADIUS + 0.25), name));
+            }
+        }
+    }
+
     fn markers(&self, out: &mut Vec<Marker>) {
         if let Some(ghost) = &self.ghost {
             out.push(Marker {
