@@ -267,3 +267,28 @@ fn the_tape_measure_reads_the_distance_between_two_particles_or_ground_points() 
     assert_eq!(lab.tape_points.len(), 1);
     assert!((lab.tape_points[0] - ground).length() < 0.01, "{}", lab.tape_points[0]);
 }
+
+#[test]
+fn every_scene_is_framed_whole_in_a_narrow_view_and_the_users_camera_is_kept() {
+    // An 800x600 window less the 300-pixel panel: a 500x575 view.
+    let size = Vec2::new(500.0, 575.0);
+    for entry in SCENES {
+        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        lab.set_view_aspect(size.x / size.y);
+        let particles = &lab.scene.world().particles;
+        for (i, &p) in particles.positions().iter().enumerate().take(2000) {
+            let screen = lab.camera.project(p, size);
+            let inside = screen.is_some_and(|s| s.x >= 0.0 && s.x <= size.x && s.y >= 0.0 && s.y <= size.y);
+            assert!(inside, "{}: particle {i} at {p} is outside the view ({screen:?})", entry.info.name);
+        }
+    }
+    // Once the user has moved the camera, a new view shape does not reframe it.
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    lab.camera.zoom(3.0);
+    lab.camera_moved = true;
+    let distance = lab.camera.distance;
+    lab.set_view_aspect(0.5);
+    assert_eq!(lab.camera.distance, distance);
+    lab.frame_scene();
+    assert!(lab.camera.distance > distance, "Home reframes for the narrow view");
+}

@@ -34,6 +34,10 @@ pub const READOUT_INTERVAL: Duration = Duration::from_millis(250);
 pub const PHYSICS_RATE_RANGE: std::ops::RangeInclusive<f32> = 30.0..=1000.0;
 /// Time scales the panel offers.
 pub const TIME_SCALE_RANGE: std::ops::RangeInclusive<f32> = 0.05..=4.0;
+/// Width over height of the 3D view the scenes' camera hints frame: a 1280x720 window
+/// less the panel. Narrower views get the camera further back.
+pub const FRAMING_ASPECT: f32 = 1.4;
+
 /// Samples kept for the energy plot.
 const HISTORY: usize = 600;
 
@@ -131,6 +135,11 @@ pub struct Lab {
     pub grab: Option<Grab>,
     /// The particle the inspector shows (clicked or dragged last).
     pub selected: Option<ParticleId>,
+    /// Width over height of the 3D view (the window less the panel), for framing.
+    pub view_aspect: f32,
+    /// The user has orbited, panned or zoomed since the scene was last framed: a
+    /// change of the view's shape then leaves the camera alone.
+    pub camera_moved: bool,
     /// The tape measure: on, clicks place its ends instead of selecting.
     pub tape: bool,
     /// The tape's ends placed so far (0 to 2), in metres.
@@ -180,6 +189,8 @@ impl Lab {
             grab: None,
             selected: None,
             net_force: Vec3::ZERO,
+            view_aspect: FRAMING_ASPECT,
+            camera_moved: false,
             tape: false,
             tape_points: Vec::new(),
             requests: Requests::default(),
@@ -609,8 +620,24 @@ impl Lab {
         out.flush()
     }
 
-    /// Points the camera where the scene asks.
+    /// Points the camera where the scene asks, backing off in a view narrower than the
+    /// one the scenes' camera hints were made for, so the whole scene stays in sight.
     pub fn frame_scene(&mut self) {
         self.camera = OrbitCamera::from_hint(self.scene.camera());
+        if self.view_aspect > 0.0 && self.view_aspect < FRAMING_ASPECT {
+            self.camera.distance *= FRAMING_ASPECT / self.view_aspect;
+        }
+        self.camera_moved = false;
+    }
+
+    /// Tells the lab the 3D view's shape; reframes the scene if it changed and the
+    /// user has not moved the camera since it was last framed.
+    pub fn set_view_aspect(&mut self, aspect: f32) {
+        if aspect.is_finite() && aspect > 0.0 && (aspect - self.view_aspect).abs() > 0.01 {
+            self.view_aspect = aspect;
+            if !self.camera_moved {
+                self.frame_scene();
+            }
+        }
     }
 }

@@ -619,6 +619,7 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
     let response = ui.interact(rect, ui.scope_id().with("3d view"), Sense::click_and_drag());
     let size = Vec2::new(rect.width(), rect.height());
     let local = |p: egui::Pos2| Vec2::new(p.x - rect.left(), p.y - rect.top());
+    lab.set_view_aspect(size.x / size.y.max(1.0));
 
     lab.hovered = response.hover_pos().and_then(|p| lab.pick(local(p), size));
     if response.drag_started_by(PointerButton::Primary) {
@@ -636,6 +637,7 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
         } else {
             let d = response.drag_delta();
             lab.camera.orbit(Vec2::new(d.x, d.y));
+            lab.camera_moved = true;
         }
     }
     if response.drag_stopped() {
@@ -655,11 +657,13 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
     if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
         let d = response.drag_delta();
         lab.camera.pan(Vec2::new(d.x, d.y), rect.height());
+        lab.camera_moved = true;
     }
     if response.hovered() {
         let scroll = ui.input(|i| i.smooth_scroll_delta.y);
         if scroll != 0.0 {
             lab.camera.zoom(scroll / 50.0);
+            lab.camera_moved = true;
         }
     }
     if lab.view.labels {
