@@ -275,3 +275,20 @@ fn scenes_name_their_objects_for_the_labels() {
         assert!(labels.iter().all(|(p, _)| p.is_finite() && p.y > 0.0), "{name}: {labels:?}");
     }
 }
+
+#[test]
+fn the_piles_box_is_drawn_where_its_walls_stand() {
+    let scene = scenes::build("pile", &["width=10".into()]).unwrap();
+    let mut edges = Vec::new();
+    scene.outlines(&mut edges);
+    assert_eq!(edges.len(), 12, "a box frame: 4 bottom, 4 top, 4 posts");
+    for (a, b) in edges {
+        for p in [a, b] {
+            assert!((p.x.abs() - 5.0).abs() < 1e-5 && (p.z.abs() - 5.0).abs() < 1e-5 && p.y >= 0.0, "{p}");
+        }
+    }
+    // Other scenes have no walls to outline.
+    let mut none = Vec::new();
+    scenes::build("bridge", &[]).unwrap().outlines(&mut none);
+    assert!(none.is_empty());
+}

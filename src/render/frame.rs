@@ -266,6 +266,7 @@ impl Trails {
 pub struct FrameBuilder {
     links: Vec<LinkState>,
     markers: Vec<Marker>,
+    outlines: Vec<(Vec3, Vec3)>,
     /// The frame built last.
     pub frame: FrameData,
 }
@@ -350,6 +351,18 @@ impl FrameBuilder {
                     color: [0.35, 0.35, 0.38, 1.0],
                 });
             }
+        }
+
+        self.outlines.clear();
+        scene.outlines(&mut self.outlines);
+        for &(from, to) in &self.outlines {
+            frame.segments.push(SegmentInstance {
+                from: from.to_array(),
+                width: 2.0,
+                to: to.to_array(),
+                pad: 0.0,
+                color: [0.55, 0.6, 0.68, 1.0],
+            });
         }
 
         if let Some(water) = scene.water() {

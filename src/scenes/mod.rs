@@ -175,6 +175,9 @@ pub trait Scene: Send {
         Vec::new()
     }
 
+    /// Edges to draw that are not links (m): the outline of a box's walls.
+    fn outlines(&self, _out: &mut Vec<(Vec3, Vec3)>) {}
+
     /// Names of the scene's objects, at the points to write them (the view's labels):
     /// the bob, the launcher, the load. Links are labelled by kind without help.
     fn labels(&self, _out: &mut Vec<(Vec3, &'static str)>) {}

@@ -213,6 +213,25 @@ impl Scene for Pile {
         self.world.step(dt)
     }
 
+    fn outlines(&self, out: &mut Vec<(Vec3, Vec3)>) {
+        // The box's walls stand on the ground at x, z = ±width/2; drawn as a frame
+        // as high as the spheres sat at the start, at least two diameters.
+        let half = self.params.get("width") / 2.0;
+        let radius = self.params.get("radius");
+        let spacing = 2.0 * radius * (1.0 + GRID_GAP);
+        let per_layer = ((2.0 * half / spacing).max(1.0)).powi(2);
+        let height = ((count(&self.params) as f32 / per_layer).ceil() * spacing).max(4.0 * radius);
+        let corners = [(-half, -half), (half, -half), (half, half), (-half, half)];
+        for k in 0..4 {
+            let (ax, az) = corners[k];
+            let (bx, bz) = corners[(k + 1) % 4];
+            for y in [0.0, height] {
+                out.push((Vec3::new(ax, y, az), Vec3::new(bx, y, bz)));
+            }
+            out.push((Vec3::new(ax, 0.0, az), Vec3::new(ax, height, az)));
+        }
+    }
+
     fn camera(&self) -> CameraHint {
         let width = self.params.get("width");
         let spacing = 2.0 * self.params.get("radius") * (1.0 + GRID_GAP);

@@ -568,6 +568,9 @@ fn help(ui: &mut egui::Ui) {
     });
 }
 
+/// Above this many particles the view has no metre ticks.
+const TICK_PARTICLE_LIMIT: usize = 500;
+
 /// Links looked at for labels (a scene of thousands of links is not searched).
 const LINK_LABEL_LIMIT: usize = 200;
 
@@ -600,7 +603,11 @@ fn labels(ui: &egui::Ui, lab: &Lab, rect: Rect) {
             write(middle, &name, Color32::from_gray(170), 11.0, false);
         }
     }
-    // Metre ticks along x on the ground, every 1, 5 or 10 m as the view widens.
+    // Metre ticks along x on the ground, every 1, 5 or 10 m as the view widens; not
+    // in a crowd (a pile), where they would be written over the spheres.
+    if lab.scene.world().particles.len() > TICK_PARTICLE_LIMIT {
+        return;
+    }
     let spacing = match lab.camera.distance {
         d if d < 15.0 => 1.0,
         d if d < 60.0 => 5.0,
