@@ -292,3 +292,13 @@ fn every_scene_is_framed_whole_in_a_narrow_view_and_the_users_camera_is_kept() {
     lab.frame_scene();
     assert!(lab.camera.distance > distance, "Home reframes for the narrow view");
 }
+
+#[test]
+fn a_reset_clears_the_selection_and_the_tape() {
+    let mut lab = Lab::new("springForces", &[]).unwrap();
+    lab.select(Some(lab.scene.world().particles.ids()[2]));
+    lab.tape_points.push(glam::Vec3::ONE);
+    lab.reset();
+    assert_eq!(lab.selected, None);
+    assert!(lab.tape_points.is_empty());
+}

@@ -292,6 +292,10 @@ impl Lab {
         self.energy.clear();
         self.grab = None;
         self.hovered = None;
+        // A new world numbers its particles afresh: an old selection or tape would
+        // point at something else.
+        self.select(None);
+        self.tape_points.clear();
         self.readouts_taken = None;
         self.record();
     }
