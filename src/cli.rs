@@ -107,6 +107,12 @@ pub struct RenderArgs {
     /// Select this particle (by id) for the inspector and its arrows, as a click does.
     #[arg(long, value_name = "ID")]
     pub select: Option<u32>,
+    /// View options to turn on, as the View menu does, comma-separated: forces
+    /// (free-body arrows), all-vectors, contacts (contacts and link limits), tension
+    /// (links coloured by tension), side (the 2D side view), follow (the camera follows
+    /// the newest particle), no-labels, no-trails.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub view: Vec<String>,
     /// Where to write the PNG.
     #[arg(long, value_name = "FILE.png")]
     pub out: std::path::PathBuf,
@@ -134,6 +140,9 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     let solver = args.solver.settings().map_err(|e| (2, e))?;
     let mut lab = crate::ui::Lab::with_solver(&args.scene, &args.set, solver).map_err(|e| (2, e))?;
     lab.view.swept |= args.swept;
+    for option in &args.view {
+        lab.set_view_option(option).map_err(|e| (2, e))?;
+    }
     if let Some(id) = args.select {
         let id = crate::physics::ParticleId(id);
         if lab.scene.world().particles.index(id).is_none() {

@@ -329,3 +329,72 @@ fn linear_drag_decay_follows_the_exponential() {
         }
     }
 }
+
+/// The free-body diagram's forces: each generator's `force_on` is what `apply` adds for
+/// the generators whose step uses the instantaneous force, on every particle it names,
+/// and `None` on the others; drag and the stiff spring report their physical forces.
+#[test]
+fn force_on_matches_what_each_generator_applies() {
+    let positions = [Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.5, 3.0, 0.2), Vec3::new(4.0, 0.0, 0.0)];
+    let velocities = [Vec3::new(1.0, -2.0, 0.5), Vec3::new(0.0, 3.0, 0.0), Vec3::ZERO];
+    let (mut world, ids) = world_with(&positions, &velocities, 2.0);
+    let mut generators: Vec<Box<dyn ForceGenerator>> = vec![
+        Box::new(Gravity { gravity: Vec3::new(0.0, -9.81, 0.0), targets: vec![ids[0], ids[1]] }),
+        Box::new(Spring::between(ids[0], ids[1], 30.0, 1.0)),
+        Box::new(Spring::anchored(ids[1], Vec3::new(0.0, 5.0, 0.0), 10.0, 0.5).as_bungee()),
+        Box::new(Buoyancy {
+            target: ids[0],
+            surface: 1.2,
+            half_height: 0.5,
+            volume: 0.01,
+            density: 1000.0,
+            g: 9.81,
+        }),
+    ];
+    for generator in &mut generators {
+        let applied = forces_of(&mut world, generator.as_mut());
+        for (i, &id) in ids.iter().enumerate() {
+            let reported = generator.force_on(&world.particles, i);
+            if generator.involves(id) {
+                let reported =
+                    reported.unwrap_or_else(|| panic!("{} reports nothing on {i}", generator.name()));
+                assert!(
+                    close(reported, applied[i], 1e-4),
+                    "{}: {reported} vs {}",
+                    generator.name(),
+                    applied[i]
+                );
+            } else {
+                assert_eq!(reported, None, "{} on {i}", generator.name());
+            }
+        }
+    }
+    let names: Vec<&str> = generators.iter().map(|g| g.name()).collect();
+    assert_eq!(names, ["gravity", "spring", "bungee", "buoyancy"]);
+
+    let drag = Drag { k1: 0.5, k2: 0.1, targets: vec![ids[0]] };
+    let v = velocities[0];
+    let expected = -v * (0.5 + 0.1 * v.length());
+    assert!(close(drag.force_on(&world.particles, 0).unwrap(), expected, 1e-5));
+    let stiff = StiffSpring::new(ids[1], Vec3::new(0.0, 2.0, 0.0), 50.0, 0.3);
+    let c = 2.0 * 0.3 * (50.0f32 * 2.0).sqrt();
+    let expected = -(positions[1] - Vec3::new(0.0, 2.0, 0.0)) * 50.0 - velocities[1] * c;
+    assert!(close(stiff.force_on(&world.particles, 1).unwrap(), expected, 1e-4));
+    assert_eq!(stiff.force_on(&world.particles, 0), None);
+}
+
+/// `World::forces_on` lists a particle's generators by name, in registration order.
+#[test]
+fn world_lists_the_forces_on_a_particle() {
+    let (mut world, ids) = world_with(&[Vec3::new(0.0, 2.0, 0.0), Vec3::ZERO], &[Vec3::ZERO; 2], 1.0);
+    world.add_force(Spring::anchored(ids[0], Vec3::new(0.0, 4.0, 0.0), 20.0, 1.0)).unwrap();
+    world.add_force(Drag { k1: 1.0, k2: 0.0, targets: vec![ids[0]] }).unwrap();
+    world.add_force(Spring::between(ids[1], ids[1], 1.0, 0.0)).unwrap();
+    let forces = world.forces_on(ids[0]);
+    assert_eq!(forces.len(), 2, "{forces:?}");
+    assert_eq!(forces[0].0, "spring");
+    // Stretched by 1 m towards the anchor above: 20 N up.
+    assert!(close(forces[0].1, Vec3::new(0.0, 20.0, 0.0), 1e-4), "{forces:?}");
+    assert_eq!(forces[1], ("drag", Vec3::ZERO));
+    assert!(world.forces_on(ParticleId(99)).is_empty());
+}

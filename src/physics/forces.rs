@@ -45,6 +45,18 @@ pub trait ForceGenerator: Send {
     fn tension(&self, _particles: &Particles) -> f32 {
         0.0
     }
+
+    /// A short name for the force, as the inspector and the free-body arrows show it.
+    fn name(&self) -> &'static str {
+        "force"
+    }
+
+    /// The force this generator puts on particle `i` (dense index) in the current state
+    /// (N), as the physics defines it (not the step's integrated form), or `None` where
+    /// it does not act on that particle.
+    fn force_on(&self, _particles: &Particles, _i: usize) -> Option<Vec3> {
+        None
+    }
 }
 
 /// Handle to a registered force generator.
@@ -162,6 +174,15 @@ impl ForceGenerator for Gravity {
         self.targets.is_empty()
     }
 
+    fn name(&self) -> &'static str {
+        "gravity"
+    }
+
+    fn force_on(&self, particles: &Particles, i: usize) -> Option<Vec3> {
+        let w = particles.inverse_mass[i];
+        (w > 0.0 && self.targets.contains(&particles.ids()[i])).then(|| self.gravity / w)
+    }
+
     fn potential_energy(&self, particles: &Particles) -> f32 {
         self.targets
             .iter()
@@ -252,6 +273,14 @@ impl ForceGenerator for Drag {
             // Its share of the step's change of kinetic energy, F·(v + v')/2 dt, is lost.
             particles.dissipated -= f64::from(drag.dot(v + landed) * 0.5 * dt);
         }
+    }
+
+    fn name(&self) -> &'static str {
+        "drag"
+    }
+
+    fn force_on(&self, particles: &Particles, i: usize) -> Option<Vec3> {
+        self.targets.contains(&particles.ids()[i]).then(|| self.force(particles.velocity[i]))
     }
 
     fn involves(&self, id: ParticleId) -> bool {
@@ -355,6 +384,17 @@ impl ForceGenerator for Spring {
         self.a == id || self.b == LinkEnd::Particle(id)
     }
 
+    fn name(&self) -> &'static str {
+        if self.bungee { "bungee" } else { "spring" }
+    }
+
+    fn force_on(&self, particles: &Particles, i: usize) -> Option<Vec3> {
+        let id = particles.ids()[i];
+        let force =
+            self.force(end_position(particles, LinkEnd::Particle(self.a))?, end_position(particles, self.b)?);
+        if id == self.a { Some(force) } else { (self.b == LinkEnd::Particle(id)).then_some(-force) }
+    }
+
     fn potential_energy(&self, particles: &Particles) -> f32 {
         self.extension(particles).map_or(0.0, |x| 0.5 * self.k * x * x)
     }
@@ -427,6 +467,14 @@ impl ForceGenerator for Buoyancy {
 
     fn involves(&self, id: ParticleId) -> bool {
         self.target == id
+    }
+
+    fn name(&self) -> &'static str {
+        "buoyancy"
+    }
+
+    fn force_on(&self, particles: &Particles, i: usize) -> Option<Vec3> {
+        (particles.ids()[i] == self.target).then(|| self.force(particles.position[i].y))
     }
 
     /// Work done against buoyancy to push the body down from the surface (J):

@@ -27,7 +27,7 @@ pub use links::{Constraint, LinkEnd, LinkKind, LinkSpec, LinkState, direction_or
 pub use particles::{ParticleDesc, ParticleId, Particles};
 pub use solver::{SolverKind, SolverSettings};
 pub use stiff_spring::StiffSpring;
-pub use world::{ContactGeneratorId, Energy, Profile, World};
+pub use world::{ContactGeneratorId, ContactPoint, Energy, Profile, World};
 
 /// A value as an error message shows it: numbers far from 1 in scientific notation
 /// (`2e-39`, not thirty-eight zeros).

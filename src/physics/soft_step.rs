@@ -221,6 +221,11 @@ struct Context {
 }
 
 impl SoftStep {
+    /// The contacts of the last step, as solved (speculative ones too).
+    pub(crate) fn contacts(&self) -> &[SoftContact] {
+        &self.contacts
+    }
+
     /// How far each particle moved in the last step (m), by dense index.
     pub(crate) fn motion(&self) -> &[Vec3] {
         &self.delta

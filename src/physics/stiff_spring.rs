@@ -128,6 +128,21 @@ impl ForceGenerator for StiffSpring {
         self.target == id
     }
 
+    fn name(&self) -> &'static str {
+        "stiff spring"
+    }
+
+    /// The spring and its damper as the physics defines them, `-k x - c v` with
+    /// `c = 2 ζ √(k m)`; the step itself lands on the closed form instead.
+    fn force_on(&self, particles: &Particles, i: usize) -> Option<Vec3> {
+        let w = particles.inverse_mass[i];
+        if particles.ids()[i] != self.target || w <= 0.0 {
+            return None;
+        }
+        let c = 2.0 * self.damping_ratio * (self.k / w).sqrt();
+        Some(-(particles.position[i] - self.anchor) * self.k - particles.velocity[i] * c)
+    }
+
     fn potential_energy(&self, particles: &Particles) -> f32 {
         particles
             .index(self.target)

@@ -31,6 +31,9 @@ pub struct Energy {
     /// Gravitational (from each particle's constant acceleration and from gravity
     /// generators) plus elastic energy stored in springs.
     pub potential: f32,
+    /// The gravitational part of `potential`; the rest is elastic (springs, bungees,
+    /// stiff springs) and buoyancy's.
+    pub gravitational: f32,
     /// Taken out since the first step, cumulative: by damping, drag, a damped stiff
     /// spring, contacts and links (inelastic bounces, friction, the solver's pushes),
     /// and what was left when particles fell asleep.
@@ -111,6 +114,22 @@ pub struct World {
     ledger: Ledger,
     time: f64,
     steps: u64,
+    /// The last step's length (s).
+    last_dt: f32,
+}
+
+/// A contact as the view's debug drawing shows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPoint {
+    /// Where the surfaces meet (m): midway across the overlap, or the gap.
+    pub point: Vec3,
+    /// Unit normal, pointing the way the first particle is pushed.
+    pub normal: Vec3,
+    /// Overlap now (m); negative is a gap: a contact the soft solver keeps in case the
+    /// two meet within the step (speculative).
+    pub depth: f32,
+    /// How hard it pushed in the last step (N): its impulse over the time it acted.
+    pub force: f32,
 }
 
 impl World {
@@ -250,6 +269,7 @@ impl World {
         self.ledger.last = self.mechanical_energy();
         self.time += f64::from(dt);
         self.steps += 1;
+        self.last_dt = dt;
         Ok(self.last_report)
     }
 
@@ -388,6 +408,59 @@ impl World {
         self.steps
     }
 
+    /// Writes the last step's contacts with particles and planes (not links) into `out`
+    /// for drawing, replacing what was there, with their overlap at the end of the step.
+    pub fn contact_points_into(&self, out: &mut Vec<ContactPoint>) {
+        out.clear();
+        let p = &self.particles;
+        let motion = self.last_motion();
+        let moved = |i: usize| motion.get(i).copied().unwrap_or(Vec3::ZERO);
+        // Where the surfaces meet, given the first particle, the normal and the overlap.
+        let point = |a: usize, normal: Vec3, depth: f32, pair: bool| {
+            let across = if pair { p.radius[a] - depth * 0.5 } else { p.radius[a] - depth };
+            p.position[a] - normal * across
+        };
+        match self.solver.kind {
+            SolverKind::Soft => {
+                let substep = self.last_dt / self.solver.substeps as f32;
+                for c in self.soft.contacts() {
+                    let (a, pair) = (c.a as usize, c.b != super::soft_step::NONE);
+                    let relative = moved(a) - if pair { moved(c.b as usize) } else { Vec3::ZERO };
+                    let depth = -(c.separation + relative.dot(c.normal));
+                    out.push(ContactPoint {
+                        point: point(a, c.normal, depth, pair),
+                        normal: c.normal,
+                        depth,
+                        force: c.normal_impulse / substep.max(1e-9),
+                    });
+                }
+            }
+            SolverKind::Paper => {
+                let from_link = |c: &Contact| {
+                    self.contact_generators.get(c.source as usize).is_some_and(|(_, g)| g.link().is_some())
+                };
+                for c in self.contacts.iter().filter(|c| !from_link(c)) {
+                    out.push(ContactPoint {
+                        point: point(c.a, c.normal, c.penetration, c.b.is_some()),
+                        normal: c.normal,
+                        depth: c.penetration,
+                        force: c.impulse / self.last_dt.max(1e-9),
+                    });
+                }
+            }
+        }
+    }
+
+    /// Each force generator's force on a particle now (N), by the generator's name, in
+    /// registration order: the free-body diagram's forces, without weight (the
+    /// particle's constant acceleration), damping, contacts and links. Empty for an
+    /// unknown particle.
+    #[must_use]
+    pub fn forces_on(&self, id: ParticleId) -> Vec<(&'static str, Vec3)> {
+        let Some(i) = self.particles.index(id) else { return Vec::new() };
+        self.forces.iter().filter_map(|g| Some((g.name(), g.force_on(&self.particles, i)?))).collect()
+    }
+
     /// Contacts the paper's resolver handled in the last step (empty with the soft
     /// solver; see [`World::contact_count`]).
     #[must_use]
@@ -404,31 +477,72 @@ impl World {
     /// Kinetic and potential energy now.
     #[must_use]
     pub fn energy(&self) -> Energy {
-        let (kinetic, potential) = self.kinetic_and_potential();
+        let (kinetic, gravitational, stored) = self.energies();
+        let potential = gravitational + stored;
         let ledger = &self.ledger;
         let start = ledger.start.unwrap_or(kinetic + potential);
         Energy {
             kinetic: kinetic as f32,
             potential: potential as f32,
+            gravitational: gravitational as f32,
             dissipated: ledger.dissipated as f32,
             work: ledger.work as f32,
             error: (kinetic + potential + ledger.dissipated - ledger.work - start) as f32,
         }
     }
 
+    /// One particle's kinetic, gravitational and stored (elastic, buoyancy) energy (J):
+    /// the stored energy of every force generator acting on it, whole (a spring between
+    /// two particles counts for both). `None` for an unknown or immovable particle.
+    #[must_use]
+    pub fn particle_energy(&self, id: ParticleId) -> Option<(f32, f32, f32)> {
+        let p = &self.particles;
+        let i = p.index(id)?;
+        let w = p.inverse_mass[i];
+        if w <= 0.0 {
+            return None;
+        }
+        let kinetic = 0.5 * p.velocity[i].length_squared() / w;
+        let mut gravitational = -p.acceleration[i].dot(p.position[i]) / w;
+        let mut stored = 0.0;
+        for generator in self.forces.iter().filter(|g| g.involves(id)) {
+            if generator.name() == "gravity" {
+                // Only this particle's share of a field acting on many.
+                gravitational -= generator.force_on(p, i).map_or(0.0, |f| f.dot(p.position[i]));
+            } else {
+                stored += generator.potential_energy(p);
+            }
+        }
+        Some((kinetic, gravitational, stored))
+    }
+
     /// Kinetic and potential energy (J), summed in f64.
     fn kinetic_and_potential(&self) -> (f64, f64) {
+        let (kinetic, gravitational, stored) = self.energies();
+        (kinetic, gravitational + stored)
+    }
+
+    /// Kinetic, gravitational and other stored (elastic, buoyancy) energy (J), in f64.
+    fn energies(&self) -> (f64, f64, f64) {
         let p = &self.particles;
-        let mut potential = 0.0;
+        let mut gravitational = 0.0;
         for i in 0..p.len() {
             let inverse_mass = p.inverse_mass[i];
             if inverse_mass > 0.0 {
                 let mass = 1.0 / f64::from(inverse_mass);
-                potential -= mass * p.acceleration[i].as_dvec3().dot(p.position[i].as_dvec3());
+                gravitational -= mass * p.acceleration[i].as_dvec3().dot(p.position[i].as_dvec3());
             }
         }
-        potential += self.forces.iter().map(|g| f64::from(g.potential_energy(p))).sum::<f64>();
-        (p.kinetic_energy(), potential)
+        let mut stored = 0.0;
+        for generator in self.forces.iter() {
+            let energy = f64::from(generator.potential_energy(p));
+            if generator.name() == "gravity" {
+                gravitational += energy;
+            } else {
+                stored += energy;
+            }
+        }
+        (p.kinetic_energy(), gravitational, stored)
     }
 
     /// Kinetic plus potential energy (J).

@@ -85,7 +85,18 @@ pub struct ViewOptions {
     pub swept: bool,
     /// Names of objects and links, and metre ticks along the x axis.
     pub labels: bool,
+    /// Force arrows (a free-body diagram) on the selected particle.
+    pub forces: bool,
+    /// Velocity and force arrows on every particle, not only the selected one (up to
+    /// [`VECTOR_PARTICLE_LIMIT`]).
+    pub all_vectors: bool,
+    /// Debug drawing like Box2D's: contact points, normals and overlaps, and the limits
+    /// of links (a cable's full length, a spring's natural length).
+    pub contacts: bool,
 }
+
+/// Most particles that get arrows when [`ViewOptions::all_vectors`] is on.
+pub const VECTOR_PARTICLE_LIMIT: usize = 200;
 
 impl Default for ViewOptions {
     fn default() -> Self {
@@ -98,6 +109,9 @@ impl Default for ViewOptions {
             color_by_speed: false,
             swept: false,
             labels: true,
+            forces: true,
+            all_vectors: false,
+            contacts: false,
         }
     }
 }
@@ -265,6 +279,7 @@ impl Trails {
 #[derive(Debug, Default)]
 pub struct FrameBuilder {
     links: Vec<LinkState>,
+    contact_points: Vec<crate::physics::ContactPoint>,
     markers: Vec<Marker>,
     outlines: Vec<(Vec3, Vec3)>,
     /// The frame built last.
@@ -324,25 +339,31 @@ impl FrameBuilder {
         }
 
         world.links_into(&mut self.links);
-        let reference = self.links.iter().map(|l| l.tension.abs()).fold(0.0, f32::max);
+        let reference = tension_reference(&self.links);
+        let springs = self.links.iter().filter(|l| coiled(l.spec.kind)).count();
         for link in &self.links {
             let [r, g, b] = if options.tension_colors {
                 tension_color(link.tension, reference)
             } else {
                 link_color(link.spec.kind)
             };
+            let color = [r, g, b, 1.0];
             let width = match link.spec.kind {
                 LinkKind::Rod | LinkKind::SupportRod => 5.0,
                 LinkKind::Spring | LinkKind::Bungee | LinkKind::StiffSpring => 4.0,
                 LinkKind::Cable | LinkKind::SupportCable => 3.0,
             };
-            frame.segments.push(SegmentInstance {
-                from: link.from.to_array(),
-                width,
-                to: link.to.to_array(),
-                pad: 0.0,
-                color: [r, g, b, 1.0],
-            });
+            if coiled(link.spec.kind) && springs <= COIL_LIMIT {
+                coil(link.from, link.to, color, &mut frame.segments);
+            } else {
+                frame.segments.push(SegmentInstance {
+                    from: link.from.to_array(),
+                    width,
+                    to: link.to.to_array(),
+                    pad: 0.0,
+                    color,
+                });
+            }
             // Anchors: a small grey sphere where a link is fixed in space.
             if let crate::physics::LinkEnd::Anchor(anchor) = link.spec.b {
                 frame.spheres.push(SphereInstance {
@@ -350,6 +371,15 @@ impl FrameBuilder {
                     radius: 0.08,
                     color: [0.35, 0.35, 0.38, 1.0],
                 });
+            }
+            if options.contacts {
+                link_limit(link, &mut frame.trails, &mut frame.spheres);
+            }
+        }
+        if options.contacts {
+            world.contact_points_into(&mut self.contact_points);
+            for contact in self.contact_points.iter().take(CONTACT_DRAW_LIMIT) {
+                contact_marker(contact, &mut frame.segments, &mut frame.spheres);
             }
         }
 
@@ -410,6 +440,110 @@ impl FrameBuilder {
         }
         &self.frame
     }
+}
+
+/// The tension that [`tension_color`] paints hottest in a frame: the largest pull or
+/// push of any link (N), so the colours use their whole range in every scene.
+#[must_use]
+pub fn tension_reference(links: &[LinkState]) -> f32 {
+    links.iter().map(|l| l.tension.abs()).fold(0.0, f32::max)
+}
+
+/// Links of these kinds are drawn as coils.
+fn coiled(kind: LinkKind) -> bool {
+    matches!(kind, LinkKind::Spring | LinkKind::StiffSpring)
+}
+
+/// Above this many springs they are drawn straight: coils of hundreds would be clutter.
+pub const COIL_LIMIT: usize = 64;
+/// Turns of a drawn coil.
+const COIL_TURNS: usize = 10;
+/// Segments per turn.
+const COIL_SEGMENTS: usize = 8;
+/// Radius of a drawn coil (m).
+const COIL_RADIUS: f32 = 0.09;
+
+/// A spring from `from` to `to` as a helix of [`COIL_TURNS`] turns with short straight
+/// leads at both ends, so it stretches and squeezes as the spring does.
+fn coil(from: Vec3, to: Vec3, color: [f32; 4], out: &mut Vec<SegmentInstance>) {
+    let axis = to - from;
+    let length = axis.length();
+    let mut push = |a: Vec3, b: Vec3| {
+        out.push(SegmentInstance { from: a.to_array(), width: 2.5, to: b.to_array(), pad: 0.0, color });
+    };
+    if length < 1e-4 {
+        return;
+    }
+    let along = axis / length;
+    let (u, w) = along.any_orthonormal_pair();
+    let (start, end) = (from + axis * 0.1, from + axis * 0.9);
+    push(from, start);
+    let steps = COIL_TURNS * COIL_SEGMENTS;
+    let mut last = start;
+    for k in 0..=steps {
+        let t = k as f32 / steps as f32;
+        let angle = std::f32::consts::TAU * COIL_TURNS as f32 * t;
+        let point = start.lerp(end, t) + (u * angle.sin() + w * angle.cos()) * COIL_RADIUS;
+        push(last, point);
+        last = point;
+    }
+    push(last, end);
+    last = end;
+    push(last, to);
+}
+
+/// Most contacts drawn in one frame (a pile has tens of thousands).
+pub const CONTACT_DRAW_LIMIT: usize = 20_000;
+
+/// A contact as Box2D's debug drawing shows it: a dot where the surfaces meet and a
+/// short line along the normal; red where they overlap by more than 1 mm, yellow where
+/// they touch, grey for a gap the soft solver keeps in case they meet.
+fn contact_marker(
+    contact: &crate::physics::ContactPoint,
+    segments: &mut Vec<SegmentInstance>,
+    spheres: &mut Vec<SphereInstance>,
+) {
+    let color = if contact.depth > 1e-3 {
+        [1.0, 0.15, 0.1, 1.0]
+    } else if contact.depth > -1e-3 {
+        [1.0, 0.85, 0.1, 1.0]
+    } else {
+        [0.6, 0.6, 0.65, 1.0]
+    };
+    let tip = contact.point + contact.normal * CONTACT_NORMAL_LENGTH;
+    segments.push(SegmentInstance {
+        from: contact.point.to_array(),
+        width: 2.0,
+        to: tip.to_array(),
+        pad: 0.0,
+        color,
+    });
+    spheres.push(SphereInstance { center: contact.point.to_array(), radius: 0.03, color });
+}
+
+/// Length of a drawn contact normal (m).
+pub const CONTACT_NORMAL_LENGTH: f32 = 0.25;
+
+/// A link's limit: a small white ball at the length it may not exceed (a cable) or
+/// rests at (a spring or bungee), measured from its second end (the anchor, for a link
+/// to a fixed point) along the link, and a translucent band from there to the first
+/// end: a spring's stretch or squeeze, a cable's slack. A taut cable's ball sits on its
+/// particle.
+fn link_limit(link: &LinkState, bands: &mut Vec<SegmentInstance>, spheres: &mut Vec<SphereInstance>) {
+    let limit = match link.spec.kind {
+        LinkKind::Cable | LinkKind::SupportCable | LinkKind::Spring | LinkKind::Bungee => link.spec.rest,
+        LinkKind::Rod | LinkKind::SupportRod | LinkKind::StiffSpring => return,
+    };
+    let Some(direction) = (link.from - link.to).try_normalize() else { return };
+    let end = link.to + direction * limit;
+    bands.push(SegmentInstance {
+        from: end.to_array(),
+        width: 6.0,
+        to: link.from.to_array(),
+        pad: 0.0,
+        color: [0.95, 0.95, 0.95, 0.35],
+    });
+    spheres.push(SphereInstance { center: end.to_array(), radius: 0.05, color: [0.95, 0.95, 0.95, 1.0] });
 }
 
 /// Most swept paths drawn in one frame: enough for any scene a student fires rounds

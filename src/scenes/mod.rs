@@ -187,6 +187,12 @@ pub trait Scene: Send {
     fn param_warning(&self, _name: &str, _h: f32) -> Option<String> {
         None
     }
+
+    /// Distance from the exact answer (m) where the scene has a closed form: the newest
+    /// round's or the bob's distance from its ghost. Plotted live beside the energy.
+    fn exact_error(&self) -> Option<f32> {
+        None
+    }
 }
 
 /// A scene in the registry: its description and how to build it.

@@ -209,11 +209,15 @@ impl Scene for Projectile {
         CameraHint { target: Vec3::new(16.0, 5.0, 0.0), distance: 42.0, yaw: 0.0, pitch: 0.25 }
     }
 
+    fn exact_error(&self) -> Option<f32> {
+        self.ghosts.last().and_then(|ghost| ghost.error(&self.world))
+    }
+
     fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
         let (g, v, h) = (self.params.get("g"), self.params.get("speed"), self.params.get("height"));
         let angle = self.params.get("angle").to_radians();
         let mut out = vec![("rounds in flight".into(), self.rounds.len().to_string())];
-        if let Some(error) = self.ghosts.last().and_then(|ghost| ghost.error(&self.world)) {
+        if let Some(error) = self.exact_error() {
             out.push(("newest round from its exact path".into(), format!("{:.1} mm", error * 1000.0)));
         }
         if g > 0.0 {

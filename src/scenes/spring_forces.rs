@@ -251,6 +251,10 @@ impl Scene for SpringForces {
         }
     }
 
+    fn exact_error(&self) -> Option<f32> {
+        self.ghost.as_ref().and_then(|ghost| ghost.error(&self.world))
+    }
+
     fn readouts(&self, dt: f32) -> Vec<(String, String)> {
         let (k, mass) = (self.params.get("k"), self.params.get("mass"));
         let omega = (k / mass).sqrt();
@@ -271,9 +275,7 @@ impl Scene for SpringForces {
             ("bob height".into(), format!("{bob_y:.3} m")),
             (
                 "bob from its exact path".into(),
-                self.ghost
-                    .and_then(|g| g.error(&self.world))
-                    .map_or("—".into(), |e| format!("{:.2} mm", e * 1000.0)),
+                self.exact_error().map_or("—".into(), |e| format!("{:.2} mm", e * 1000.0)),
             ),
         ]
     }

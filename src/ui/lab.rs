@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 use glam::{Vec2, Vec3};
 
 use crate::physics::{ParticleId, SolverKind, SolverSettings};
+use crate::render::frame::VECTOR_PARTICLE_LIMIT;
 use crate::render::{OrbitCamera, Trails, ViewOptions};
 use crate::scenes::{self, Scene, SceneAction, SceneEntry};
 
@@ -37,6 +38,43 @@ pub const TIME_SCALE_RANGE: std::ops::RangeInclusive<f32> = 0.05..=4.0;
 /// Width over height of the 3D view the scenes' camera hints frame: a 1280x720 window
 /// less the panel. Narrower views get the camera further back.
 pub const FRAMING_ASPECT: f32 = 1.4;
+
+/// The mouse spring's natural frequency (Hz): how quickly a dragged particle follows.
+pub const MOUSE_HERTZ: f32 = 5.0;
+/// The mouse spring's damping ratio: a little under critical, so it settles at once.
+pub const MOUSE_DAMPING_RATIO: f32 = 0.7;
+/// Most acceleration the mouse spring gives (m/s², about 15 g): enough to lift any
+/// particle against the strongest gravity a scene offers, too little to fling one.
+pub const MOUSE_MAX_ACCELERATION: f32 = 150.0;
+
+/// The change of velocity the mouse spring gives in a step of `h` seconds to a particle
+/// `offset` metres short of the pointer and moving at `v`: a damped spring integrated
+/// implicitly (the soft step: stable for any `h`), then limited to
+/// [`MOUSE_MAX_ACCELERATION`] over the step.
+#[must_use]
+pub fn mouse_pull(offset: Vec3, v: Vec3, h: f32) -> Vec3 {
+    let omega = std::f32::consts::TAU * MOUSE_HERTZ;
+    let (k, c) = (omega * omega, 2.0 * MOUSE_DAMPING_RATIO * omega);
+    let dv = (offset * k - v * (c + k * h)) * h / (1.0 + c * h + k * h * h);
+    dv.clamp_length_max(MOUSE_MAX_ACCELERATION * h)
+}
+
+/// Longest force arrow (m); see [`Lab::force_scale`].
+pub const LONGEST_FORCE_ARROW: f32 = 2.0;
+
+/// The smallest of 1, 2 or 5 times a power of ten that is at least `x` (at least 0.001).
+#[must_use]
+pub fn round_scale(x: f32) -> f32 {
+    let x = x.max(1e-3);
+    let power = 10f32.powf(x.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).find(|&s| s >= x * 0.9999).unwrap_or(10.0 * power)
+}
+
+/// A factor with at most two decimals and no trailing zeros: 4, 1.2, 0.05.
+fn short(x: f32) -> String {
+    let text = format!("{x:.2}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
 
 /// Samples kept for the energy plot.
 const HISTORY: usize = 600;
@@ -69,12 +107,16 @@ pub struct EnergySample {
     pub kinetic: f32,
     /// Potential energy (J).
     pub potential: f32,
+    /// Its gravitational part (J).
+    pub gravitational: f32,
     /// Dissipated since the start, cumulative (J).
     pub dissipated: f32,
     /// Put in from outside since the start, cumulative (J).
     pub work: f32,
     /// The budget's remainder: the integrator's error (J).
     pub error: f32,
+    /// Distance from the scene's exact answer (m), NaN where it has none.
+    pub exact_error: f32,
 }
 
 /// A particle held by the mouse: it follows the pointer in the plane through its
@@ -129,6 +171,10 @@ pub struct Lab {
     pub status: String,
     /// Show the controls window.
     pub show_help: bool,
+    /// Show the side panel (P hides it, for a view across the whole window).
+    pub panel_open: bool,
+    /// The energy bars show the selected particle instead of the whole scene.
+    pub bars_for_selected: bool,
     /// The particle under the pointer.
     pub hovered: Option<ParticleId>,
     /// The particle being dragged.
@@ -147,6 +193,8 @@ pub struct Lab {
     /// The selected particle's net force over the last step (N), from its change of
     /// velocity: forces, contacts and links together.
     pub net_force: Vec3,
+    /// [`Self::net_force`] was measured over a step since the selection was made.
+    pub net_force_measured: bool,
     /// Requests for the window.
     pub requests: Requests,
     last_frame: Option<Instant>,
@@ -185,10 +233,13 @@ impl Lab {
             energy: VecDeque::with_capacity(HISTORY),
             status: String::new(),
             show_help: false,
+            panel_open: true,
+            bars_for_selected: true,
             hovered: None,
             grab: None,
             selected: None,
             net_force: Vec3::ZERO,
+            net_force_measured: false,
             view_aspect: FRAMING_ASPECT,
             camera_moved: false,
             tape: false,
@@ -300,18 +351,42 @@ impl Lab {
         self.record();
     }
 
-    /// Changes a parameter of the running scene; a refusal goes to the status line.
+    /// Changes a parameter of the running scene; a refusal goes to the status line. A
+    /// change that rebuilds the world (a count, a size) says so there, and the plots and
+    /// trails start again with it.
     pub fn set_param(&mut self, name: &str, value: f32) {
+        let steps_before = self.scene.world().steps();
         match self.scene.set_param(name, value) {
             Ok(()) => {
                 // Some parameters rebuild the world, which then has the default solver.
                 self.scene.world_mut().set_solver(self.solver).expect("validated when chosen");
                 self.readouts_taken = None;
                 log::info!("set {}.{name} = {value}", self.entry.info.name);
+                if steps_before > 0 && self.scene.world().steps() == 0 {
+                    self.restart();
+                    self.status = format!("Changing {name} rebuilt the scene: it starts again from t = 0");
+                }
                 self.follow_crowd();
             }
             Err(error) => self.status = error.to_string(),
         }
+    }
+
+    /// Changes a parameter to a value typed in the panel: one beyond the slider's range
+    /// is clamped to it, and the status line says so.
+    pub fn set_param_typed(&mut self, name: &str, value: f32) {
+        let Some(param) = self.scene.params().table().iter().find(|p| p.name == name) else { return };
+        let clamped = value.clamp(param.min, param.max);
+        if clamped == value || value.is_nan() {
+            self.set_param(name, value);
+            return;
+        }
+        self.set_param(name, clamped);
+        let unit = if param.unit.is_empty() { String::new() } else { format!(" {}", param.unit) };
+        self.status = format!(
+            "{name} = {value} is beyond its range ({} to {}{unit}): clamped to {clamped}{unit}",
+            param.min, param.max
+        );
     }
 
     /// Applies a preset of the current scene by name.
@@ -394,6 +469,16 @@ impl Lab {
         }
     }
 
+    /// When the physics cannot keep up with the time scale asked for (steps per frame
+    /// at their cap, or over the physics budget): "running at 1.2× of 4× asked".
+    #[must_use]
+    pub fn time_scale_note(&self) -> Option<String> {
+        let running = !self.paused && self.stats.frame_ms > 0.0;
+        (running && self.stats.sim_speed < 0.9 * self.time_scale).then(|| {
+            format!("running at {}× of {}× asked", short(self.stats.sim_speed), short(self.time_scale))
+        })
+    }
+
     /// Runs exactly `steps` physics steps now, paused or not.
     pub fn run_steps(&mut self, steps: u32) {
         if self.paused {
@@ -436,6 +521,7 @@ impl Lab {
             }
             if let (Some((v0, _)), Some((v1, m))) = (before, self.selected_state()) {
                 self.net_force = (v1 - v0) * (m / dt);
+                self.net_force_measured = true;
             }
             last_step = step_started.elapsed();
         }
@@ -472,9 +558,11 @@ impl Lab {
             t,
             kinetic: energy.kinetic,
             potential: energy.potential,
+            gravitational: energy.gravitational,
             dissipated: energy.dissipated,
             work: energy.work,
             error: energy.error,
+            exact_error: self.scene.exact_error().unwrap_or(f32::NAN),
         });
     }
 
@@ -518,15 +606,93 @@ impl Lab {
         }
     }
 
+    /// The forces on a particle now, one by one (N): its weight (mass times its own
+    /// constant acceleration), each force generator's, damping's, and for the selected
+    /// particle what contacts and links added over the last step (the net force less
+    /// the others). Empty for an immovable or unknown particle.
+    #[must_use]
+    pub fn free_body(&self, id: ParticleId) -> Vec<(&'static str, Vec3)> {
+        let world = self.scene.world();
+        let particles = &world.particles;
+        let Some(i) = particles.index(id) else { return Vec::new() };
+        if particles.inverse_masses()[i] == 0.0 {
+            return Vec::new();
+        }
+        let mass = particles.mass(i);
+        let mut forces = vec![("weight", particles.accelerations()[i] * mass)];
+        forces.extend(world.forces_on(id));
+        // Damping keeps a fraction d of the velocity per second: a force m ln(d) v.
+        let v = particles.velocities()[i];
+        forces.push(("damping", v * (mass * particles.damping(i).max(1e-6).ln())));
+        if self.selected == Some(id) && self.net_force_measured {
+            let rest: Vec3 = forces.iter().map(|(_, f)| *f).sum();
+            forces.push(("contacts and links", self.net_force - rest));
+        }
+        forces
+    }
+
+    /// The particles that get arrows: the selected one, or with "all vectors" on every
+    /// movable particle of a scene of at most [`VECTOR_PARTICLE_LIMIT`].
+    #[must_use]
+    pub fn vector_particles(&self) -> Vec<ParticleId> {
+        let particles = &self.scene.world().particles;
+        if self.view.all_vectors && particles.len() <= VECTOR_PARTICLE_LIMIT {
+            let movable = particles.ids().iter().zip(particles.inverse_masses());
+            movable.filter(|(_, w)| **w > 0.0).map(|(id, _)| *id).collect()
+        } else {
+            self.selected.into_iter().collect()
+        }
+    }
+
+    /// The force arrows' scale (N per metre of arrow): from 1, 2, 5 times a power of
+    /// ten, the smallest that keeps the largest force on the particles with arrows
+    /// within [`LONGEST_FORCE_ARROW`].
+    #[must_use]
+    pub fn force_scale(&self) -> f32 {
+        let largest = self
+            .vector_particles()
+            .into_iter()
+            .flat_map(|id| self.free_body(id))
+            .map(|(_, f)| f.length())
+            .fold(0.0, f32::max);
+        round_scale(largest / LONGEST_FORCE_ARROW)
+    }
+
+    /// Turns on a view option by the name `render --view` takes; an unknown name gets a
+    /// one-line refusal that lists the known ones.
+    pub fn set_view_option(&mut self, name: &str) -> Result<(), String> {
+        match name.trim() {
+            "forces" => self.view.forces = true,
+            "no-forces" => self.view.forces = false,
+            "all-vectors" => self.view.all_vectors = true,
+            "contacts" => self.view.contacts = true,
+            "tension" => self.view.tension_colors = true,
+            "no-labels" => self.view.labels = false,
+            "no-trails" => self.view.trails = false,
+            other => {
+                return Err(format!(
+                    "--view {other}: unknown view option; known: forces, no-forces, all-vectors, contacts, \
+                     tension, no-labels, no-trails"
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Selects a particle for the inspector (or none).
     pub fn select(&mut self, id: Option<ParticleId>) {
         if self.selected != id {
             self.selected = id;
             self.net_force = Vec3::ZERO;
+            self.net_force_measured = false;
         }
     }
 
-    /// Moves the dragged particle to the pointer, with the velocity that takes it there.
+    /// Pulls the dragged particle towards the pointer with a soft spring (Box2D's mouse
+    /// joint): [`MOUSE_HERTZ`] and [`MOUSE_DAMPING_RATIO`], solved implicitly so it is
+    /// stable at any step, and at most [`MOUSE_MAX_ACCELERATION`]. A whip of the mouse
+    /// then throws a particle about as fast as the pointer moved, not hundreds of m/s.
+    /// Its work goes into the energy budget as work put in from outside.
     fn hold_grabbed(&mut self, dt: f32) {
         let Some(grab) = self.grab else { return };
         let world = self.scene.world_mut();
@@ -537,11 +703,8 @@ impl Lab {
         if world.particles.inverse_mass[i] == 0.0 {
             return;
         }
-        let from = world.particles.position[i];
-        // Move part of the way each step so a fast flick is not an infinite velocity.
-        let to = from.lerp(grab.target, 0.5);
-        world.particles.velocity[i] = (to - from) / dt;
-        world.particles.position[i] = to;
+        let (x, v) = (world.particles.position[i], world.particles.velocity[i]);
+        world.particles.velocity[i] = v + mouse_pull(grab.target - x, v, dt);
     }
 
     /// The particle whose sphere the ray through `pixel` hits first, if any.

@@ -8,12 +8,20 @@ pub mod paint;
 use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
 use glam::{Vec2, Vec3};
 
+use crate::physics::LinkKind;
 use crate::physics::solver::SUBSTEP_RANGE;
 use crate::physics::{Integrator, SolverKind};
 use crate::render::Trails;
-use crate::render::frame::{SPEED_SCALE, ramp_srgb, speed_fraction};
+use crate::render::frame::{
+    SPEED_SCALE, VECTOR_PARTICLE_LIMIT, link_color, ramp_srgb, speed_fraction, tension_color,
+    tension_reference,
+};
 use crate::scenes::{SCENES, SceneAction};
 pub use lab::Lab;
+
+/// Width of the side panel (points): fixed, so a long read-out wraps instead of
+/// widening it, and narrow enough for the view to keep most of an 800x600 window.
+pub const PANEL_WIDTH: f32 = 330.0;
 
 /// Keyboard shortcuts, as shown in the Help window.
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -21,6 +29,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     (".", "one physics step"),
     ("R", "reset the scene"),
     ("F", "fire (projectile)"),
+    ("P", "hide / show the panel"),
     ("Arrows / WASD", "move the load (bridge)"),
     ("Home", "frame the scene"),
     ("F12", "save a screenshot"),
@@ -46,9 +55,15 @@ pub fn show(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
             });
         });
     }
-    egui::Panel::left("controls").default_size(300.0).resizable(true).show(ui, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| side_panel(ui, lab));
-    });
+    if lab.panel_open {
+        egui::Panel::left("controls").exact_size(PANEL_WIDTH).resizable(false).show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                // Long read-outs wrap instead of widening the panel.
+                ui.set_max_width(PANEL_WIDTH - 16.0);
+                side_panel(ui, lab);
+            });
+        });
+    }
     let mut open = lab.show_help;
     egui::Window::new("Controls").open(&mut open).resizable(false).show(ui.ctx(), help);
     lab.show_help = open;
@@ -76,6 +91,9 @@ fn shortcuts(ctx: &egui::Context, lab: &mut Lab) {
         }
         if input.consume_key(Modifiers::NONE, Key::F) {
             lab.act(SceneAction::Fire);
+        }
+        if input.consume_key(Modifiers::NONE, Key::P) {
+            lab.panel_open = !lab.panel_open;
         }
         if input.consume_key(Modifiers::NONE, Key::Home) {
             lab.frame_scene();
@@ -123,6 +141,18 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
             }
             ui.checkbox(&mut lab.view.labels, "Labels")
                 .on_hover_text("Names of objects and links, and metre ticks along the x axis");
+            ui.checkbox(&mut lab.view.forces, "Force arrows (free-body diagram)").on_hover_text(
+                "On the selected particle: each force as an arrow in its colour, to the scale the \
+                 inspector states",
+            );
+            ui.checkbox(&mut lab.view.all_vectors, "Vectors on every particle").on_hover_text(format!(
+                "Velocity (and with force arrows, forces) on every particle, not only the selected one; \
+                 up to {VECTOR_PARTICLE_LIMIT} particles"
+            ));
+            ui.checkbox(&mut lab.view.contacts, "Contacts and link limits").on_hover_text(
+                "Debug drawing: contact points with their normals (red where they overlap by more than \
+                 1 mm), a cable's full length and a spring's natural length",
+            );
             ui.checkbox(&mut lab.view.swept, "Swept paths (last step)").on_hover_text(
                 "For each particle that moved more than its radius in the last step: the path it swept, \
                  from a ghost of where it started. Continuous collision has to catch everything along it.",
@@ -144,6 +174,9 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
                 ui.close();
             }
         });
+        if ui.selectable_label(lab.panel_open, "Panel").on_hover_text("Hide or show the side panel (P)").clicked() {
+            lab.panel_open = !lab.panel_open;
+        }
         ui.menu_button("Help", |ui| {
             if ui.button("Controls and shortcuts").clicked() {
                 lab.show_help = true;
@@ -155,6 +188,12 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
         ui.label(format!("t = {:.2} s", lab.scene.world().time()));
         if lab.paused {
             ui.colored_label(Color32::from_rgb(240, 190, 60), "paused");
+        }
+        if let Some(note) = lab.time_scale_note() {
+            ui.colored_label(Color32::from_rgb(240, 170, 60), note).on_hover_text(
+                "The physics cannot keep up with the time scale: each frame runs as many steps as its \
+                 budget allows. Lower the time scale or the physics rate.",
+            );
         }
     });
 }
@@ -207,6 +246,9 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             .add(
                 egui::Slider::new(&mut edited, param.min..=param.max)
                     .logarithmic(param.logarithmic)
+                    // A typed value beyond the range reaches the lab, which clamps it
+                    // and says so.
+                    .clamping(egui::SliderClamping::Never)
                     .text(label),
             )
             .on_hover_text(param.help);
@@ -218,7 +260,7 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
         }
     }
     for (name, value) in changes {
-        lab.set_param(name, value);
+        lab.set_param_typed(name, value);
     }
     let presets = lab.entry.info.presets;
     if !presets.is_empty() {
@@ -246,7 +288,7 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
     egui::Grid::new("readouts").num_columns(2).striped(true).show(ui, |ui| {
         for (name, value) in lab.readouts() {
             ui.label(name.as_str());
-            ui.label(value.as_str());
+            ui.add(egui::Label::new(value.as_str()).wrap());
             ui.end_row();
         }
     });
@@ -254,6 +296,7 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
         ui.separator();
         speed_legend(ui);
     }
+    link_key(ui, lab);
     // Above the inspector and the stats, so it is in view at 1280x720.
     ui.separator();
     energy_plot(ui, lab);
@@ -272,6 +315,9 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             Err(error) => format!("could not write {}: {error}", path.display()),
         };
     }
+    error_plot(ui, lab);
+    ui.separator();
+    energy_bars(ui, lab);
     if lab.selected.is_some() {
         ui.separator();
         inspector(ui, lab);
@@ -371,6 +417,73 @@ fn solver_controls(ui: &mut egui::Ui, lab: &mut Lab) {
     }
 }
 
+/// A linear-RGB colour as egui's sRGB.
+fn srgb([r, g, b]: [f32; 3]) -> Color32 {
+    let channel = |c: f32| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8;
+    Color32::from_rgb(channel(r), channel(g), channel(b))
+}
+
+/// The key to the links' colours: a swatch per kind of link in the scene, or with
+/// colours by tension the scale from the hardest push (cyan) through none (blue) to the
+/// hardest pull (red), in N, as the view paints it this frame.
+fn link_key(ui: &mut egui::Ui, lab: &Lab) {
+    let links = lab.scene.world().links();
+    if links.is_empty() {
+        return;
+    }
+    ui.separator();
+    if !lab.view.tension_colors {
+        let mut kinds: Vec<LinkKind> = Vec::new();
+        for link in &links {
+            if !kinds.contains(&link.spec.kind) {
+                kinds.push(link.spec.kind);
+            }
+        }
+        ui.horizontal_wrapped(|ui| {
+            ui.label(egui::RichText::new("Links").strong())
+                .on_hover_text("View → Link colours by tension colours them by the force they carry");
+            for kind in kinds {
+                let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), Sense::hover());
+                ui.painter().rect_filled(swatch, 2.0, srgb(link_color(kind)));
+                ui.label(kind.name().replace('_', " "));
+            }
+        });
+        return;
+    }
+    let reference = tension_reference(&links);
+    ui.label(egui::RichText::new("Link tension").strong()).on_hover_text(
+        "Scaled to the link carrying the most this frame; the square root spreads the colours of \
+         lightly loaded links",
+    );
+    let width = ui.available_width().min(280.0);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 30.0), Sense::hover());
+    let painter = ui.painter_at(rect);
+    let bar = Rect::from_min_size(rect.min, egui::vec2(rect.width(), 12.0));
+    const BANDS: usize = 48;
+    for band in 0..BANDS {
+        // From -reference (left) to +reference (right).
+        let tension = reference * (2.0 * (band as f32 + 0.5) / BANDS as f32 - 1.0);
+        let left = bar.left() + bar.width() * band as f32 / BANDS as f32;
+        let right = bar.left() + bar.width() * (band + 1) as f32 / BANDS as f32;
+        let band_rect = Rect::from_x_y_ranges(left..=right + 0.5, bar.y_range());
+        painter.rect_filled(band_rect, 0.0, srgb(tension_color(tension, reference)));
+    }
+    for (at, align, text) in [
+        (0.0, egui::Align2::LEFT_TOP, format!("{:.0} N push", reference)),
+        (0.5, egui::Align2::CENTER_TOP, "0".to_string()),
+        (1.0, egui::Align2::RIGHT_TOP, format!("{:.0} N pull", reference)),
+    ] {
+        let x = bar.left() + bar.width() * at;
+        painter.text(
+            egui::pos2(x, bar.bottom() + 3.0),
+            align,
+            text,
+            egui::FontId::proportional(11.0),
+            Color32::GRAY,
+        );
+    }
+}
+
 /// The colour-by-speed scale: the ramp with speeds (m/s) under it.
 fn speed_legend(ui: &mut egui::Ui) {
     ui.label(egui::RichText::new("Colour by speed").strong())
@@ -432,10 +545,6 @@ fn inspector(ui: &mut egui::Ui, lab: &mut Lab) {
     let (p, v) = (particles.positions()[i], particles.velocities()[i]);
     let movable = particles.inverse_masses()[i] > 0.0;
     let mass = particles.mass(i);
-    let weight = if movable { particles.accelerations()[i] * mass } else { Vec3::ZERO };
-    let generators = particles.forces()[i];
-    // Damping keeps a fraction d of the velocity per second: a force -m ln(1/d) v.
-    let damping = if movable { -v * (mass * -particles.damping(i).max(1e-6).ln()) } else { Vec3::ZERO };
     let net = if movable { lab.net_force } else { Vec3::ZERO };
     let vector = |x: Vec3, unit: &str| format!("({:.1}, {:.1}, {:.1}) {unit}", x.x, x.y, x.z);
     ui.horizontal(|ui| {
@@ -449,27 +558,45 @@ fn inspector(ui: &mut egui::Ui, lab: &mut Lab) {
         ("position", vector(p, "m")),
         ("velocity", vector(v, "m/s")),
         ("speed", format!("{:.2} m/s", v.length())),
-        ("weight (m·a)", vector(weight, "N")),
-        ("force generators", vector(generators, "N")),
-        ("damping", vector(damping, "N")),
-        ("contacts and links", vector(net - weight - generators - damping, "N")),
-        ("net force (last step)", vector(net, "N")),
-        ("acceleration", vector(if movable { net / mass } else { Vec3::ZERO }, "m/s²")),
     ];
+    let forces = lab.free_body(id);
+    let swatch = srgb;
     egui::Grid::new("inspector").num_columns(2).striped(true).show(ui, |ui| {
         for (name, value) in rows {
             ui.label(name);
             ui.monospace(value);
             ui.end_row();
         }
+        for (name, force) in &forces {
+            ui.colored_label(swatch(paint::force_color(name)), *name);
+            ui.monospace(vector(*force, "N"));
+            ui.end_row();
+        }
+        if movable {
+            ui.colored_label(swatch(paint::force_color("net force")), "net force (last step)");
+            ui.monospace(vector(net, "N"));
+            ui.end_row();
+            ui.colored_label(swatch(paint::ACCELERATION_COLOR), "acceleration");
+            ui.monospace(vector(net / mass, "m/s²"));
+            ui.end_row();
+        }
     });
-    ui.label(
-        egui::RichText::new(format!(
-            "Arrows: velocity (green) 1 m per {:.0} m/s; acceleration (red) 1 m per {:.0} m/s²",
-            1.0 / VELOCITY_ARROW,
-            1.0 / ACCELERATION_ARROW
-        ))
-        .small(),
+    let scale = if lab.view.forces {
+        format!("forces 1 m per {} N", lab.force_scale())
+    } else {
+        format!("acceleration (red) 1 m per {:.0} m/s²", 1.0 / ACCELERATION_ARROW)
+    };
+    ui.add(
+        egui::Label::new(
+            egui::RichText::new(format!(
+                "Arrows: velocity (green) 1 m per {:.0} m/s; {scale}. Weight is mass times the \
+                 particle's own gravity; contacts and links are what the last step's change of \
+                 velocity needs beyond the other forces.",
+                1.0 / VELOCITY_ARROW,
+            ))
+            .small(),
+        )
+        .wrap(),
     );
     if lab.paused && movable {
         let (mut new_mass, mut new_v) = (mass, v);
@@ -503,9 +630,9 @@ const PLOT_SECONDS: f64 = 10.0;
 /// error). The legend is a row above the curves; the scale fits what is shown.
 fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
     let series: [EnergySeries; 4] = [
-        ("kinetic", Color32::from_rgb(240, 140, 40), |s| s.kinetic),
-        ("potential", Color32::from_rgb(80, 160, 240), |s| s.potential),
-        ("total", Color32::from_rgb(220, 220, 220), |s| s.kinetic + s.potential),
+        ("kinetic", KINETIC_COLOR, |s| s.kinetic),
+        ("potential", GRAVITY_COLOR, |s| s.potential),
+        ("total", TOTAL_COLOR, |s| s.kinetic + s.potential),
         // What the budget leaves over: total + dissipated - work, less its start.
         ("integrator error", Color32::from_rgb(110, 210, 120), |s| s.error),
     ];
@@ -551,6 +678,130 @@ fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
         Color32::GRAY,
     );
 }
+
+/// Distance from the exact answer over the last [`PLOT_SECONDS`] (mm), where the scene
+/// has one: how far the integrator has drifted from the closed form.
+fn error_plot(ui: &mut egui::Ui, lab: &Lab) {
+    let Some(newest) = lab.energy.back() else { return };
+    let samples: Vec<(f64, f32)> = lab
+        .energy
+        .iter()
+        .filter(|s| s.t >= newest.t - PLOT_SECONDS && s.exact_error.is_finite())
+        .map(|s| (s.t, s.exact_error * 1000.0))
+        .collect();
+    let (Some(&(t0, _)), Some(&(t1, now))) = (samples.first(), samples.last()) else { return };
+    ui.horizontal_wrapped(|ui| {
+        ui.label(egui::RichText::new("Distance from the exact answer").strong()).on_hover_text(
+            "How far the simulated particle (the newest round, or the bob) is from its ghost: the \
+             closed form of its motion. Try another integrator or physics rate.",
+        );
+        ui.monospace(format!("{now:.2} mm"));
+    });
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 50.0), Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, Color32::from_gray(20));
+    let high = samples.iter().map(|&(_, e)| e).fold(0.0, f32::max).max(1e-3);
+    let span = (t1 - t0).max(1e-6);
+    let points: Vec<egui::Pos2> = samples
+        .iter()
+        .map(|&(t, e)| {
+            egui::pos2(
+                rect.left() + ((t - t0) / span) as f32 * rect.width(),
+                rect.bottom() - 3.0 - e / high * (rect.height() - 6.0),
+            )
+        })
+        .collect();
+    painter.add(egui::Shape::line(points, Stroke::new(1.5, Color32::from_rgb(230, 110, 200))));
+    painter.text(
+        rect.right_top() + egui::vec2(-6.0, 3.0),
+        egui::Align2::RIGHT_TOP,
+        format!("{high:.2} mm"),
+        egui::FontId::monospace(10.0),
+        Color32::GRAY,
+    );
+}
+
+/// PhET's energy bar chart: kinetic, gravitational, elastic, dissipated and the budget's
+/// total (with the work put in taken off, so it stays level), for the whole scene or
+/// the selected particle (without dissipation, which the world tracks only in total).
+fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
+    let world = lab.scene.world();
+    let particle = lab.selected.filter(|_| lab.bars_for_selected).and_then(|id| world.particle_energy(id));
+    let e = world.energy();
+    let bars: Vec<(&str, Color32, f32)> = match particle {
+        Some((kinetic, gravitational, stored)) => vec![
+            ("kinetic", KINETIC_COLOR, kinetic),
+            ("gravity", GRAVITY_COLOR, gravitational),
+            ("elastic", ELASTIC_COLOR, stored),
+            ("total", TOTAL_COLOR, kinetic + gravitational + stored),
+        ],
+        None => vec![
+            ("kinetic", KINETIC_COLOR, e.kinetic),
+            ("gravity", GRAVITY_COLOR, e.gravitational),
+            ("elastic", ELASTIC_COLOR, e.potential - e.gravitational),
+            ("dissipated", DISSIPATED_COLOR, e.dissipated),
+            ("total − work", TOTAL_COLOR, e.kinetic + e.potential + e.dissipated - e.work),
+        ],
+    };
+    ui.horizontal(|ui| {
+        ui.label(egui::RichText::new("Energy bars").strong()).on_hover_text(
+            "Gravitational energy is measured from y = 0; elastic includes buoyancy's. The last bar \
+             stays level when the budget balances.",
+        );
+        if lab.selected.is_some() {
+            ui.selectable_value(&mut lab.bars_for_selected, false, "scene");
+            ui.selectable_value(&mut lab.bars_for_selected, true, "selected");
+        } else {
+            ui.label("scene");
+        }
+    });
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 110.0), Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, Color32::from_gray(20));
+    let low = bars.iter().map(|b| b.2).fold(0.0, f32::min);
+    let high = bars.iter().map(|b| b.2).fold(0.0, f32::max);
+    let span = (high - low).max(1e-6);
+    // Room for a value above and a name below each bar.
+    let (top, bottom) = (rect.top() + 14.0, rect.bottom() - 14.0);
+    let y_of = |e: f32| bottom - (e - low) / span * (bottom - top);
+    let zero = y_of(0.0);
+    painter.line_segment(
+        [egui::pos2(rect.left(), zero), egui::pos2(rect.right(), zero)],
+        Stroke::new(1.0, Color32::GRAY),
+    );
+    let slot = rect.width() / bars.len() as f32;
+    for (k, (name, color, value)) in bars.iter().enumerate() {
+        let x = rect.left() + slot * (k as f32 + 0.5);
+        let (y0, y1) = (zero.min(y_of(*value)), zero.max(y_of(*value)));
+        let bar = Rect::from_x_y_ranges(x - slot * 0.3..=x + slot * 0.3, y0..=y1.max(y0 + 1.0));
+        painter.rect_filled(bar, 1.0, *color);
+        painter.text(
+            egui::pos2(x, y0 - 1.0),
+            egui::Align2::CENTER_BOTTOM,
+            joules(*value),
+            egui::FontId::monospace(9.0),
+            Color32::GRAY,
+        );
+        painter.text(
+            egui::pos2(x, rect.bottom() - 1.0),
+            egui::Align2::CENTER_BOTTOM,
+            *name,
+            egui::FontId::proportional(10.0),
+            *color,
+        );
+    }
+}
+
+/// Colours of the energy plot's and bars' kinds of energy.
+const KINETIC_COLOR: Color32 = Color32::from_rgb(240, 140, 40);
+/// See [`KINETIC_COLOR`].
+const GRAVITY_COLOR: Color32 = Color32::from_rgb(80, 160, 240);
+/// See [`KINETIC_COLOR`].
+const ELASTIC_COLOR: Color32 = Color32::from_rgb(200, 110, 230);
+/// See [`KINETIC_COLOR`].
+const DISSIPATED_COLOR: Color32 = Color32::from_rgb(220, 80, 70);
+/// See [`KINETIC_COLOR`].
+const TOTAL_COLOR: Color32 = Color32::from_rgb(220, 220, 220);
 
 /// An energy for the plot's scale: one decimal, or scientific notation once it is so
 /// large (a spring exploding) that the digits would run off the plot.

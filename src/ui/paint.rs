@@ -1,6 +1,8 @@
 //! Paints one frame, the 3D view then the egui panel, into any pair of texture views.
 //! The window, its screenshots and `render` all go through here.
 
+use glam::Vec3;
+
 use crate::render::frame::{SegmentInstance, SphereInstance};
 use crate::render::renderer::DEFAULT_SAMPLE_COUNT;
 use crate::render::{FrameBuilder, FrameData, Renderer};
@@ -80,7 +82,7 @@ impl Painter {
         let highlight = lab.grab.map(|g| g.id).or(lab.hovered);
         let now = lab.scene.world().time();
         self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
-        inspector_arrows(lab, &mut self.builder.frame);
+        vectors(lab, &mut self.builder.frame);
         tape(lab, &mut self.builder.frame);
         let frame = &self.builder.frame;
         let mut encoder =
@@ -112,35 +114,71 @@ impl Painter {
     }
 }
 
-/// The selected particle's velocity (green) and acceleration (red, the net force over
-/// its mass) as arrows from its centre, to the scales the inspector states; a small
-/// ball marks each tip.
-fn inspector_arrows(lab: &Lab, frame: &mut FrameData) {
-    let Some(id) = lab.selected else { return };
-    let particles = &lab.scene.world().particles;
-    let Some(i) = particles.index(id) else { return };
-    if particles.inverse_masses()[i] == 0.0 {
+/// Arrows from particle centres, to the scales the inspector states, each with a small
+/// ball at its tip: velocity (green) on the particles with arrows, the selected one's
+/// acceleration (red, its net force over its mass), and with force arrows on the
+/// free-body diagram: each force in its own colour ([`force_color`]).
+fn vectors(lab: &Lab, frame: &mut FrameData) {
+    let ids = lab.vector_particles();
+    if ids.is_empty() {
         return;
     }
-    let p = particles.positions()[i];
-    let acceleration = lab.net_force / particles.mass(i);
-    let arrows = [
-        (particles.velocities()[i] * super::VELOCITY_ARROW, [0.3, 0.9, 0.35]),
-        (acceleration * super::ACCELERATION_ARROW, [0.95, 0.3, 0.25]),
-    ];
-    for (arrow, [r, g, b]) in arrows {
-        if arrow.length() < 1e-3 {
-            continue;
+    let force_scale = if lab.view.forces { lab.force_scale() } else { 1.0 };
+    let particles = &lab.scene.world().particles;
+    let mut arrow = |from: Vec3, arrow: Vec3, [r, g, b]: [f32; 3]| {
+        if arrow.length() < 0.02 {
+            return;
         }
-        let tip = p + arrow;
+        let tip = from + arrow;
+        let color = [r, g, b, 1.0];
         frame.segments.push(SegmentInstance {
-            from: p.to_array(),
+            from: from.to_array(),
             width: 4.0,
             to: tip.to_array(),
             pad: 0.0,
-            color: [r, g, b, 1.0],
+            color,
         });
-        frame.spheres.push(SphereInstance { center: tip.to_array(), radius: 0.06, color: [r, g, b, 1.0] });
+        frame.spheres.push(SphereInstance { center: tip.to_array(), radius: 0.05, color });
+    };
+    for id in ids {
+        let Some(i) = particles.index(id) else { continue };
+        let p = particles.positions()[i];
+        arrow(p, particles.velocities()[i] * super::VELOCITY_ARROW, VELOCITY_COLOR);
+        if lab.selected == Some(id) && !lab.view.forces {
+            arrow(p, lab.net_force / particles.mass(i) * super::ACCELERATION_ARROW, ACCELERATION_COLOR);
+        }
+        if lab.view.forces {
+            for (name, force) in lab.free_body(id) {
+                arrow(p, force / force_scale, force_color(name));
+            }
+            if lab.selected == Some(id) && lab.net_force_measured {
+                arrow(p, lab.net_force / force_scale, force_color("net force"));
+            }
+        }
+    }
+}
+
+/// Colour of velocity arrows (linear RGB).
+pub const VELOCITY_COLOR: [f32; 3] = [0.3, 0.9, 0.35];
+/// Colour of acceleration arrows (linear RGB).
+pub const ACCELERATION_COLOR: [f32; 3] = [0.95, 0.3, 0.25];
+
+/// Colour of a force's arrow (linear RGB) by its name in [`Lab::free_body`]: weight
+/// blue, springs orange, bungees purple, buoyancy cyan, drag and damping greys,
+/// contacts and links yellow.
+#[must_use]
+pub fn force_color(name: &str) -> [f32; 3] {
+    match name {
+        "weight" | "gravity" => [0.25, 0.45, 1.0],
+        "spring" => [1.0, 0.55, 0.1],
+        "bungee" => [0.7, 0.3, 0.95],
+        "stiff spring" => [0.95, 0.2, 0.2],
+        "buoyancy" => [0.2, 0.85, 0.9],
+        "drag" => [0.75, 0.75, 0.75],
+        "damping" => [0.55, 0.45, 0.4],
+        "contacts and links" => [0.95, 0.85, 0.2],
+        "net force" => [1.0, 1.0, 1.0],
+        _ => [0.85, 0.6, 0.75],
     }
 }
 
