@@ -8,7 +8,14 @@ struct Globals {
     viewport: vec4<f32>,
     // xyz: unit direction towards the light.
     light: vec4<f32>,
+    // xyz: the camera's unit viewing direction; w: 1 for an orthographic projection
+    // (rays parallel to it), 0 for perspective (rays from the eye).
+    forward: vec4<f32>,
 };
+
+fn orthographic() -> bool {
+    return globals.forward.w > 0.5;
+}
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 
@@ -118,7 +125,10 @@ fn vs_sphere(@builtin(vertex_index) index: u32) -> SphereOut {
     let corner = triangle_corner(index % 3u);
     let to_center = sphere.center - globals.eye.xyz;
     let d = length(to_center);
-    let forward = to_center / max(d, 1e-6);
+    var forward = to_center / max(d, 1e-6);
+    if (orthographic()) {
+        forward = globals.forward.xyz;
+    }
     var up = vec3<f32>(0.0, 1.0, 0.0);
     if (abs(forward.y) > 0.999) {
         up = vec3<f32>(1.0, 0.0, 0.0);
@@ -128,8 +138,13 @@ fn vs_sphere(@builtin(vertex_index) index: u32) -> SphereOut {
     let q = max(d - sphere.radius, globals.viewport.w * 1.01);
     let tangent = sphere.radius / sqrt(max(d * d - sphere.radius * sphere.radius, 1e-12));
     // A little margin so the anti-aliased edge has room.
-    let silhouette = select(q * tangent * 1.08, 0.0, d <= sphere.radius);
-    let world = globals.eye.xyz + forward * q + (right * corner.x + up2 * corner.y) * silhouette;
+    var silhouette = select(q * tangent * 1.08, 0.0, d <= sphere.radius);
+    var world = globals.eye.xyz + forward * q + (right * corner.x + up2 * corner.y) * silhouette;
+    if (orthographic()) {
+        // Parallel rays: the silhouette is the sphere's own radius, seen in front of it.
+        silhouette = sphere.radius * 1.08;
+        world = sphere.center - forward * sphere.radius + (right * corner.x + up2 * corner.y) * silhouette;
+    }
     var out: SphereOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
     out.world = world;
@@ -146,8 +161,14 @@ struct SphereFragment {
 
 @fragment
 fn fs_sphere(in: SphereOut) -> SphereFragment {
-    let eye = globals.eye.xyz;
-    let ray = normalize(in.world - eye);
+    // The ray through this pixel: from the eye, or with an orthographic projection
+    // along the viewing direction from the point drawn.
+    var eye = globals.eye.xyz;
+    var ray = normalize(in.world - eye);
+    if (orthographic()) {
+        ray = globals.forward.xyz;
+        eye = in.world - ray * (in.radius * 2.0);
+    }
     let to_eye = eye - in.center;
     let b = dot(to_eye, ray);
     // Distance from the centre to the ray, and the edge coverage it gives.

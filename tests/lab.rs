@@ -302,3 +302,81 @@ fn a_reset_clears_the_selection_and_the_tape() {
     assert_eq!(lab.selected, None);
     assert!(lab.tape_points.is_empty());
 }
+
+/// The 2D side view looks along -z with no perspective: points that differ only in
+/// depth land on the same pixel, and the ray back through that pixel passes through
+/// them. Follow puts the camera's target on the newest round.
+#[test]
+fn the_side_view_is_orthographic_and_follow_tracks_the_newest_round() {
+    use glam::Vec3;
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    let size = Vec2::new(900.0, 600.0);
+    let near = lab.camera.project(Vec3::new(3.0, 2.0, 2.0), size).unwrap();
+    let far = lab.camera.project(Vec3::new(3.0, 2.0, -2.0), size).unwrap();
+    assert!(near.distance(far) > 1.0, "perspective: depth moves a point on screen");
+    lab.set_side_view(true);
+    assert!(lab.camera.orthographic && lab.camera.yaw == 0.0 && lab.camera.pitch == 0.0);
+    let near = lab.camera.project(Vec3::new(3.0, 2.0, 2.0), size).unwrap();
+    let far = lab.camera.project(Vec3::new(3.0, 2.0, -2.0), size).unwrap();
+    assert!(near.distance(far) < 1e-3, "{near} vs {far}");
+    let (origin, direction) = lab.camera.ray(near, size);
+    assert!((direction - Vec3::NEG_Z).length() < 1e-4, "{direction}");
+    let miss = (Vec3::new(3.0, 2.0, 0.0) - origin).cross(direction).length();
+    assert!(miss < 1e-3, "the ray passes {miss} m from the point");
+    // Off again: framed in 3D.
+    lab.set_side_view(false);
+    assert!(!lab.camera.orthographic);
+
+    lab.follow = true;
+    lab.run_steps(120);
+    let round = lab.scene.world().particles.positions()[0];
+    assert!(
+        (lab.camera.target.x - round.x).abs() < 1e-4 && round.x > 5.0,
+        "{} vs {round}",
+        lab.camera.target
+    );
+}
+
+/// Dragging is a soft spring with a force limit: a whip that puts the pointer 50 m
+/// away for a second moves the particle at most the limit's acceleration times the
+/// time, not the hundreds of m/s a teleport gives; a still pointer is reached.
+#[test]
+fn dragging_is_a_soft_spring_with_a_limit() {
+    use glam::Vec3;
+    use particle_lab::ui::lab::{MOUSE_MAX_ACCELERATION, mouse_pull};
+    let h = 1.0 / 240.0;
+    let (mut x, mut v) = (Vec3::ZERO, Vec3::ZERO);
+    let target = Vec3::new(50.0, 0.0, 0.0);
+    let mut fastest = 0.0f32;
+    for _ in 0..60 {
+        v += mouse_pull(target - x, v, h);
+        x += v * h;
+        fastest = fastest.max(v.length());
+    }
+    // A quarter of a second at the limit.
+    assert!(fastest <= MOUSE_MAX_ACCELERATION * 0.25 + 1e-3, "{fastest} m/s");
+    assert!(fastest > 0.9 * MOUSE_MAX_ACCELERATION * 0.25, "the limit, not less: {fastest}");
+    // A nearby pointer is reached and held without overshoot to speak of.
+    let (mut x, mut v) = (Vec3::ZERO, Vec3::ZERO);
+    let target = Vec3::new(0.3, 0.2, 0.0);
+    for _ in 0..240 {
+        v += mouse_pull(target - x, v, h);
+        x += v * h;
+    }
+    assert!(x.distance(target) < 1e-3 && v.length() < 1e-2, "{x} {v}");
+}
+
+/// A value typed beyond a slider's range is clamped and the status line says so; a
+/// parameter that rebuilds the world says that.
+#[test]
+fn typed_values_are_clamped_and_rebuilds_are_announced() {
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    lab.set_param_typed("speed", 500.0);
+    assert_eq!(lab.scene.params().get("speed"), 200.0);
+    assert!(lab.status.contains("clamped to 200"), "{}", lab.status);
+    let mut lab = Lab::new("pendulum", &[]).unwrap();
+    lab.run_steps(10);
+    lab.set_param("links", 3.0);
+    assert!(lab.status.contains("rebuilt"), "{}", lab.status);
+    assert_eq!(lab.energy.len(), 1, "the plot starts again with the new world");
+}

@@ -18,6 +18,9 @@ pub struct OrbitCamera {
     pub pitch: f32,
     /// Vertical field of view (radians).
     pub fov_y: f32,
+    /// Parallel projection: no perspective, sizes read the same at every depth (the 2D
+    /// side view). It shows what a perspective view shows at the target's distance.
+    pub orthographic: bool,
 }
 
 impl OrbitCamera {
@@ -39,6 +42,7 @@ impl OrbitCamera {
             yaw: hint.yaw,
             pitch: hint.pitch,
             fov_y: 45f32.to_radians(),
+            orthographic: false,
         }
     }
 
@@ -61,8 +65,21 @@ impl OrbitCamera {
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         let near = self.near();
         // wgpu's clip space is DirectX's: depth 0..1, y up.
-        let projection = rh::proj::directx::perspective(self.fov_y, aspect.max(1e-3), near, 2000.0);
+        let aspect = aspect.max(1e-3);
+        let projection = if self.orthographic {
+            let half_height = self.distance * (self.fov_y * 0.5).tan();
+            let half_width = half_height * aspect;
+            rh::proj::directx::orthographic(-half_width, half_width, -half_height, half_height, near, 2000.0)
+        } else {
+            rh::proj::directx::perspective(self.fov_y, aspect, near, 2000.0)
+        };
         projection * rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
+    }
+
+    /// The unit direction the camera looks in.
+    #[must_use]
+    pub fn forward(&self) -> Vec3 {
+        (self.target - self.eye()).normalize_or_zero()
     }
 
     /// Turns the camera by a drag of `delta` pixels.

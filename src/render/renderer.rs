@@ -19,6 +19,7 @@ struct Globals {
     eye: [f32; 4],
     viewport: [f32; 4],
     light: [f32; 4],
+    forward: [f32; 4],
 }
 
 /// A GPU buffer that keeps its size and grows (doubling) only when needed, so a
@@ -340,6 +341,7 @@ impl Renderer {
             eye: camera.eye().extend(1.0).to_array(),
             viewport: [width, height, if frame.grid { 1.0 } else { 0.0 }, camera.near()],
             light: light.extend(0.0).to_array(),
+            forward: camera.forward().extend(if camera.orthographic { 1.0 } else { 0.0 }).to_array(),
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         if self.sphere_buffer.write(device, queue, bytemuck::cast_slice(&frame.spheres)) {

@@ -188,6 +188,10 @@ pub trait Scene: Send {
         None
     }
 
+    /// Points the pointer can hover for a tooltip, with its text: a projectile's path
+    /// points and its launch, apex and landing, with time, range and height.
+    fn hover_points(&self, _out: &mut Vec<(Vec3, String)>) {}
+
     /// Distance from the exact answer (m) where the scene has a closed form: the newest
     /// round's or the bob's distance from its ghost. Plotted live beside the energy.
     fn exact_error(&self) -> Option<f32> {

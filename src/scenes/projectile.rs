@@ -17,6 +17,39 @@ pub const MAX_AGE: f64 = 5.0;
 pub const MAX_DISTANCE: f32 = 200.0;
 /// Drawn and collision radius of a round (m).
 pub const ROUND_RADIUS: f32 = 0.3;
+/// Half the width of the target (m): a round landing this close to its centre hits.
+pub const TARGET_HALF_WIDTH: f32 = 1.5;
+/// Flights whose paths are kept and drawn, newest last.
+pub const FLIGHTS_KEPT: usize = 5;
+/// Time between the points kept of a flight's path (s).
+pub const PATH_INTERVAL: f64 = 0.1;
+
+/// A round's flight as recorded for the view: its path, and where it was launched,
+/// peaked and landed. Times are since launch (s); positions in metres.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Flight {
+    /// The round, while it flies.
+    pub round: Option<ParticleId>,
+    /// Points of the path, every [`PATH_INTERVAL`].
+    pub path: Vec<(f64, Vec3)>,
+    /// Where and when it left the launcher.
+    pub launch: (f64, Vec3),
+    /// Its highest point, once it started down.
+    pub apex: Option<(f64, Vec3)>,
+    /// Where and when it reached the ground (y = 0), if it did.
+    pub landing: Option<(f64, Vec3)>,
+    /// Its last recorded state: time, position, vertical velocity.
+    last: (f64, Vec3, f32),
+}
+
+impl Flight {
+    /// Hit or miss of the target whose centre is at `target` on the ground; `None`
+    /// before landing.
+    #[must_use]
+    pub fn hit(&self, target: Vec3) -> Option<bool> {
+        self.landing.map(|(_, p)| (p.x - target.x).abs() <= TARGET_HALF_WIDTH)
+    }
+}
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
@@ -28,6 +61,7 @@ static PARAMS: &[Param] = &[
     Param { name: "height", unit: "m", default: 1.5, min: 0.0, max: 50.0, help: "Height of the launcher above the ground", logarithmic: false },
     Param { name: "k1", unit: "N·s/m", default: 0.0, min: 0.0, max: 100.0, help: "Linear drag of the next round, F = -k1 v (the paper's drag)", logarithmic: false },
     Param { name: "k2", unit: "N·s²/m²", default: 0.0, min: 0.0, max: 10.0, help: "Quadratic drag of the next round, F = -k2 |v| v", logarithmic: false },
+    Param { name: "target", unit: "m", default: 30.0, min: 1.0, max: 190.0, help: "Distance of the target on the ground from the launcher", logarithmic: false },
 ];
 
 #[rustfmt::skip]
@@ -63,7 +97,7 @@ pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let mut world = World::new();
     world.add_contact_generator(SphereCollisions::elastic(0.8)).expect("a constant restitution in range");
-    let mut scene = Projectile { world, params, rounds: Vec::new(), ghosts: Vec::new() };
+    let mut scene = Projectile { world, params, rounds: Vec::new(), ghosts: Vec::new(), flights: Vec::new() };
     scene.fire().expect("default parameters describe a valid round");
     Box::new(scene)
 }
@@ -76,6 +110,8 @@ struct Projectile {
     /// The exact path of each round without quadratic drag (k2 = 0): the drag-free
     /// parabola, or its exponential form with linear drag and damping.
     ghosts: Vec<Ghost>,
+    /// The last [`FLIGHTS_KEPT`] flights, newest last.
+    flights: Vec<Flight>,
 }
 
 impl Projectile {
@@ -105,11 +141,59 @@ impl Projectile {
             self.world.add_force(Drag { k1, k2, targets: vec![id] })?;
         }
         self.rounds.push((id, self.world.time()));
+        if self.flights.len() == FLIGHTS_KEPT {
+            self.flights.remove(0);
+        }
+        let (t, p, vy) = (self.world.time(), self.launcher(), direction.y * self.params.get("speed"));
+        self.flights.push(Flight {
+            round: Some(id),
+            path: vec![(0.0, p)],
+            launch: (t, p),
+            last: (t, p, vy),
+            ..Flight::default()
+        });
         if k2 == 0.0 {
             let motion = self.motion(k1, self.params.get("mass"), self.params.get("damping"));
             self.ghosts.extend(Ghost::new(&self.world, id, motion));
         }
         Ok(id)
+    }
+
+    /// The target's centre, on the ground.
+    fn target(&self) -> Vec3 {
+        Vec3::new(self.launcher().x + self.params.get("target"), 0.0, 0.0)
+    }
+
+    /// Follows each flying round: a path point every [`PATH_INTERVAL`], the apex where
+    /// its vertical velocity turns negative, the landing where it crosses y = 0 (both
+    /// interpolated within the step).
+    fn record_flights(&mut self) {
+        let now = self.world.time();
+        let particles = &self.world.particles;
+        for flight in &mut self.flights {
+            let Some(i) = flight.round.and_then(|id| particles.index(id)) else {
+                flight.round = None;
+                continue;
+            };
+            let (p, v) = (particles.positions()[i], particles.velocities()[i]);
+            let (t0, p0, vy0) = flight.last;
+            let launched = flight.launch.0;
+            if flight.apex.is_none() && vy0 > 0.0 && v.y <= 0.0 {
+                let f = vy0 / (vy0 - v.y);
+                flight.apex = Some((t0 - launched + f64::from(f) * (now - t0), p0.lerp(p, f)));
+            }
+            if p.y <= 0.0 && p0.y > 0.0 {
+                let f = p0.y / (p0.y - p.y);
+                let at = p0.lerp(p, f);
+                flight.landing =
+                    Some((t0 - launched + f64::from(f) * (now - t0), Vec3::new(at.x, 0.0, at.z)));
+                flight.round = None;
+            }
+            if flight.path.last().is_none_or(|(t, _)| now - launched - t >= PATH_INTERVAL - 1e-9) {
+                flight.path.push((now - launched, p));
+            }
+            flight.last = (now, p, v.y);
+        }
     }
 
     /// The closed form of a round of mass `m` with linear drag `k1` and damping.
@@ -145,6 +229,7 @@ impl Scene for Projectile {
         for ghost in &mut self.ghosts {
             ghost.after_step(&self.world);
         }
+        self.record_flights();
         let now = self.world.time();
         let launcher = self.launcher();
         let world = &mut self.world;
@@ -171,13 +256,61 @@ impl Scene for Projectile {
 
     fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
         out.push((self.launcher() + Vec3::new(0.0, 0.9, 0.0), "launcher"));
+        out.push((self.target() + Vec3::new(0.0, 0.5, 0.0), "target"));
         let newest = self.rounds.last().and_then(|&(id, _)| self.world.particles.index(id));
         if let Some(i) = newest {
             out.push((self.world.particles.positions()[i] + Vec3::Y * 0.7, "round"));
         }
     }
 
+    fn outlines(&self, out: &mut Vec<(Vec3, Vec3)>) {
+        // The target: a ring on the ground, TARGET_HALF_WIDTH across each way.
+        let centre = self.target();
+        const SIDES: usize = 32;
+        for k in 0..SIDES {
+            let at = |k: usize| {
+                let a = std::f32::consts::TAU * k as f32 / SIDES as f32;
+                centre + Vec3::new(a.cos(), 0.01, a.sin()) * TARGET_HALF_WIDTH
+            };
+            out.push((at(k), at(k + 1)));
+        }
+    }
+
+    fn hover_points(&self, out: &mut Vec<(Vec3, String)>) {
+        let launcher = self.launcher();
+        let describe = |what: &str, (t, p): (f64, Vec3)| {
+            format!("{what}t = {t:.2} s, range {:.2} m, height {:.2} m", p.x - launcher.x, p.y)
+        };
+        for flight in &self.flights {
+            for &point in &flight.path {
+                out.push((point.1, describe("", point)));
+            }
+            out.push((flight.launch.1, describe("launch: ", (0.0, flight.launch.1))));
+            out.extend(flight.apex.map(|apex| (apex.1, describe("apex: ", apex))));
+            out.extend(flight.landing.map(|landing| (landing.1, describe("landing: ", landing))));
+        }
+    }
+
     fn markers(&self, out: &mut Vec<Marker>) {
+        // Each kept flight: dots every 0.1 s of its path, and its launch (green), apex
+        // (yellow) and landing (red) points.
+        for flight in &self.flights {
+            for &(_, position) in &flight.path {
+                out.push(Marker { position, radius: 0.09, color: [0.9, 0.75, 0.35] });
+            }
+            out.push(Marker { position: flight.launch.1, radius: 0.22, color: [0.2, 0.85, 0.3] });
+            if let Some((_, position)) = flight.apex {
+                out.push(Marker { position, radius: 0.22, color: [0.95, 0.85, 0.15] });
+            }
+            if let Some((_, position)) = flight.landing {
+                out.push(Marker { position, radius: 0.22, color: [0.95, 0.25, 0.2] });
+            }
+        }
+        // The target's centre: green once the last landed round hit it, else red.
+        let target = self.target();
+        let hit = self.flights.iter().rev().find_map(|f| f.hit(target)).unwrap_or(false);
+        let color = if hit { [0.2, 0.9, 0.3] } else { [0.9, 0.2, 0.2] };
+        out.push(Marker { position: target, radius: 0.3, color });
         for ghost in &self.ghosts {
             let position = ghost.position(&self.world);
             out.push(Marker { position, radius: 0.8 * ROUND_RADIUS, color: GHOST_COLOR });
@@ -217,6 +350,21 @@ impl Scene for Projectile {
         let (g, v, h) = (self.params.get("g"), self.params.get("speed"), self.params.get("height"));
         let angle = self.params.get("angle").to_radians();
         let mut out = vec![("rounds in flight".into(), self.rounds.len().to_string())];
+        let target = self.target();
+        if let Some(flight) = self.flights.iter().rev().find(|f| f.landing.is_some()) {
+            let (t, p) = flight.landing.expect("found by its landing");
+            let off = p.x - target.x;
+            let verdict = if flight.hit(target) == Some(true) {
+                format!("HIT ({:.2} m from the centre)", off.abs())
+            } else {
+                format!("miss, {:.2} m {}", off.abs(), if off > 0.0 { "long" } else { "short" })
+            };
+            out.push(("last landing".into(), verdict));
+            out.push((
+                "  its range, flight time".into(),
+                format!("{:.2} m in {t:.2} s", p.x - flight.launch.1.x),
+            ));
+        }
         if let Some(error) = self.exact_error() {
             out.push(("newest round from its exact path".into(), format!("{:.1} mm", error * 1000.0)));
         }

@@ -14,6 +14,11 @@ use crate::physics::{
 
 /// Where the bob's spring is fixed (m).
 pub const BOB_ANCHOR: Vec3 = Vec3::new(-6.0, 7.0, 0.0);
+/// How far left of the bob's anchor its ruler stands (m).
+const RULER_OFFSET: f32 = 1.2;
+/// The ruler's labels, a metre apart from the ground.
+const RULER_LABELS: [&str; 8] = ["0 m", "1 m", "2 m", "3 m", "4 m", "5 m", "6 m", "7 m"];
+
 /// Where the bungee is fixed (m).
 pub const BUNGEE_ANCHOR: Vec3 = Vec3::new(3.0, 7.0, 0.0);
 /// Where the stiff spring is fixed (m).
@@ -126,6 +131,14 @@ impl SpringForces {
         self.stopwatch.0 = vy;
     }
 
+    /// Heights (m) of the bob's natural-length line and of its equilibrium, `m g / k`
+    /// below it.
+    fn bob_lines(&self) -> (f32, f32) {
+        let natural = BOB_ANCHOR.y - self.params.get("rest_length");
+        let sag = self.params.get("mass") * self.params.get("g") / self.params.get("k");
+        (natural, natural - sag)
+    }
+
     /// The closed form of the bob's motion with the current parameters.
     fn bob_motion(&self) -> Motion {
         let p = &self.params;
@@ -213,12 +226,37 @@ impl Scene for SpringForces {
     }
 
     fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+        let (natural, equilibrium) = self.bob_lines();
+        // Beside the lines' right ends, so they do not cover the bob.
+        out.push((Vec3::new(BOB_ANCHOR.x + 1.6, natural - 0.1, 0.0), "natural length"));
+        out.push((Vec3::new(BOB_ANCHOR.x + 1.5, equilibrium - 0.1, 0.0), "equilibrium"));
+        let x = BOB_ANCHOR.x - RULER_OFFSET - 0.35;
+        for (metres, text) in RULER_LABELS.iter().enumerate().take(BOB_ANCHOR.y as usize + 1) {
+            out.push((Vec3::new(x, metres as f32 + 0.05, 0.0), text));
+        }
         let p = self.world.particles.positions();
         let named = [(0, "bob"), (1, "free spring"), (3, "bungee"), (4, "float"), (5, "stiff spring")];
         for (i, name) in named {
             if let Some(&position) = p.get(i) {
                 out.push((position + Vec3::Y * (RADIUS + 0.25), name));
             }
+        }
+    }
+
+    /// The bob's natural-length line (where its spring exerts no force) and equilibrium
+    /// line (where the spring holds its weight, `m g / k` lower), and a ruler beside it
+    /// from the ground to the anchor, ticked every 0.5 m.
+    fn outlines(&self, out: &mut Vec<(Vec3, Vec3)>) {
+        let (natural, equilibrium) = self.bob_lines();
+        for y in [natural, equilibrium] {
+            out.push((Vec3::new(BOB_ANCHOR.x - 0.7, y, 0.0), Vec3::new(BOB_ANCHOR.x + 0.7, y, 0.0)));
+        }
+        let x = BOB_ANCHOR.x - RULER_OFFSET;
+        out.push((Vec3::new(x, 0.0, 0.0), Vec3::new(x, BOB_ANCHOR.y, 0.0)));
+        for half_metres in 0..=(BOB_ANCHOR.y * 2.0) as usize {
+            let y = half_metres as f32 * 0.5;
+            let tick = if half_metres % 2 == 0 { 0.3 } else { 0.15 };
+            out.push((Vec3::new(x, y, 0.0), Vec3::new(x + tick, y, 0.0)));
         }
     }
 

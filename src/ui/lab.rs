@@ -173,6 +173,11 @@ pub struct Lab {
     pub show_help: bool,
     /// Show the side panel (P hides it, for a view across the whole window).
     pub panel_open: bool,
+    /// The 2D side view: an orthographic camera looking along -z.
+    pub side_view: bool,
+    /// The camera follows the selected particle, or else the newest one (the round
+    /// just fired).
+    pub follow: bool,
     /// The energy bars show the selected particle instead of the whole scene.
     pub bars_for_selected: bool,
     /// The particle under the pointer.
@@ -235,6 +240,8 @@ impl Lab {
             show_help: false,
             panel_open: true,
             bars_for_selected: true,
+            side_view: false,
+            follow: false,
             hovered: None,
             grab: None,
             selected: None,
@@ -530,6 +537,7 @@ impl Lab {
             if self.stats.step_ms == 0.0 { per_step } else { self.stats.step_ms * 0.9 + per_step * 0.1 };
         self.stats.steps_last_frame = ran;
         self.record();
+        self.follow_particle();
         ran
     }
 
@@ -669,10 +677,15 @@ impl Lab {
             "tension" => self.view.tension_colors = true,
             "no-labels" => self.view.labels = false,
             "no-trails" => self.view.trails = false,
+            "side" => self.set_side_view(true),
+            "follow" => {
+                self.follow = true;
+                self.follow_particle();
+            }
             other => {
                 return Err(format!(
                     "--view {other}: unknown view option; known: forces, no-forces, all-vectors, contacts, \
-                     tension, no-labels, no-trails"
+                     tension, side, follow, no-labels, no-trails"
                 ));
             }
         }
@@ -794,7 +807,52 @@ impl Lab {
         if self.view_aspect > 0.0 && self.view_aspect < FRAMING_ASPECT {
             self.camera.distance *= FRAMING_ASPECT / self.view_aspect;
         }
+        if self.side_view {
+            self.look_from_the_side();
+        }
         self.camera_moved = false;
+        self.follow_particle();
+    }
+
+    /// Turns the 2D side view on or off: on, the camera looks along -z at the same
+    /// point with a parallel projection; off, the scene is framed again in 3D.
+    pub fn set_side_view(&mut self, on: bool) {
+        self.side_view = on;
+        if on {
+            self.look_from_the_side();
+        } else {
+            self.frame_scene();
+        }
+    }
+
+    fn look_from_the_side(&mut self) {
+        self.camera.orthographic = true;
+        self.camera.yaw = 0.0;
+        self.camera.pitch = 0.0;
+        // Level with the target, which must be above the ground for the eye to be.
+        self.camera.target.y = self.camera.target.y.max(0.5);
+    }
+
+    /// With follow on: puts the camera's target on the selected particle, or else the
+    /// newest movable one (the highest id: the round just fired).
+    pub fn follow_particle(&mut self) {
+        if !self.follow {
+            return;
+        }
+        let particles = &self.scene.world().particles;
+        let chosen = self.selected.and_then(|id| particles.index(id)).or_else(|| {
+            let movable =
+                particles.ids().iter().enumerate().filter(|(i, _)| particles.inverse_masses()[*i] > 0.0);
+            movable.max_by_key(|(_, id)| id.0).map(|(i, _)| i)
+        });
+        if let Some(i) = chosen {
+            let p = particles.positions()[i];
+            self.camera.target = if self.side_view {
+                Vec3::new(p.x, p.y.max(0.5), self.camera.target.z)
+            } else {
+                Vec3::new(p.x, p.y.max(0.0), p.z)
+            };
+        }
     }
 
     /// Tells the lab the 3D view's shape; reframes the scene if it changed and the

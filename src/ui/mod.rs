@@ -30,6 +30,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("R", "reset the scene"),
     ("F", "fire (projectile)"),
     ("P", "hide / show the panel"),
+    ("V", "2D side view on / off"),
     ("Arrows / WASD", "move the load (bridge)"),
     ("Home", "frame the scene"),
     ("F12", "save a screenshot"),
@@ -95,6 +96,10 @@ fn shortcuts(ctx: &egui::Context, lab: &mut Lab) {
         if input.consume_key(Modifiers::NONE, Key::P) {
             lab.panel_open = !lab.panel_open;
         }
+        if input.consume_key(Modifiers::NONE, Key::V) {
+            let side = !lab.side_view;
+            lab.set_side_view(side);
+        }
         if input.consume_key(Modifiers::NONE, Key::Home) {
             lab.frame_scene();
         }
@@ -141,6 +146,21 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
             }
             ui.checkbox(&mut lab.view.labels, "Labels")
                 .on_hover_text("Names of objects and links, and metre ticks along the x axis");
+            let mut side = lab.side_view;
+            if ui
+                .checkbox(&mut side, "2D side view (V)")
+                .on_hover_text("Looking along -z with no perspective, as a textbook draws it; drag pans")
+                .changed()
+            {
+                lab.set_side_view(side);
+            }
+            if ui
+                .checkbox(&mut lab.follow, "Follow (the selected particle, or the newest)")
+                .on_hover_text("The camera keeps the selected particle, or else the round just fired, in the centre")
+                .changed()
+            {
+                lab.follow_particle();
+            }
             ui.checkbox(&mut lab.view.forces, "Force arrows (free-body diagram)").on_hover_text(
                 "On the selected particle: each force as an arrow in its colour, to the scale the \
                  inspector states",
@@ -819,6 +839,9 @@ fn help(ui: &mut egui::Ui) {
     });
 }
 
+/// How near the pointer must be to a path point to show its tooltip (points).
+const HOVER_RADIUS: f32 = 10.0;
+
 /// Above this many particles the view has no metre ticks.
 const TICK_PARTICLE_LIMIT: usize = 500;
 
@@ -880,6 +903,22 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
     lab.set_view_aspect(size.x / size.y.max(1.0));
 
     lab.hovered = response.hover_pos().and_then(|p| lab.pick(local(p), size));
+    // A point of a recorded path under the pointer: its time, range and height.
+    if let (None, Some(pointer)) = (lab.hovered, response.hover_pos()) {
+        let mut points = Vec::new();
+        lab.scene.hover_points(&mut points);
+        let nearest = points
+            .into_iter()
+            .filter_map(|(point, text)| {
+                let screen = lab.camera.project(point, size)?;
+                Some((screen.distance(local(pointer)), text))
+            })
+            .filter(|(distance, _)| *distance <= HOVER_RADIUS)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((_, text)) = nearest {
+            response.clone().on_hover_text_at_pointer(text);
+        }
+    }
     if response.drag_started_by(PointerButton::Primary) {
         // Press on a particle to drag it; anywhere else orbits. The drag starts only
         // after the pointer moved a little: pick where the button went down.
@@ -892,6 +931,11 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
             if let Some(p) = response.interact_pointer_pos() {
                 lab.move_grab(local(p), size);
             }
+        } else if lab.side_view {
+            // The side view stays a side view: a drag pans it.
+            let d = response.drag_delta();
+            lab.camera.pan(Vec2::new(d.x, d.y), rect.height());
+            lab.camera_moved = true;
         } else {
             let d = response.drag_delta();
             lab.camera.orbit(Vec2::new(d.x, d.y));

@@ -83,6 +83,16 @@ impl Painter {
         let now = lab.scene.world().time();
         self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
         vectors(lab, &mut self.builder.frame);
+        if lab.side_view {
+            // Seen edge-on the ground is no plane: draw its line.
+            self.builder.frame.segments.push(SegmentInstance {
+                from: [-1000.0, 0.0, 0.0],
+                width: 2.0,
+                to: [1000.0, 0.0, 0.0],
+                pad: 0.0,
+                color: [0.5, 0.5, 0.52, 1.0],
+            });
+        }
         tape(lab, &mut self.builder.frame);
         let frame = &self.builder.frame;
         let mut encoder =
