@@ -113,6 +113,11 @@ pub struct RenderArgs {
     /// the newest particle), no-labels, no-trails.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub view: Vec<String>,
+    /// Run a second copy of the scene with one setting changed, drawn as magenta
+    /// ghosts over it (Compare in the panel): integrator=NAME, solver=NAME, rate=HZ or
+    /// a scene parameter, KEY=VALUE.
+    #[arg(long, value_name = "KEY=VALUE")]
+    pub compare: Option<String>,
     /// Where to write the PNG.
     #[arg(long, value_name = "FILE.png")]
     pub out: std::path::PathBuf,
@@ -142,6 +147,13 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     lab.view.swept |= args.swept;
     for option in &args.view {
         lab.set_view_option(option).map_err(|e| (2, e))?;
+    }
+    if let Some(text) = &args.compare {
+        let change = crate::ui::compare::Change::parse(text, lab.entry).map_err(|e| (2, e))?;
+        lab.start_compare(change);
+        if lab.compare.is_none() {
+            return Err((2, std::mem::take(&mut lab.status)));
+        }
     }
     if let Some(id) = args.select {
         let id = crate::physics::ParticleId(id);

@@ -228,8 +228,10 @@ impl Scene for SpringForces {
     fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
         let (natural, equilibrium) = self.bob_lines();
         // Beside the lines' right ends, so they do not cover the bob.
-        out.push((Vec3::new(BOB_ANCHOR.x + 1.6, natural - 0.1, 0.0), "natural length"));
-        out.push((Vec3::new(BOB_ANCHOR.x + 1.5, equilibrium - 0.1, 0.0), "equilibrium"));
+        // The natural length's name above its line, the equilibrium's below its own, so
+        // the two stay apart however little the spring sags.
+        out.push((Vec3::new(BOB_ANCHOR.x + 1.6, natural + 0.05, 0.0), "natural length"));
+        out.push((Vec3::new(BOB_ANCHOR.x + 1.5, equilibrium - 0.35, 0.0), "equilibrium"));
         let x = BOB_ANCHOR.x - RULER_OFFSET - 0.35;
         for (metres, text) in RULER_LABELS.iter().enumerate().take(BOB_ANCHOR.y as usize + 1) {
             out.push((Vec3::new(x, metres as f32 + 0.05, 0.0), text));

@@ -11,6 +11,8 @@ use crate::render::frame::VECTOR_PARTICLE_LIMIT;
 use crate::render::{OrbitCamera, Trails, ViewOptions};
 use crate::scenes::{self, Scene, SceneAction, SceneEntry};
 
+use super::compare::{Change, Compare};
+
 /// Real time one frame may add to the physics (s): after a stall the rest is dropped
 /// instead of running hundreds of catch-up steps.
 pub const MAX_FRAME_TIME: f64 = 0.1;
@@ -77,7 +79,7 @@ fn short(x: f32) -> String {
 }
 
 /// Samples kept for the energy plot.
-const HISTORY: usize = 600;
+pub(crate) const HISTORY: usize = 600;
 
 /// Timing figures for the stats block.
 #[derive(Clone, Copy, Debug, Default)]
@@ -117,6 +119,25 @@ pub struct EnergySample {
     pub error: f32,
     /// Distance from the scene's exact answer (m), NaN where it has none.
     pub exact_error: f32,
+}
+
+impl EnergySample {
+    /// The sample of a scene's current state.
+    #[must_use]
+    pub fn of(scene: &dyn Scene) -> Self {
+        let world = scene.world();
+        let energy = world.energy();
+        Self {
+            t: world.time(),
+            kinetic: energy.kinetic,
+            potential: energy.potential,
+            gravitational: energy.gravitational,
+            dissipated: energy.dissipated,
+            work: energy.work,
+            error: energy.error,
+            exact_error: scene.exact_error().unwrap_or(f32::NAN),
+        }
+    }
 }
 
 /// A particle held by the mouse: it follows the pointer in the plane through its
@@ -173,6 +194,12 @@ pub struct Lab {
     pub show_help: bool,
     /// Show the side panel (P hides it, for a view across the whole window).
     pub panel_open: bool,
+    /// A second copy of the scene with one setting changed, run beside it.
+    pub compare: Option<Compare>,
+    /// The change the Compare section has ready to run.
+    pub compare_draft: Change,
+    /// What the copy changes; kept so a reset rebuilds it.
+    compare_change: Option<Change>,
     /// The 2D side view: an orthographic camera looking along -z.
     pub side_view: bool,
     /// The camera follows the selected particle, or else the newest one (the round
@@ -242,6 +269,9 @@ impl Lab {
             bars_for_selected: true,
             side_view: false,
             follow: false,
+            compare: None,
+            compare_change: None,
+            compare_draft: Change::Integrator(crate::physics::Integrator::ExplicitEuler),
             hovered: None,
             grab: None,
             selected: None,
@@ -273,6 +303,7 @@ impl Lab {
     /// Switches to another scene with its default parameters.
     pub fn switch_scene(&mut self, entry: &'static SceneEntry) {
         log::info!("scene: {}", entry.info.name);
+        self.stop_compare();
         self.entry = entry;
         self.scene = entry.create_default();
         self.physics_rate = 1.0 / entry.info.dt;
@@ -335,6 +366,11 @@ impl Lab {
                 }
                 log::info!("integrator: {}", solver.integrator.name());
                 self.solver = solver;
+                if let Some(compare) = &mut self.compare {
+                    let mut theirs = solver;
+                    compare.apply_to(&mut theirs);
+                    let _ = compare.scene.world_mut().set_solver(theirs);
+                }
                 self.readouts_taken = None;
             }
             Err(error) => self.status = error.to_string(),
@@ -355,7 +391,31 @@ impl Lab {
         self.select(None);
         self.tape_points.clear();
         self.readouts_taken = None;
+        self.compare = None;
+        if let Some(change) = self.compare_change {
+            match Compare::new(self.entry, self.scene.params().clone(), self.solver, self.dt(), change) {
+                Ok(compare) => self.compare = Some(compare),
+                Err(error) => {
+                    self.compare_change = None;
+                    self.status = error;
+                }
+            }
+        }
         self.record();
+    }
+
+    /// Starts a copy of the scene with `change` beside it. Both start again from the
+    /// beginning, so that they run in step from the same state.
+    pub fn start_compare(&mut self, change: Change) {
+        log::info!("compare: {}", change.describe());
+        self.compare_change = Some(change);
+        self.reset();
+    }
+
+    /// Stops the copy.
+    pub fn stop_compare(&mut self) {
+        self.compare = None;
+        self.compare_change = None;
     }
 
     /// Changes a parameter of the running scene; a refusal goes to the status line. A
@@ -365,6 +425,15 @@ impl Lab {
         let steps_before = self.scene.world().steps();
         match self.scene.set_param(name, value) {
             Ok(()) => {
+                if let Some(compare) = &mut self.compare {
+                    // The copy follows every change but the one it is about.
+                    if !matches!(compare.change, Change::Param(changed, _) if changed == name) {
+                        let _ = compare.scene.set_param(name, value);
+                        let mut solver = self.solver;
+                        compare.apply_to(&mut solver);
+                        let _ = compare.scene.world_mut().set_solver(solver);
+                    }
+                }
                 // Some parameters rebuild the world, which then has the default solver.
                 self.scene.world_mut().set_solver(self.solver).expect("validated when chosen");
                 self.readouts_taken = None;
@@ -407,6 +476,9 @@ impl Lab {
 
     /// Performs a scene action (fire, move the load).
     pub fn act(&mut self, action: SceneAction) {
+        if let Some(compare) = &mut self.compare {
+            compare.scene.act(action);
+        }
         if self.scene.act(action) {
             self.readouts_taken = None;
             log::info!("action: {action:?}");
@@ -558,20 +630,18 @@ impl Lab {
         if self.view.trails {
             self.trails.record(self.scene.as_ref(), t);
         }
-        let energy = self.scene.world().energy();
         if self.energy.len() == HISTORY {
             self.energy.pop_front();
         }
-        self.energy.push_back(EnergySample {
-            t,
-            kinetic: energy.kinetic,
-            potential: energy.potential,
-            gravitational: energy.gravitational,
-            dissipated: energy.dissipated,
-            work: energy.work,
-            error: energy.error,
-            exact_error: self.scene.exact_error().unwrap_or(f32::NAN),
-        });
+        self.energy.push_back(EnergySample::of(self.scene.as_ref()));
+        let dt = self.dt();
+        if let Some(compare) = &mut self.compare {
+            // The copy runs at the original's rate unless the rate is what it changes.
+            if !matches!(compare.change, Change::Rate(_)) {
+                compare.dt = dt;
+            }
+            compare.catch_up(t);
+        }
     }
 
     /// The selected particle's velocity and mass, if it is there and movable.

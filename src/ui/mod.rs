@@ -2,6 +2,7 @@
 //! plot), help window, and the 3D view's mouse handling. The same code runs in the
 //! window and in `render --ui`.
 
+pub mod compare;
 pub mod lab;
 pub mod paint;
 
@@ -252,6 +253,8 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
     .on_hover_text("Fixed physics steps per simulated second; the frame rate does not change it");
     solver_controls(ui, lab);
 
+    compare_controls(ui, lab);
+
     ui.separator();
     ui.label(egui::RichText::new("Parameters").strong());
     let mut changes = Vec::new();
@@ -387,6 +390,90 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             row("integrator error", format!("{:+.3} J", energy.error));
         });
     }
+}
+
+/// The Compare section: pick one setting and its value for a second copy of the scene,
+/// run it beside the original (both start again), or stop it.
+fn compare_controls(ui: &mut egui::Ui, lab: &mut Lab) {
+    use compare::Change;
+    let header = if lab.compare.is_some() { "Compare (running)" } else { "Compare" };
+    egui::CollapsingHeader::new(header).id_salt("compare").show(ui, |ui| {
+        if let Some(running) = &lab.compare {
+            ui.colored_label(srgb(paint::COMPARE_COLOR), format!("copy: {}", running.change.describe()))
+                .on_hover_text(
+                    "Drawn as magenta ghosts over the original; its total energy and error are on the plots",
+                );
+            if let Some(reason) = &running.stopped {
+                ui.colored_label(Color32::from_rgb(240, 170, 60), format!("stopped: {reason}"));
+            }
+            if ui.button("Stop the copy").clicked() {
+                lab.stop_compare();
+            }
+            return;
+        }
+        ui.label("Run a second copy with one setting changed:");
+        let mut draft = lab.compare_draft;
+        let key = |change: &Change| match change {
+            Change::Integrator(_) => "integrator",
+            Change::Solver(_) => "solver",
+            Change::Rate(_) => "physics rate",
+            Change::Param(name, _) => name,
+        };
+        let params = lab.scene.params().clone();
+        egui::ComboBox::from_id_salt("compare key").selected_text(key(&draft)).show_ui(ui, |ui| {
+            let mut options = vec![
+                Change::Integrator(Integrator::ExplicitEuler),
+                Change::Solver(SolverKind::Paper),
+                Change::Rate(60.0),
+            ];
+            options.extend(params.iter().map(|(param, value)| Change::Param(param.name, value)));
+            for option in options {
+                let label = key(&option);
+                if ui.selectable_label(key(&draft) == label, label).clicked() {
+                    draft = option;
+                }
+            }
+        });
+        match &mut draft {
+            Change::Integrator(integrator) => {
+                egui::ComboBox::from_id_salt("compare integrator").selected_text(integrator.name()).show_ui(
+                    ui,
+                    |ui| {
+                        for option in Integrator::ALL {
+                            ui.selectable_value(integrator, option, option.name());
+                        }
+                    },
+                );
+            }
+            Change::Solver(kind) => {
+                egui::ComboBox::from_id_salt("compare solver").selected_text(kind.name()).show_ui(ui, |ui| {
+                    for option in SolverKind::ALL {
+                        ui.selectable_value(kind, option, option.name());
+                    }
+                });
+            }
+            Change::Rate(rate) => {
+                ui.add(egui::DragValue::new(rate).range(PHYSICS_RATE.clone()).suffix(" Hz"));
+            }
+            Change::Param(name, value) => {
+                if let Some(param) = params.table().iter().find(|p| p.name == *name) {
+                    ui.add(
+                        egui::DragValue::new(value)
+                            .range(param.min..=param.max)
+                            .speed((param.max - param.min) / 200.0),
+                    );
+                }
+            }
+        }
+        lab.compare_draft = draft;
+        if ui
+            .button("Run the copy")
+            .on_hover_text("Both the scene and its copy start again from the beginning")
+            .clicked()
+        {
+            lab.start_compare(draft);
+        }
+    });
 }
 
 /// `ms` milliseconds, as µs below one.
@@ -661,84 +748,92 @@ fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
         for (name, color, _) in &series {
             ui.label(egui::RichText::new(*name).color(*color).small());
         }
+        if lab.compare.is_some() {
+            ui.label(egui::RichText::new("copy: total, error").color(srgb(paint::COMPARE_COLOR)).small());
+        }
     });
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 90.0), Sense::hover());
+    let mut curves: Vec<(Color32, Vec<(f64, f32)>)> = Vec::new();
+    let Some(newest) = lab.energy.back() else { return };
+    let since = newest.t - PLOT_SECONDS;
+    for (_, color, value) in &series {
+        curves.push((*color, lab.energy.iter().filter(|s| s.t >= since).map(|s| (s.t, value(s))).collect()));
+    }
+    if let Some(compare) = &lab.compare {
+        let shown = || compare.energy.iter().filter(|s| s.t >= since);
+        let copy = srgb(paint::COMPARE_COLOR);
+        curves.push((copy, shown().map(|s| (s.t, s.kinetic + s.potential)).collect()));
+        curves.push((copy, shown().map(|s| (s.t, s.error)).collect()));
+    }
+    line_plot(ui, &curves, 90.0, joules);
+}
+
+/// Curves of `(t, value)` over a shared time axis, scaled to fit what they show, with
+/// the top and bottom of the scale written at the right in `unit`'s format.
+fn line_plot(ui: &mut egui::Ui, curves: &[(Color32, Vec<(f64, f32)>)], height: f32, unit: fn(f32) -> String) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), height), Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 2.0, Color32::from_gray(20));
-    let Some(newest) = lab.energy.back() else { return };
-    let shown = lab.energy.iter().filter(|s| s.t >= newest.t - PLOT_SECONDS);
-    let samples: Vec<&lab::EnergySample> = shown.collect();
-    let (Some(first), Some(last)) = (samples.first().copied(), samples.last().copied()) else { return };
-    let values = samples.iter().flat_map(|s| series.map(|(_, _, value)| value(s)));
-    let (low, high) = values.fold((f32::MAX, f32::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
-    let span_t = (last.t - first.t).max(1e-6);
-    let span_e = (high - low).max(1e-6);
-    let to_screen = |t: f64, e: f32| {
+    let points = || curves.iter().flat_map(|(_, points)| points.iter()).filter(|(_, v)| v.is_finite());
+    let (t0, t1) = points().fold((f64::MAX, f64::MIN), |(lo, hi), &(t, _)| (lo.min(t), hi.max(t)));
+    let (low, high) = points().fold((f32::MAX, f32::MIN), |(lo, hi), &(_, v)| (lo.min(v), hi.max(v)));
+    if t0 > t1 {
+        return;
+    }
+    let span_t = (t1 - t0).max(1e-6);
+    let span = (high - low).max(1e-6);
+    let to_screen = |t: f64, v: f32| {
         egui::pos2(
-            rect.left() + ((t - first.t) / span_t) as f32 * rect.width(),
-            rect.bottom() - 4.0 - (e - low) / span_e * (rect.height() - 8.0),
+            rect.left() + ((t - t0) / span_t) as f32 * rect.width(),
+            rect.bottom() - 4.0 - (v - low) / span * (rect.height() - 8.0),
         )
     };
-    for (_, color, value) in &series {
-        let points: Vec<egui::Pos2> = samples.iter().map(|s| to_screen(s.t, value(s))).collect();
-        painter.add(egui::Shape::line(points, Stroke::new(1.5, *color)));
+    for (color, points) in curves {
+        let line: Vec<egui::Pos2> =
+            points.iter().filter(|(_, v)| v.is_finite()).map(|&(t, v)| to_screen(t, v)).collect();
+        painter.add(egui::Shape::line(line, Stroke::new(1.5, *color)));
     }
-    painter.text(
-        rect.right_top() + egui::vec2(-6.0, 4.0),
-        egui::Align2::RIGHT_TOP,
-        joules(high),
-        egui::FontId::monospace(10.0),
-        Color32::GRAY,
-    );
-    painter.text(
-        rect.right_bottom() + egui::vec2(-6.0, -4.0),
-        egui::Align2::RIGHT_BOTTOM,
-        joules(low),
-        egui::FontId::monospace(10.0),
-        Color32::GRAY,
-    );
+    for (corner, offset, align, value) in [
+        (rect.right_top(), egui::vec2(-6.0, 4.0), egui::Align2::RIGHT_TOP, high),
+        (rect.right_bottom(), egui::vec2(-6.0, -4.0), egui::Align2::RIGHT_BOTTOM, low),
+    ] {
+        painter.text(corner + offset, align, unit(value), egui::FontId::monospace(10.0), Color32::GRAY);
+    }
 }
 
 /// Distance from the exact answer over the last [`PLOT_SECONDS`] (mm), where the scene
-/// has one: how far the integrator has drifted from the closed form.
+/// has one: how far the integrator has drifted from the closed form; the compared
+/// copy's too.
 fn error_plot(ui: &mut egui::Ui, lab: &Lab) {
     let Some(newest) = lab.energy.back() else { return };
-    let samples: Vec<(f64, f32)> = lab
-        .energy
-        .iter()
-        .filter(|s| s.t >= newest.t - PLOT_SECONDS && s.exact_error.is_finite())
-        .map(|s| (s.t, s.exact_error * 1000.0))
-        .collect();
-    let (Some(&(t0, _)), Some(&(t1, now))) = (samples.first(), samples.last()) else { return };
+    let since = newest.t - PLOT_SECONDS;
+    let millimetres = |samples: &std::collections::VecDeque<lab::EnergySample>| -> Vec<(f64, f32)> {
+        samples
+            .iter()
+            .filter(|s| s.t >= since && s.exact_error.is_finite())
+            .map(|s| (s.t, s.exact_error * 1000.0))
+            .collect()
+    };
+    let ours = millimetres(&lab.energy);
+    let Some(&(_, now)) = ours.last() else { return };
     ui.horizontal_wrapped(|ui| {
         ui.label(egui::RichText::new("Distance from the exact answer").strong()).on_hover_text(
             "How far the simulated particle (the newest round, or the bob) is from its ghost: the \
-             closed form of its motion. Try another integrator or physics rate.",
+             closed form of its motion. Try another integrator or physics rate, or Compare them.",
         );
         ui.monospace(format!("{now:.2} mm"));
     });
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 50.0), Sense::hover());
-    let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 2.0, Color32::from_gray(20));
-    let high = samples.iter().map(|&(_, e)| e).fold(0.0, f32::max).max(1e-3);
-    let span = (t1 - t0).max(1e-6);
-    let points: Vec<egui::Pos2> = samples
-        .iter()
-        .map(|&(t, e)| {
-            egui::pos2(
-                rect.left() + ((t - t0) / span) as f32 * rect.width(),
-                rect.bottom() - 3.0 - e / high * (rect.height() - 6.0),
-            )
-        })
-        .collect();
-    painter.add(egui::Shape::line(points, Stroke::new(1.5, Color32::from_rgb(230, 110, 200))));
-    painter.text(
-        rect.right_top() + egui::vec2(-6.0, 3.0),
-        egui::Align2::RIGHT_TOP,
-        format!("{high:.2} mm"),
-        egui::FontId::monospace(10.0),
-        Color32::GRAY,
-    );
+    let mut curves = vec![(Color32::from_rgb(110, 210, 120), ours)];
+    if let Some(compare) = &lab.compare {
+        let theirs = millimetres(&compare.energy);
+        if let Some(&(_, then)) = theirs.last() {
+            ui.colored_label(
+                srgb(paint::COMPARE_COLOR),
+                format!("copy ({}): {then:.2} mm", compare.change.describe()),
+            );
+        }
+        curves.push((srgb(paint::COMPARE_COLOR), theirs));
+    }
+    line_plot(ui, &curves, 50.0, |mm| format!("{mm:.2} mm"));
 }
 
 /// PhET's energy bar chart: kinetic, gravitational, elastic, dissipated and the budget's

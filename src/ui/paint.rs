@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use crate::physics::LinkState;
 use crate::render::frame::{SegmentInstance, SphereInstance};
 use crate::render::renderer::DEFAULT_SAMPLE_COUNT;
 use crate::render::{FrameBuilder, FrameData, Renderer};
@@ -22,6 +23,8 @@ pub struct Painter {
     format: wgpu::TextureFormat,
     egui: egui_wgpu::Renderer,
     builder: FrameBuilder,
+    /// The compared copy's links, reused from frame to frame.
+    links: Vec<LinkState>,
 }
 
 impl Painter {
@@ -35,6 +38,7 @@ impl Painter {
         Self {
             renderer: Renderer::new(device, format.add_srgb_suffix(), DEFAULT_SAMPLE_COUNT),
             format,
+            links: Vec::new(),
             egui: egui_wgpu::Renderer::new(device, format.remove_srgb_suffix(), options),
             builder: FrameBuilder::default(),
         }
@@ -83,6 +87,7 @@ impl Painter {
         let now = lab.scene.world().time();
         self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
         vectors(lab, &mut self.builder.frame);
+        compare_ghosts(lab, &mut self.links, &mut self.builder.frame);
         if lab.side_view {
             // Seen edge-on the ground is no plane: draw its line.
             self.builder.frame.segments.push(SegmentInstance {
@@ -165,6 +170,35 @@ fn vectors(lab: &Lab, frame: &mut FrameData) {
                 arrow(p, lab.net_force / force_scale, force_color("net force"));
             }
         }
+    }
+}
+
+/// Colour of the compared copy's ghosts (linear RGB).
+pub const COMPARE_COLOR: [f32; 3] = [0.95, 0.35, 0.95];
+
+/// The compared copy, drawn over the original: its particles as translucent magenta
+/// ghosts, its links as translucent lines.
+fn compare_ghosts(lab: &Lab, links: &mut Vec<LinkState>, frame: &mut FrameData) {
+    let Some(compare) = &lab.compare else { return };
+    let world = compare.scene.world();
+    let particles = &world.particles;
+    let [r, g, b] = COMPARE_COLOR;
+    for (position, radius) in particles.positions().iter().zip(particles.radii()) {
+        frame.spheres.push(SphereInstance {
+            center: position.to_array(),
+            radius: radius.max(0.05) * 1.02,
+            color: [r, g, b, 0.4],
+        });
+    }
+    world.links_into(links);
+    for link in links.iter() {
+        frame.trails.push(SegmentInstance {
+            from: link.from.to_array(),
+            width: 3.0,
+            to: link.to.to_array(),
+            pad: 0.0,
+            color: [r, g, b, 0.5],
+        });
     }
 }
 
