@@ -272,3 +272,51 @@ fn swept_paths_show_how_far_a_fast_round_went_in_the_last_step() {
     // And a ghost where it started, besides the round and the launcher's markers.
     assert_eq!(with.spheres.len(), without.spheres.len() + 1);
 }
+
+/// The lab's tools against reference frames: free-body arrows on the springForces bob,
+/// contacts and link limits in the cradle, links coloured by tension on the bridge, the
+/// 2D side view of a projectile's flight with its markers and target, and a compared
+/// copy drawn as magenta ghosts.
+#[test]
+fn the_lab_tools_match_their_reference_images() {
+    use particle_lab::physics::Integrator;
+    use particle_lab::ui::compare::Change;
+    let mut snapshotter = snapshotter();
+    let cases: [(&str, &str, &[&str], u64); 5] = [
+        ("tools-forces", "springForces", &["forces"], 120),
+        ("tools-contacts", "cradle", &["contacts"], 60),
+        ("tools-tension", "bridge", &["tension", "contacts"], 120),
+        ("tools-side-view", "projectile", &["side"], 500),
+        ("tools-follow", "projectile", &["follow"], 200),
+    ];
+    for (name, scene, options, steps) in cases {
+        let mut lab = Lab::new(scene, &[]).unwrap();
+        for option in options {
+            lab.set_view_option(option).unwrap();
+        }
+        if name == "tools-forces" {
+            lab.select(Some(particle_lab::physics::ParticleId(0)));
+        }
+        lab.run_steps_recorded(steps);
+        let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        compare_with_golden(name, &image, SIZE);
+    }
+
+    let mut lab = Lab::new("springForces", &["k=80".into()]).unwrap();
+    lab.start_compare(Change::Integrator(Integrator::ExplicitEuler));
+    lab.run_steps_recorded(600);
+    let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+    compare_with_golden("tools-compare", &image, SIZE);
+    // The copy's stiff spring, which explicit Euler sends elsewhere, is a magenta ghost.
+    let copy = lab.compare.as_ref().unwrap().scene.world();
+    let ghost = copy.particles.positions()[5];
+    let ours = lab.scene.world().particles.positions()[5];
+    assert!(ghost.distance(ours) > 0.05, "the copies differ: {ghost} vs {ours}");
+    let size = Vec2::new(SIZE[0] as f32, SIZE[1] as f32);
+    // On the ghost's far side from the original, where only the ghost is drawn.
+    let radius = copy.particles.radii()[5];
+    let far_side = ghost + (ghost - ours).normalize() * radius * 0.8;
+    let at = lab.camera.project(far_side, size).unwrap();
+    let [r, g, b, _] = pixel(&image, SIZE, at.x.round() as u32, at.y.round() as u32);
+    assert!(r > g + 30 && b > g + 30, "the copy's ghost is drawn ({r}, {g}, {b}), not magenta");
+}
