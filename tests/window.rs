@@ -206,6 +206,19 @@ fn a_person_switches_scene_drags_a_slider_pauses_resizes_minimises_and_closes() 
     display.run("import", &["-window", "root", screen.to_str().unwrap()]);
     assert!(screen.exists());
 
+    // The lab's keys: V for the 2D side view, P to hide the panel; then both back.
+    display.xdotool(&["key", "v"]);
+    app.expect_log("side view: true");
+    display.xdotool(&["key", "p"]);
+    app.expect_log("panel open: false");
+    pause();
+    let bare = app.dir.join("side-view.png");
+    display.run("import", &["-window", "root", bare.to_str().unwrap()]);
+    display.xdotool(&["key", "v"]);
+    app.expect_log("side view: false");
+    display.xdotool(&["key", "p"]);
+    app.expect_log("panel open: true");
+
     // Resize, minimise, restore: it keeps running.
     display.xdotool(&["windowsize", &window, "900", "600"]);
     app.expect_log("resized to 900x600");

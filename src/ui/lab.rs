@@ -887,6 +887,7 @@ impl Lab {
     /// Turns the 2D side view on or off: on, the camera looks along -z at the same
     /// point with a parallel projection; off, the scene is framed again in 3D.
     pub fn set_side_view(&mut self, on: bool) {
+        log::info!("side view: {on}");
         self.side_view = on;
         if on {
             self.look_from_the_side();

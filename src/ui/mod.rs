@@ -96,6 +96,7 @@ fn shortcuts(ctx: &egui::Context, lab: &mut Lab) {
         }
         if input.consume_key(Modifiers::NONE, Key::P) {
             lab.panel_open = !lab.panel_open;
+            log::info!("panel open: {}", lab.panel_open);
         }
         if input.consume_key(Modifiers::NONE, Key::V) {
             let side = !lab.side_view;
@@ -253,8 +254,6 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
     .on_hover_text("Fixed physics steps per simulated second; the frame rate does not change it");
     solver_controls(ui, lab);
 
-    compare_controls(ui, lab);
-
     ui.separator();
     ui.label(egui::RichText::new("Parameters").strong());
     let mut changes = Vec::new();
@@ -306,6 +305,8 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             }
         });
     }
+
+    compare_controls(ui, lab);
 
     ui.separator();
     egui::Grid::new("readouts").num_columns(2).striped(true).show(ui, |ui| {
