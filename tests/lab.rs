@@ -422,3 +422,27 @@ fn compare_runs_a_copy_with_one_setting_changed() {
     assert!(error.contains("valid range"), "{error}");
     assert!(Change::parse("integrator=leapfrog", lab.entry).is_err());
 }
+
+/// A bridge that has come to rest and fallen asleep still reports the tension in its
+/// links (the key and the colours by tension show it), not zero.
+#[test]
+fn a_sleeping_bridge_still_reports_its_tension() {
+    let mut lab = Lab::new("bridge", &["load_mass=30".into(), "load_x=2.5".into()]).unwrap();
+    let max_tension = |lab: &Lab| lab.scene.world().links().iter().map(|l| l.tension).fold(0.0, f32::max);
+    // Step until it falls asleep, remembering the tension of its last awake step.
+    let mut awake = 0.0;
+    for _ in 0..4000 {
+        if lab.scene.world().last_report().asleep > 0 {
+            break;
+        }
+        awake = max_tension(&lab);
+        lab.run_steps(1);
+    }
+    assert!(lab.scene.world().last_report().asleep > 0, "the bridge should fall asleep");
+    lab.run_steps(240);
+    let report = lab.scene.world().last_report();
+    assert!(report.asleep > 0, "still asleep: {report:?}");
+    let asleep = max_tension(&lab);
+    assert!(awake > 30.0, "{awake} N");
+    assert!((asleep - awake).abs() < 0.2 * awake, "asleep {asleep} N vs awake {awake} N");
+}

@@ -143,6 +143,10 @@ pub struct SoftStep {
     /// Last step's link impulses by generator index (cleared by [`SoftStep::forget`]
     /// whenever indices shift).
     warm_links: Vec<(u32, f32)>,
+    /// Links skipped this step because their particles sleep (by generator index).
+    sleeping_links: Vec<u32>,
+    /// Each link's tension as last reported (N), by generator index.
+    last_tension: Vec<f32>,
     /// Movement of each particle since the start of the step (m).
     delta: Vec<Vec3>,
     /// Speculative margin of each particle (m).
@@ -485,6 +489,7 @@ impl SoftStep {
         self.fresh_keys.clear();
         self.fresh_groups.clear();
         self.links.clear();
+        self.sleeping_links.clear();
         self.to_wake.clear();
         self.asleep.clear();
         self.asleep.extend(particles.sleep.iter().map(|s| s.island != AWAKE));
@@ -596,14 +601,21 @@ impl SoftStep {
         }
         let asleep_b = b != NONE && self.asleep[b as usize];
         match (self.asleep[a], asleep_b) {
-            (true, true) => return,
+            (true, true) => {
+                self.sleeping_links.push(generator);
+                return;
+            }
             (true, false) if b != NONE && particles.inverse_mass[b as usize] > 0.0 => {
                 self.to_wake.push(particles.sleep[a].island);
             }
             (false, true) if particles.inverse_mass[a] > 0.0 => {
                 self.to_wake.push(particles.sleep[b as usize].island)
             }
-            (true, false) => return, // asleep on an anchor or an immovable particle
+            (true, false) => {
+                // Asleep on an anchor or an immovable particle.
+                self.sleeping_links.push(generator);
+                return;
+            }
             _ => {}
         }
         self.links.push(SoftLink {
@@ -836,6 +848,15 @@ impl SoftStep {
                 *slot = tension;
             }
         }
+        // A sleeping link carries what it carried when it fell asleep: a bridge at rest
+        // still holds its load.
+        self.last_tension.resize(link_tension.len(), 0.0);
+        for &generator in &self.sleeping_links {
+            if let Some(slot) = link_tension.get_mut(generator as usize) {
+                *slot = self.last_tension[generator as usize];
+            }
+        }
+        self.last_tension.copy_from_slice(link_tension);
     }
 
     /// Deepest overlap at the end of the step, from the contacts' start separations and
