@@ -9,6 +9,7 @@ use serde::Serialize;
 use crate::physics::{
     Integrator, LinkEnd, LinkState, SolverKind, SolverSettings, World, solver::SUBSTEP_RANGE,
 };
+use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{self, SCENES, Scene};
 
 /// Exit code for input the user can fix.
@@ -84,8 +85,12 @@ pub enum Command {
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
     /// Scene name (see `particle-lab scenes`).
-    #[arg(long)]
-    pub scene: String,
+    #[arg(long, required_unless_present = "from")]
+    pub scene: Option<String>,
+    /// Start from a snapshot instead of a scene's beginning; `--steps` then runs on
+    /// from the step it was saved at.
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "set", "solver", "substeps", "integrator"])]
+    pub from: Option<std::path::PathBuf>,
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -142,8 +147,17 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     if args.out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
         return Err((2, format!("--out {} must name a .png file", args.out.display())));
     }
-    let solver = args.solver.settings().map_err(|e| (2, e))?;
-    let mut lab = crate::ui::Lab::with_solver(&args.scene, &args.set, solver).map_err(|e| (2, e))?;
+    let mut lab = match &args.from {
+        Some(path) => {
+            let snapshot = Snapshot::load(path).map_err(|e| (2, e))?;
+            crate::ui::Lab::from_snapshot(&snapshot).map_err(|e| (2, format!("{}: {e}", path.display())))?
+        }
+        None => {
+            let solver = args.solver.settings().map_err(|e| (2, e))?;
+            let name = args.scene.as_deref().expect("clap requires --scene without --from");
+            crate::ui::Lab::with_solver(name, &args.set, solver).map_err(|e| (2, e))?
+        }
+    };
     lab.view.swept |= args.swept;
     for option in &args.view {
         lab.set_view_option(option).map_err(|e| (2, e))?;
@@ -175,7 +189,7 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         args.out.display(),
         args.size[0],
         args.size[1],
-        args.scene,
+        lab.scene.info().name,
         args.steps
     ))
 }
@@ -203,8 +217,15 @@ pub enum StateFormat {
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
     /// Scene name (see `particle-lab scenes`).
-    #[arg(long)]
-    pub scene: String,
+    #[arg(long, required_unless_present = "from")]
+    pub scene: Option<String>,
+    /// Continue from a snapshot (File → Save in the window, or `--save`): its scene,
+    /// parameters, solver and time step, at the step it was saved.
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "set", "solver", "substeps", "integrator"])]
+    pub from: Option<std::path::PathBuf>,
+    /// Write a snapshot of the last state to FILE after the run.
+    #[arg(long, value_name = "FILE.json")]
+    pub save: Option<std::path::PathBuf>,
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -337,7 +358,7 @@ struct ParamJson {
 }
 
 /// Validated settings of a `simulate` run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RunPlan {
     /// Steps to run.
     pub steps: u64,
@@ -347,15 +368,27 @@ pub struct RunPlan {
     pub every: u64,
     /// How to print them.
     pub format: StateFormat,
+    /// Where to write a snapshot of the last state, if anywhere.
+    pub save: Option<std::path::PathBuf>,
 }
 
 /// Builds the scene and checks the numbers of a `simulate` run.
 pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String> {
-    let solver = args.solver.settings()?;
-    let mut scene = scenes::build(&args.scene, &args.set)?;
-    scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
+    let (scene, saved_dt) = match &args.from {
+        Some(path) => {
+            let snapshot = Snapshot::load(path)?;
+            (snapshot.restore().map_err(|e| format!("{}: {e}", path.display()))?, Some(snapshot.dt))
+        }
+        None => {
+            let solver = args.solver.settings()?;
+            let name = args.scene.as_deref().expect("clap requires --scene without --from");
+            let mut scene = scenes::build(name, &args.set)?;
+            scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
+            (scene, None)
+        }
+    };
     let info = scene.info();
-    let dt = args.dt.unwrap_or(info.dt);
+    let dt = args.dt.or(saved_dt).unwrap_or(info.dt);
     if !(dt > 0.0 && dt <= 1.0) {
         return Err(format!("--dt {dt} is out of range; valid range: greater than 0 up to 1 second"));
     }
@@ -366,7 +399,8 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
     if args.every == 0 {
         return Err("--every 0 is out of range; valid range: 1 or more".into());
     }
-    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format }))
+    let save = args.save.clone();
+    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format, save }))
 }
 
 /// Header of `simulate --format csv`.
@@ -383,6 +417,8 @@ pub fn simulate(
     if plan.format == StateFormat::Csv {
         writeln!(out, "{CSV_HEADER}")?;
     }
+    // Step numbers go on from a snapshot's.
+    let first = scene.world().steps();
     for step in 0..=plan.steps {
         if step > 0 {
             if let Err(error) = scene.step(plan.dt) {
@@ -400,10 +436,10 @@ pub fn simulate(
             line.clear();
             match plan.format {
                 StateFormat::Json => {
-                    write_state(&mut line, step, scene.world(), &mut links)?;
+                    write_state(&mut line, first + step, scene.world(), &mut links)?;
                     line.push(b'\n');
                 }
-                StateFormat::Csv => write_csv_rows(&mut line, step, scene.world())?,
+                StateFormat::Csv => write_csv_rows(&mut line, first + step, scene.world())?,
             }
             out.write_all(&line)?;
             // Each printed step reaches a pipe as soon as it is computed.
@@ -411,6 +447,12 @@ pub fn simulate(
         }
     }
     out.flush()?;
+    if let Some(path) = &plan.save {
+        let saved = Snapshot::of(scene, plan.dt).and_then(|snapshot| snapshot.save(path));
+        if let Err(error) = saved {
+            return Ok(Err(error));
+        }
+    }
     Ok(Ok(()))
 }
 
@@ -454,6 +496,8 @@ struct EnergyJson {
 struct StateJson {
     step: u64,
     t: f64,
+    /// [`World::state_hash`] as 16 hex digits: equal hashes at a step, equal runs.
+    hash: String,
     particles: Vec<ParticleJson>,
     links: Vec<LinkJson>,
     contacts: usize,
@@ -533,6 +577,7 @@ fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<Link
     let state = StateJson {
         step,
         t: world.time(),
+        hash: crate::scenes::snapshot::hash_text(world.state_hash()),
         particles,
         links,
         contacts: world.contact_count(),

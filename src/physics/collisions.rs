@@ -14,7 +14,7 @@ use super::{NON_NEGATIVE, PhysicsError, UNIT, check, non_negative};
 
 /// An infinite plane that particles rest on by their radius: the ground, or a wall.
 /// Points `p` with `normal · p > offset` are on the free side.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plane {
     /// Unit normal, pointing to the free side.
     pub normal: Vec3,
@@ -70,7 +70,7 @@ pub(crate) fn check_surface(restitution: f32, friction: f32) -> Result<(), Physi
 }
 
 /// The horizontal plane `y = height` with no friction: the paper's ground.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct GroundPlane {
     /// Height of the plane (m).
     pub height: f32,
@@ -80,7 +80,7 @@ pub struct GroundPlane {
 
 /// Collisions between every pair of particles with a radius, found through the
 /// broad phase's grid.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SphereCollisions {
     /// Coefficient of restitution between particles, in [0, 1].
     pub restitution: f32,
@@ -130,7 +130,7 @@ pub struct Scratch {
 }
 
 /// Something that looks at the particles each step and makes contacts.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ContactGenerator {
     /// A plane: ground or wall.
     Plane(Plane),

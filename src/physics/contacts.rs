@@ -166,7 +166,7 @@ impl ResolveReport {
 
 /// Resolves contacts one at a time, the most urgent first: the largest closing velocity
 /// in the velocity phase, then the deepest penetration in the position phase.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactResolver {
     /// Most contacts handled per phase per step.
     pub max_iterations: usize,

@@ -39,7 +39,7 @@ pub fn damping_rate(damping: f32) -> f64 {
 /// under gravity `g` and velocity decay `lambda`: the damped harmonic oscillator about
 /// the point where the spring holds the weight, `anchor + rest_offset + g m / k`, with
 /// `ω = √(k/m)` and damping ratio `ζ = λ / (2ω)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SpringMotion {
     /// The spring's fixed end (m).
     pub anchor: DVec3,

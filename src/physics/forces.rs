@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use super::links::{LinkEnd, LinkKind, LinkSpec, direction_or_zero, end_position};
 use super::particles::{ParticleId, Particles};
+use super::state::SavedForce;
 use super::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
 
 /// Something that adds forces to particles every step. `Send` so that a world can be
@@ -57,10 +58,17 @@ pub trait ForceGenerator: Send {
     fn force_on(&self, _particles: &Particles, _i: usize) -> Option<Vec3> {
         None
     }
+
+    /// The generator as a snapshot stores it, with any state it carries between steps;
+    /// `None` for a kind the snapshot format does not know (a world holding one cannot
+    /// be saved).
+    fn saved(&self) -> Option<SavedForce> {
+        None
+    }
 }
 
 /// Handle to a registered force generator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct ForceId(pub u32);
 
 /// Owns the force generators of a world; supports add, remove and clear.
@@ -135,13 +143,46 @@ impl ForceRegistry {
     pub fn iter(&self) -> impl Iterator<Item = &dyn ForceGenerator> {
         self.entries.iter().map(|(_, g)| g.as_ref())
     }
+
+    /// Every generator as a snapshot stores it, with its handle, and the next handle;
+    /// the error names a generator whose kind cannot be saved.
+    pub(crate) fn saved(&self) -> Result<(Vec<(ForceId, SavedForce)>, u32), PhysicsError> {
+        let mut out = Vec::with_capacity(self.entries.len());
+        for (id, generator) in &self.entries {
+            let saved = generator.saved().ok_or_else(|| {
+                PhysicsError::InvalidSetting(format!(
+                    "force generator '{}' cannot be saved",
+                    generator.name()
+                ))
+            })?;
+            out.push((*id, saved));
+        }
+        Ok((out, self.next))
+    }
+
+    /// A registry from saved generators, each checked as [`ForceRegistry::add`] checks.
+    pub(crate) fn from_saved(saved: Vec<(ForceId, SavedForce)>, next: u32) -> Result<Self, PhysicsError> {
+        let mut entries = Vec::with_capacity(saved.len());
+        for (id, force) in saved {
+            if id.0 >= next || entries.iter().any(|(other, _)| *other == id) {
+                return Err(PhysicsError::InvalidSetting(format!(
+                    "force id {} is repeated or not below next_force = {next}",
+                    id.0
+                )));
+            }
+            let generator = force.into_generator();
+            generator.validate()?;
+            entries.push((id, generator));
+        }
+        Ok(Self { entries, next })
+    }
 }
 
 /// Uniform gravity as a force, `F = m g`, on a list of particles.
 ///
 /// Scenes usually put gravity in each particle's constant acceleration instead (as the
 /// paper does); this generator exists for particles that need their own field.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Gravity {
     /// Acceleration of the field (m/s²), e.g. `(0, -9.81, 0)`.
     pub gravity: Vec3,
@@ -150,6 +191,10 @@ pub struct Gravity {
 }
 
 impl ForceGenerator for Gravity {
+    fn saved(&self) -> Option<SavedForce> {
+        Some(SavedForce::Gravity(self.clone()))
+    }
+
     fn validate(&self) -> Result<(), PhysicsError> {
         check(self.gravity.is_finite(), "gravity", self.gravity, "a vector of finite numbers (m/s²)")
     }
@@ -208,7 +253,7 @@ impl ForceGenerator for Gravity {
 /// Both are stable for any `k1, k2 >= 0`, never reverse the velocity, and reach the
 /// exact terminal velocity (`k1 v + k2 v² = m g`). Register drag after the particle's
 /// other force generators.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Drag {
     /// Linear coefficient (N·s/m).
     pub k1: f32,
@@ -252,6 +297,10 @@ impl Drag {
 }
 
 impl ForceGenerator for Drag {
+    fn saved(&self) -> Option<SavedForce> {
+        Some(SavedForce::Drag(self.clone()))
+    }
+
     fn validate(&self) -> Result<(), PhysicsError> {
         check(non_negative(self.k1), "drag k1", self.k1, NON_NEGATIVE)?;
         check(non_negative(self.k2), "drag k2", self.k2, NON_NEGATIVE)
@@ -295,7 +344,7 @@ impl ForceGenerator for Drag {
 
 /// Hooke's law between a particle and the other end: a spring pushes when compressed
 /// and pulls when stretched; a bungee only pulls, and only when stretched.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Spring {
     /// The particle the force acts on.
     pub a: ParticleId,
@@ -353,6 +402,10 @@ impl Spring {
 }
 
 impl ForceGenerator for Spring {
+    fn saved(&self) -> Option<SavedForce> {
+        Some(SavedForce::Spring(self.clone()))
+    }
+
     fn validate(&self) -> Result<(), PhysicsError> {
         let name = if self.bungee { "bungee" } else { "spring" };
         check(non_negative(self.k), &format!("{name} k"), self.k, NON_NEGATIVE)?;
@@ -415,7 +468,7 @@ impl ForceGenerator for Spring {
 /// Submerged fraction `f = clamp((surface + half_height - y) / (2 half_height), 0, 1)`,
 /// force `density * volume * g * f` upwards (Archimedes). This corrects the sign of the
 /// partial-submersion term in the paper and in Cyclone.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Buoyancy {
     /// The floating particle.
     pub target: ParticleId,
@@ -451,6 +504,10 @@ impl Buoyancy {
 }
 
 impl ForceGenerator for Buoyancy {
+    fn saved(&self) -> Option<SavedForce> {
+        Some(SavedForce::Buoyancy(self.clone()))
+    }
+
     fn validate(&self) -> Result<(), PhysicsError> {
         check(self.surface.is_finite(), "buoyancy surface", self.surface, "a finite height (m)")?;
         check(non_negative(self.half_height), "buoyancy half_height", self.half_height, NON_NEGATIVE)?;

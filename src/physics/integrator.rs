@@ -31,7 +31,7 @@ use super::forces::ForceRegistry;
 use super::particles::{AWAKE, Particles};
 
 /// The integrators a world can use.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Integrator {
     /// `p += v h; v += a h`: position first, with the old velocity (as Cyclone's code
     /// does). Gains energy on every oscillation.

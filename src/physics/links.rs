@@ -34,7 +34,7 @@ pub(crate) fn end_position(particles: &Particles, end: LinkEnd) -> Option<Vec3> 
 }
 
 /// What a link between two points is, for output and drawing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum LinkKind {
     /// Keeps two particles at a fixed distance.
     Rod,
@@ -69,7 +69,7 @@ impl LinkKind {
 }
 
 /// The second end of a link: another particle or a fixed point in space.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum LinkEnd {
     /// A particle.
     Particle(ParticleId),
@@ -108,7 +108,7 @@ pub struct LinkState {
 
 /// A rod (fixed length) or cable (maximum length) from a particle to another particle
 /// or to a fixed anchor.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Constraint {
     /// First end.
     pub a: ParticleId,

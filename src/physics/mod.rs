@@ -15,6 +15,7 @@ pub mod links;
 pub mod particles;
 pub mod soft_step;
 pub mod solver;
+pub mod state;
 pub mod stiff_spring;
 pub mod world;
 
@@ -26,6 +27,7 @@ pub use integrator::Integrator;
 pub use links::{Constraint, LinkEnd, LinkKind, LinkSpec, LinkState, direction_or_zero};
 pub use particles::{ParticleDesc, ParticleId, Particles};
 pub use solver::{SolverKind, SolverSettings};
+pub use state::{SavedForce, StateHasher, WorldState};
 pub use stiff_spring::StiffSpring;
 pub use world::{ContactGeneratorId, ContactPoint, Energy, Profile, World};
 

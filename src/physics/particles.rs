@@ -11,7 +11,7 @@ use glam::Vec3;
 use super::{PhysicsError, Shown};
 
 /// A stable handle to a particle. Ids are never reused within one [`Particles`] store.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 pub struct ParticleId(pub u32);
 
 /// Everything needed to create a particle. Units: metres, seconds, kilograms.
@@ -107,7 +107,7 @@ const DEAD: u32 = u32::MAX;
 /// like): particles come and go through [`Particles::add`] and [`Particles::remove`],
 /// so the arrays always have one length, and a state is changed through the setters,
 /// which check the value and wake a sleeping particle.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Particles {
     /// Positions (m).
     pub(crate) position: Vec<Vec3>,
@@ -161,6 +161,89 @@ impl Particles {
             dissipated: 0.0,
             ids: Vec::with_capacity(n),
             slots: Vec::with_capacity(n),
+        }
+    }
+
+    /// Checks a store read from a snapshot: one length for every array, ids and slots
+    /// that agree, finite values in range. A store that passes cannot make a step index
+    /// out of bounds or divide by a bad mass.
+    pub(crate) fn check_loaded(&self) -> Result<(), PhysicsError> {
+        let n = self.ids.len();
+        let lengths = [
+            self.position.len(),
+            self.velocity.len(),
+            self.acceleration.len(),
+            self.force.len(),
+            self.inverse_mass.len(),
+            self.radius.len(),
+            self.damping.len(),
+            self.damping_per_step.len(),
+            self.sleep.len(),
+        ];
+        if lengths.iter().any(|&len| len != n) {
+            return Err(PhysicsError::InvalidParticle(format!(
+                "the particle arrays have different lengths ({n} ids, arrays of {lengths:?})"
+            )));
+        }
+        let live = self.slots.iter().filter(|&&slot| slot != DEAD).count();
+        let agree =
+            self.ids.iter().enumerate().all(|(i, id)| self.slots.get(id.0 as usize) == Some(&(i as u32)));
+        if live != n || !agree {
+            return Err(PhysicsError::InvalidParticle("particle ids and slots do not agree".into()));
+        }
+        let vectors = self.position.iter().chain(&self.velocity).chain(&self.acceleration).chain(&self.force);
+        if !vectors.copied().all(Vec3::is_finite) {
+            return Err(PhysicsError::InvalidParticle(
+                "a position, velocity, acceleration or force is not finite".into(),
+            ));
+        }
+        for i in 0..n {
+            let id = self.ids[i].0;
+            let fail = |what: &str| Err(PhysicsError::InvalidParticle(format!("particle {id}: {what}")));
+            if !(self.inverse_mass[i].is_finite() && self.inverse_mass[i] >= 0.0) {
+                return fail("inverse mass must be finite and >= 0");
+            }
+            if !(self.radius[i].is_finite() && self.radius[i] >= 0.0) {
+                return fail("radius must be finite and >= 0");
+            }
+            if !(0.0..=1.0).contains(&self.damping[i]) || !(0.0..=1.0).contains(&self.damping_per_step[i]) {
+                return fail("damping must be between 0 and 1");
+            }
+            let sleep = &self.sleep[i];
+            if !(sleep.timer.is_finite() && sleep.rest.is_finite())
+                || (sleep.island != AWAKE && sleep.island as usize >= n)
+            {
+                return fail("sleep state out of range");
+            }
+        }
+        if !(self.damping_dt.is_finite() && self.damping_dt >= 0.0 && self.dissipated.is_finite()) {
+            return Err(PhysicsError::InvalidParticle(
+                "damping step or dissipated energy is not finite".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Feeds every array a step reads to a state hash, in dense order.
+    pub(crate) fn hash_into(&self, hasher: &mut super::state::StateHasher) {
+        for id in &self.ids {
+            hasher.u64(u64::from(id.0));
+        }
+        for (p, v) in self.position.iter().zip(&self.velocity) {
+            hasher.vec3(*p);
+            hasher.vec3(*v);
+        }
+        for ((a, w), (r, d)) in
+            self.acceleration.iter().zip(&self.inverse_mass).zip(self.radius.iter().zip(&self.damping))
+        {
+            hasher.vec3(*a);
+            hasher.f32(*w);
+            hasher.f32(*r);
+            hasher.f32(*d);
+        }
+        for sleep in &self.sleep {
+            hasher.f32(sleep.timer);
+            hasher.u64(u64::from(sleep.island));
         }
     }
 
@@ -546,7 +629,7 @@ impl Particles {
 pub(crate) const AWAKE: u32 = u32::MAX;
 
 /// A particle's sleep state.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Sleep {
     /// How long the particle has been slower than the sleep speed (s).
     pub timer: f32,

@@ -113,15 +113,25 @@ struct Impact {
 }
 
 /// What the soft solver keeps of a contact for the next step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 struct Warm {
     key: u64,
     normal_impulse: f32,
     tangent_impulse: Vec3,
 }
 
-/// Scratch and warm-start memory of the soft solver. Nothing here needs saving: a new
-/// one only starts cold.
+/// The part of the soft solver that carries from one step to the next (see
+/// [`SoftStep::memory`]); everything else in [`SoftStep`] is scratch.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SoftMemory {
+    warm: Vec<Warm>,
+    warm_groups: Vec<(ContactGeneratorId, std::ops::Range<usize>)>,
+    warm_links: Vec<(u32, f32)>,
+    last_tension: Vec<f32>,
+}
+
+/// Scratch and warm-start memory of the soft solver. Only [`SoftMemory`] needs saving:
+/// without it a new one starts cold, which changes the next step's bits.
 #[derive(Clone, Debug, Default)]
 pub struct SoftStep {
     /// Contacts in generation order (per generator, sorted by particle pair).
@@ -233,6 +243,51 @@ impl SoftStep {
     /// How far each particle moved in the last step (m), by dense index.
     pub(crate) fn motion(&self) -> &[Vec3] {
         &self.delta
+    }
+
+    /// What the next step reads of this one: the warm-start impulses and each link's
+    /// last tension. A snapshot holds it, so a loaded world steps on with the same bits.
+    pub(crate) fn memory(&self) -> SoftMemory {
+        SoftMemory {
+            warm: self.warm.clone(),
+            warm_groups: self.warm_groups.clone(),
+            warm_links: self.warm_links.clone(),
+            last_tension: self.last_tension.clone(),
+        }
+    }
+
+    /// Takes back what [`SoftStep::memory`] gave, after checking that its ranges fit
+    /// (a hand-edited snapshot must not make the next step index out of bounds).
+    pub(crate) fn restore(&mut self, memory: SoftMemory) -> Result<(), String> {
+        for (id, range) in &memory.warm_groups {
+            if range.start > range.end || range.end > memory.warm.len() {
+                return Err(format!(
+                    "warm-start group of contact generator {} covers {}..{} of {} contacts",
+                    id.0,
+                    range.start,
+                    range.end,
+                    memory.warm.len()
+                ));
+            }
+        }
+        self.warm = memory.warm;
+        self.warm_groups = memory.warm_groups;
+        self.warm_links = memory.warm_links;
+        self.last_tension = memory.last_tension;
+        Ok(())
+    }
+
+    /// Feeds the warm-start impulses to a state hash, without copying them.
+    pub(crate) fn memory_hash_into(&self, hasher: &mut super::state::StateHasher) {
+        for warm in &self.warm {
+            hasher.u64(warm.key);
+            hasher.f32(warm.normal_impulse);
+            hasher.vec3(warm.tangent_impulse);
+        }
+        for &(generator, impulse) in &self.warm_links {
+            hasher.u64(u64::from(generator));
+            hasher.f32(impulse);
+        }
     }
 
     /// Forgets warm-start memory (after particles or generators were removed, when

@@ -4,7 +4,7 @@ use super::PhysicsError;
 use super::integrator::Integrator;
 
 /// The constraint solvers a world can use.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum SolverKind {
     /// Substepped soft-constraint solver (the default): contacts with friction and
     /// restitution, rods, cables and springs all inside substeps. See
@@ -52,7 +52,7 @@ pub const SUBSTEP_RANGE: std::ops::RangeInclusive<u32> = 1..=64;
 
 /// Settings of a world's solver. Every field says its unit, default and valid range;
 /// [`SolverSettings::validate`] checks them and names the field that is off.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolverSettings {
     /// Which solver. Default [`SolverKind::Soft`].
     pub kind: SolverKind,

@@ -24,7 +24,7 @@ use super::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive}
 /// An anchored spring of zero rest length whose motion is integrated analytically.
 /// Register it after the particle's other force generators: their forces this step are
 /// part of the constant acceleration it solves with.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct StiffSpring {
     /// The particle on the spring.
     pub target: ParticleId,
@@ -72,6 +72,10 @@ pub fn damped_oscillator(y0: DVec3, v0: DVec3, omega: f64, zeta: f64, t: f64) ->
 }
 
 impl ForceGenerator for StiffSpring {
+    fn saved(&self) -> Option<super::state::SavedForce> {
+        Some(super::state::SavedForce::StiffSpring(self.clone()))
+    }
+
     fn validate(&self) -> Result<(), PhysicsError> {
         check(positive(self.k), "stiff spring k", self.k, POSITIVE)?;
         check(

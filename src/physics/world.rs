@@ -13,10 +13,11 @@ use super::links::{LinkState, link_geometry};
 use super::particles::{ParticleDesc, ParticleId, Particles};
 use super::soft_step::SoftStep;
 use super::solver::{SolverKind, SolverSettings};
+use super::state::{StateHasher, WorldState};
 use super::{PhysicsError, check};
 
 /// Handle to a registered contact generator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct ContactGeneratorId(pub u32);
 
 /// The energy budget of a world (J).
@@ -46,8 +47,8 @@ pub struct Energy {
 }
 
 /// Running totals of the energy budget, in f64.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Ledger {
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub(crate) struct Ledger {
     /// `kinetic + potential` before the first step, once stepped.
     start: Option<f64>,
     /// `kinetic + potential` at the end of the last step.
@@ -592,6 +593,86 @@ impl World {
         // A pile at rest under the old gravity is not at rest under the new one.
         self.particles.wake_all();
         Ok(())
+    }
+
+    /// The world's state apart from its scratch, as a snapshot saves it; refused if a
+    /// force generator is of a kind the snapshot format does not know.
+    pub fn state(&self) -> Result<WorldState, PhysicsError> {
+        let (forces, next_force) = self.forces.saved()?;
+        Ok(WorldState {
+            particles: self.particles.clone(),
+            forces,
+            next_force,
+            contact_generators: self.contact_generators.clone(),
+            next_contact_generator: self.next_contact_generator,
+            solver: self.solver,
+            resolver: self.resolver,
+            position_passes: self.position_passes,
+            soft: self.soft.memory(),
+            link_tension: self.link_tension.clone(),
+            ledger: self.ledger,
+            time: self.time,
+            steps: self.steps,
+            last_dt: self.last_dt,
+        })
+    }
+
+    /// A world from a saved state, after checking every part as the setters and `add`
+    /// calls would (and that the parts agree with each other): a state read from a file
+    /// that passes cannot make a step panic. Steps on with the same bits as the world
+    /// the state came from.
+    pub fn from_state(state: WorldState) -> Result<Self, PhysicsError> {
+        let invalid = PhysicsError::InvalidSetting;
+        state.particles.check_loaded()?;
+        state.check_references().map_err(invalid)?;
+        state.solver.validate()?;
+        state.resolver.validate()?;
+        check(
+            state.position_passes <= MAX_POSITION_PASSES,
+            "position_passes",
+            state.position_passes,
+            "0 to 64",
+        )?;
+        for (_, generator) in &state.contact_generators {
+            generator.validate()?;
+        }
+        let ledger = state.ledger;
+        let totals = [ledger.start.unwrap_or(0.0), ledger.last, ledger.dissipated, ledger.work];
+        if !totals.iter().all(|x| x.is_finite()) {
+            return Err(invalid("the energy ledger holds a number that is not finite".into()));
+        }
+        let mut world = Self {
+            particles: state.particles,
+            forces: ForceRegistry::from_saved(state.forces, state.next_force)?,
+            resolver: state.resolver,
+            solver: state.solver,
+            contact_generators: state.contact_generators,
+            position_passes: state.position_passes,
+            link_tension: state.link_tension,
+            ledger,
+            time: state.time,
+            steps: state.steps,
+            last_dt: state.last_dt,
+            next_contact_generator: state.next_contact_generator,
+            ..Self::default()
+        };
+        world.soft.restore(state.soft).map_err(invalid)?;
+        Ok(world)
+    }
+
+    /// A 64-bit hash of the state the next step reads: step count, time, every
+    /// particle's arrays (ids, position, velocity, acceleration, inverse mass, radius,
+    /// damping, sleep) and the soft solver's warm-start impulses, each number by its
+    /// bits. Two runs that agree here are the same run; `simulate` prints it and the
+    /// panel shows it.
+    #[must_use]
+    pub fn state_hash(&self) -> u64 {
+        let mut hasher = StateHasher::default();
+        hasher.u64(self.steps);
+        hasher.f64(self.time);
+        self.particles.hash_into(&mut hasher);
+        self.soft.memory_hash_into(&mut hasher);
+        hasher.finish()
     }
 
     /// True if every position and velocity is finite.

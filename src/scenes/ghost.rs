@@ -7,7 +7,7 @@ use crate::physics::exact::{self, SpringMotion};
 use crate::physics::{ParticleId, World};
 
 /// The closed form a ghost follows.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Motion {
     /// Constant acceleration `g` with velocity decay `lambda` (1/s).
     Projectile {
@@ -23,7 +23,7 @@ pub enum Motion {
 /// A particle's exact twin: its closed form, started from the particle's state at
 /// `start`. When something outside the closed form moves the particle (the mouse, a
 /// changed parameter) the ghost starts again from where the particle is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Ghost {
     /// The particle it shadows.
     pub particle: ParticleId,

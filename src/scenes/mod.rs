@@ -31,6 +31,7 @@ mod params;
 mod pendulum;
 pub mod pile;
 mod projectile;
+pub mod snapshot;
 mod spring_forces;
 
 use glam::{Vec2, Vec3};
@@ -196,6 +197,19 @@ pub trait Scene: Send {
     /// round's or the bob's distance from its ghost. Plotted live beside the energy.
     fn exact_error(&self) -> Option<f32> {
         None
+    }
+
+    /// What the scene keeps beside its world and parameters (rounds in flight and when
+    /// they were fired, ghosts of the exact answer, a stopwatch), as a snapshot saves
+    /// it; `null` for a scene that keeps nothing.
+    fn save_state(&self) -> serde_json::Value {
+        serde_json::Value::Null
+    }
+
+    /// Takes back what [`Scene::save_state`] gave, after the snapshot's world has
+    /// replaced the built one. The error says which part is wrong.
+    fn restore_state(&mut self, _state: &serde_json::Value) -> Result<(), String> {
+        Ok(())
     }
 }
 

@@ -2,6 +2,7 @@
 //! 200 kg, damping 0.99) with Cyclone's ammo types as presets.
 
 use glam::Vec3;
+use serde::Deserialize;
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::{
@@ -26,7 +27,7 @@ pub const PATH_INTERVAL: f64 = 0.1;
 
 /// A round's flight as recorded for the view: its path, and where it was launched,
 /// peaked and landed. Times are since launch (s); positions in metres.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Flight {
     /// The round, while it flies.
     pub round: Option<ParticleId>,
@@ -204,6 +205,26 @@ impl Projectile {
 
 impl Scene for Projectile {
     scene_basics!();
+
+    fn save_state(&self) -> serde_json::Value {
+        serde_json::json!({ "rounds": self.rounds, "ghosts": self.ghosts, "flights": self.flights })
+    }
+
+    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+        #[derive(serde::Deserialize)]
+        struct Saved {
+            rounds: Vec<(ParticleId, f64)>,
+            ghosts: Vec<Ghost>,
+            flights: Vec<Flight>,
+        }
+        let saved = Saved::deserialize(state).map_err(|e| e.to_string())?;
+        let particles = &self.world.particles;
+        if let Some((id, _)) = saved.rounds.iter().find(|(id, _)| particles.index(*id).is_none()) {
+            return Err(format!("round {} is not a particle of the world", id.0));
+        }
+        (self.rounds, self.ghosts, self.flights) = (saved.rounds, saved.ghosts, saved.flights);
+        Ok(())
+    }
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
         self.params.set(name, value)?;

@@ -3,6 +3,7 @@
 //! water and a closed-form stiff spring.
 
 use glam::{DVec3, Vec2, Vec3};
+use serde::Deserialize;
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::{CameraHint, Marker, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water};
@@ -169,6 +170,21 @@ fn float_buoyancy(target: ParticleId, g: f32) -> Buoyancy {
 
 impl Scene for SpringForces {
     scene_basics!();
+
+    fn save_state(&self) -> serde_json::Value {
+        serde_json::json!({ "ghost": self.ghost, "stopwatch": self.stopwatch })
+    }
+
+    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+        #[derive(serde::Deserialize)]
+        struct Saved {
+            ghost: Option<Ghost>,
+            stopwatch: (f32, Option<f64>, Option<f64>),
+        }
+        let saved = Saved::deserialize(state).map_err(|e| e.to_string())?;
+        (self.ghost, self.stopwatch) = (saved.ghost, saved.stopwatch);
+        Ok(())
+    }
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
         let mut params = self.params.clone();

@@ -9,6 +9,7 @@ use glam::{Vec2, Vec3};
 use crate::physics::{ParticleId, SolverKind, SolverSettings};
 use crate::render::frame::VECTOR_PARTICLE_LIMIT;
 use crate::render::{OrbitCamera, Trails, ViewOptions};
+use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{self, Scene, SceneAction, SceneEntry};
 
 use super::compare::{Change, Compare};
@@ -237,6 +238,14 @@ pub struct Lab {
     crowded: bool,
     /// MSAA was turned off because the scene became crowded.
     msaa_dropped: bool,
+    /// A physics rate and the time step it was set from (Hz, s): while the rate is
+    /// that one, steps take exactly that time step, not `1 / rate` rounded twice, so
+    /// the window steps with the bits `simulate` and a snapshot use.
+    rate_origin: (f32, f32),
+    /// Where File → Save and Load snapshot write and read.
+    pub snapshot_path: String,
+    /// The state F5 saved, which F9 goes back to.
+    quick_save: Option<Snapshot>,
 }
 
 impl Lab {
@@ -287,6 +296,9 @@ impl Lab {
             readouts_taken: None,
             crowded: false,
             msaa_dropped: false,
+            rate_origin: (1.0 / entry.info.dt, entry.info.dt),
+            snapshot_path: "snapshot.json".into(),
+            quick_save: None,
         };
         lab.apply_scene_view();
         lab.follow_crowd();
@@ -297,7 +309,14 @@ impl Lab {
     /// The physics time step (s).
     #[must_use]
     pub fn dt(&self) -> f32 {
-        1.0 / self.physics_rate
+        let (rate, dt) = self.rate_origin;
+        if self.physics_rate == rate { dt } else { 1.0 / self.physics_rate }
+    }
+
+    /// Runs at the physics time step `dt` (s) from now on.
+    fn set_dt(&mut self, dt: f32) {
+        self.physics_rate = 1.0 / dt;
+        self.rate_origin = (self.physics_rate, dt);
     }
 
     /// Switches to another scene with its default parameters.
@@ -306,7 +325,7 @@ impl Lab {
         self.stop_compare();
         self.entry = entry;
         self.scene = entry.create_default();
-        self.physics_rate = 1.0 / entry.info.dt;
+        self.set_dt(entry.info.dt);
         self.camera = OrbitCamera::from_hint(self.scene.camera());
         self.apply_scene_view();
         self.restart();
@@ -378,8 +397,11 @@ impl Lab {
     }
 
     fn restart(&mut self) {
-        // A new world starts with the default solver: give it the lab's.
-        self.scene.world_mut().set_solver(self.solver).expect("the lab's solver settings were validated");
+        // A new world starts with the default solver: give it the lab's. (Only if it
+        // differs: setting it wakes particles, which would change a loaded snapshot.)
+        if *self.scene.world().solver() != self.solver {
+            self.scene.world_mut().set_solver(self.solver).expect("the lab's solver settings were validated");
+        }
         self.accumulator = 0.0;
         self.status.clear();
         self.trails.clear();
@@ -935,5 +957,104 @@ impl Lab {
                 self.frame_scene();
             }
         }
+    }
+}
+
+/// Snapshots: save and load the running scene (File menu, F5 and F9, `--from`).
+impl Lab {
+    /// A lab on the scene a snapshot holds, at the step it was saved, framed by the
+    /// scene's camera hint.
+    pub fn from_snapshot(snapshot: &Snapshot) -> Result<Self, String> {
+        let mut lab = Self::with_solver(&snapshot.scene, &[], snapshot.world.solver())?;
+        lab.load_snapshot(snapshot)?;
+        lab.camera = OrbitCamera::from_hint(lab.scene.camera());
+        Ok(lab)
+    }
+
+    /// The running scene as a snapshot.
+    pub fn snapshot(&self) -> Result<Snapshot, String> {
+        Snapshot::of(self.scene.as_ref(), self.dt())
+    }
+
+    /// Replaces the running scene with a snapshot's, keeping the camera; on an error
+    /// nothing changes. The plots and trails start again from the loaded state, and a
+    /// Compare copy stops (it would have to run from the scene's start to catch up).
+    pub fn load_snapshot(&mut self, snapshot: &Snapshot) -> Result<(), String> {
+        let scene = snapshot.restore()?;
+        let entry = scenes::find(&snapshot.scene)?;
+        self.stop_compare();
+        self.entry = entry;
+        self.scene = scene;
+        self.solver = *self.scene.world().solver();
+        self.set_dt(snapshot.dt);
+        self.apply_scene_view();
+        self.restart();
+        self.follow_crowd();
+        Ok(())
+    }
+
+    /// Writes a snapshot to `path`; the status line says where, or why not.
+    pub fn save_snapshot_to(&mut self, path: &std::path::Path) {
+        self.status = match self.snapshot().and_then(|snapshot| snapshot.save(path)) {
+            Ok(()) => {
+                let world = self.scene.world();
+                let hash = scenes::snapshot::hash_text(world.state_hash());
+                log::info!("saved snapshot {} at step {}, state hash {hash}", path.display(), world.steps());
+                format!("Saved {} (step {}, t = {:.3} s)", path.display(), world.steps(), world.time())
+            }
+            Err(error) => error,
+        };
+    }
+
+    /// Loads the snapshot at `path`; a bad file leaves the running scene as it was
+    /// and the status line says what is wrong.
+    pub fn load_snapshot_from(&mut self, path: &std::path::Path) {
+        let loaded = Snapshot::load(path).and_then(|snapshot| {
+            self.load_snapshot(&snapshot).map_err(|e| format!("{}: {e}", path.display()))
+        });
+        match loaded {
+            Ok(()) => {
+                let world = self.scene.world();
+                log::info!("loaded snapshot {} at step {}", path.display(), world.steps());
+                self.status =
+                    format!("Loaded {} (step {}, t = {:.3} s)", path.display(), world.steps(), world.time());
+            }
+            Err(error) => {
+                log::warn!("{error}");
+                self.status = error;
+            }
+        }
+    }
+
+    /// F5: keeps the current state to go back to with F9.
+    pub fn quick_save(&mut self) {
+        match self.snapshot() {
+            Ok(snapshot) => {
+                self.status =
+                    format!("Quick save at t = {:.3} s: F9 goes back to it", self.scene.world().time());
+                self.quick_save = Some(snapshot);
+            }
+            Err(error) => self.status = error,
+        }
+    }
+
+    /// F9: goes back to the state F5 kept, keeping the camera.
+    pub fn quick_load(&mut self) {
+        let Some(snapshot) = self.quick_save.take() else {
+            self.status = "Nothing quick-saved yet: F5 saves, F9 goes back".into();
+            return;
+        };
+        let result = self.load_snapshot(&snapshot);
+        self.status = match result {
+            Ok(()) => format!("Back to the quick save at t = {:.3} s", self.scene.world().time()),
+            Err(error) => error,
+        };
+        self.quick_save = Some(snapshot);
+    }
+
+    /// The state hash of the running world, as the panel shows it.
+    #[must_use]
+    pub fn state_hash(&self) -> String {
+        scenes::snapshot::hash_text(self.scene.world().state_hash())
     }
 }

@@ -83,6 +83,16 @@ fn shortcuts(ctx: &egui::Context, lab: &mut Lab) {
         if input.consume_key(Modifiers::NONE, Key::Space) {
             lab.paused = !lab.paused;
             log::info!("paused: {}", lab.paused);
+            if lab.paused {
+                // What the window test compares with `simulate`'s hash at that step.
+                log::info!("paused at step {}, state hash {}", lab.scene.world().steps(), lab.state_hash());
+            }
+        }
+        if input.consume_key(Modifiers::NONE, Key::F5) {
+            lab.quick_save();
+        }
+        if input.consume_key(Modifiers::NONE, Key::F9) {
+            lab.quick_load();
         }
         if input.consume_key(Modifiers::NONE, Key::Period) {
             lab.paused = true;
@@ -126,6 +136,7 @@ fn shortcuts(ctx: &egui::Context, lab: &mut Lab) {
 
 fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
     egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| snapshot_menu(ui, lab));
         ui.menu_button("Scene", |ui| {
             for entry in SCENES {
                 let current = std::ptr::eq(entry, lab.entry);
@@ -218,6 +229,38 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
             );
         }
     });
+}
+
+/// The File menu's snapshot items: a path, Save and Load, and the quick save keys.
+fn snapshot_menu(ui: &mut egui::Ui, lab: &mut Lab) {
+    ui.label("Snapshot file");
+    ui.add(egui::TextEdit::singleline(&mut lab.snapshot_path).desired_width(260.0)).on_hover_text(
+        "A snapshot holds the whole state: scene, parameters, solver, every particle and link, time",
+    );
+    let path = std::path::PathBuf::from(lab.snapshot_path.trim());
+    ui.horizontal(|ui| {
+        if ui.button("Save snapshot").clicked() {
+            lab.save_snapshot_to(&path);
+            ui.close();
+        }
+        if ui
+            .button("Load snapshot")
+            .on_hover_text("A bad file changes nothing; the status line says why")
+            .clicked()
+        {
+            lab.load_snapshot_from(&path);
+            ui.close();
+        }
+    });
+    ui.separator();
+    if ui.button("Quick save (F5)").clicked() {
+        lab.quick_save();
+        ui.close();
+    }
+    if ui.button("Back to quick save (F9)").clicked() {
+        lab.quick_load();
+        ui.close();
+    }
 }
 
 fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
@@ -373,6 +416,8 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             row("  narrow phase", milliseconds(profile.narrow_phase_ms));
             row("  solve", milliseconds(profile.solve_ms));
             row("particles", world.particles.len().to_string());
+            row("step", world.steps().to_string());
+            row("state hash", lab.state_hash());
             let solver = world.solver();
             row(
                 "solver",

@@ -1,0 +1,172 @@
+//! Snapshots: a running scene saved to a file and loaded again, to step on with the
+//! same bits.
+//!
+//! A snapshot is one JSON object (format described in the README, "Snapshots"):
+//!
+//! - `format` (`"particle-lab snapshot"`) and `version` ([`VERSION`]): read first, so a
+//!   file from a newer particle-lab is refused with that said, not with a field error;
+//! - `scene` (its name), `params` (every parameter's value) and `dt` (the physics step,
+//!   s): what rebuilds the scene's own objects (its ids, its rules);
+//! - `world` ([`WorldState`]): every particle, force and contact generator, the
+//!   solver and integrator settings, the warm-start impulses, time and step count;
+//! - `scene_state`: what the scene keeps beside its world (rounds in flight, ghosts of
+//!   the exact answer), or `null`;
+//! - `hash`: [`World::state_hash`] of the saved world, as 16 hex digits. Loading checks
+//!   it, so a damaged file cannot pass for a good one; delete the field to load a file
+//!   edited by hand.
+//!
+//! Numbers are written in the shortest form that reads back to the same f32 or f64, so
+//! a saved world and the loaded one are the same bits.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::{ParamValues, Scene};
+use crate::physics::{World, WorldState};
+
+/// The `format` field of every snapshot.
+pub const FORMAT: &str = "particle-lab snapshot";
+
+/// The snapshot format this build writes and reads. Raise it when a change makes old
+/// files mean something else.
+pub const VERSION: u32 = 1;
+
+/// Largest snapshot file read (bytes): a 100,000-particle pile is about 60 MB.
+pub const MAX_FILE_BYTES: u64 = 512 * 1024 * 1024;
+
+/// A saved scene: see the module comment for each field.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// The format version, [`VERSION`] when written by this build.
+    pub version: u32,
+    /// The scene's name.
+    pub scene: String,
+    /// Every parameter's value, in the scene's table order.
+    pub params: Vec<(String, f32)>,
+    /// The physics time step the lab ran at (s).
+    pub dt: f32,
+    /// [`World::state_hash`] of `world`, as 16 hex digits; optional when reading.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hash: Option<String>,
+    /// The world.
+    pub world: WorldState,
+    /// What the scene keeps beside its world ([`Scene::save_state`]).
+    #[serde(default)]
+    pub scene_state: serde_json::Value,
+}
+
+/// A hash as snapshots and `simulate` print it.
+#[must_use]
+pub fn hash_text(hash: u64) -> String {
+    format!("{hash:016x}")
+}
+
+impl Snapshot {
+    /// The state of `scene`, running at time step `dt`. Refused for a world holding a
+    /// force generator of a kind the format does not know.
+    pub fn of(scene: &dyn Scene, dt: f32) -> Result<Self, String> {
+        let world = scene.world();
+        Ok(Self {
+            format: FORMAT.into(),
+            version: VERSION,
+            scene: scene.info().name.into(),
+            params: scene.params().iter().map(|(param, value)| (param.name.to_string(), value)).collect(),
+            dt,
+            hash: Some(hash_text(world.state_hash())),
+            world: world.state().map_err(|e| format!("cannot save this scene: {e}"))?,
+            scene_state: scene.save_state(),
+        })
+    }
+
+    /// The snapshot as pretty-printed JSON.
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a snapshot is plain data with string keys")
+    }
+
+    /// Reads a snapshot from JSON text; the error is one line: where the text stops
+    /// making sense, or which field is wrong.
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        // Format and version first: a newer file's unknown fields are not its problem.
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| format!("not a snapshot: {e}"))?;
+        let format = value.get("format").and_then(serde_json::Value::as_str);
+        if format != Some(FORMAT) {
+            return Err(format!("not a snapshot: its \"format\" field is not \"{FORMAT}\""));
+        }
+        match value.get("version").and_then(serde_json::Value::as_u64) {
+            Some(v) if v == u64::from(VERSION) => {}
+            Some(v) if v > u64::from(VERSION) => {
+                return Err(format!(
+                    "made by a newer particle-lab (snapshot version {v}; this one reads version {VERSION})"
+                ));
+            }
+            Some(v) => {
+                return Err(format!(
+                    "snapshot version {v} is not supported (this one reads version {VERSION})"
+                ));
+            }
+            None => return Err("not a snapshot: it has no \"version\" number".into()),
+        }
+        serde_json::from_value(value).map_err(|e| format!("damaged snapshot: {e}"))
+    }
+
+    /// Writes the snapshot to `path`, through a temporary file beside it, so a failed
+    /// write leaves what was there.
+    pub fn save(&self, path: &Path) -> Result<(), String> {
+        let shown = path.display();
+        let mut temporary = path.as_os_str().to_owned();
+        temporary.push(".part");
+        let temporary = std::path::PathBuf::from(temporary);
+        std::fs::write(&temporary, self.to_json()).map_err(|e| format!("cannot write {shown}: {e}"))?;
+        std::fs::rename(&temporary, path).map_err(|e| {
+            let _ = std::fs::remove_file(&temporary);
+            format!("cannot write {shown}: {e}")
+        })
+    }
+
+    /// Reads a snapshot file; the error names the file.
+    pub fn load(path: &Path) -> Result<Self, String> {
+        let shown = path.display();
+        let size = std::fs::metadata(path).map_err(|e| format!("cannot read {shown}: {e}"))?.len();
+        if size > MAX_FILE_BYTES {
+            return Err(format!("{shown}: {size} bytes is larger than a snapshot can be ({MAX_FILE_BYTES})"));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+        Self::from_json(&text).map_err(|e| format!("{shown}: {e}"))
+    }
+
+    /// The scene this snapshot holds, ready to step on: rebuilt from its name and
+    /// parameters, then given the saved world and the scene's own state. Nothing is
+    /// changed if any part is refused.
+    pub fn restore(&self) -> Result<Box<dyn Scene>, String> {
+        let entry = super::find(&self.scene)?;
+        let mut values = ParamValues::defaults(entry.info.params);
+        for (name, value) in &self.params {
+            values.set(name, *value).map_err(|e| format!("parameter {e}"))?;
+        }
+        if !(self.dt > 0.0 && self.dt <= crate::physics::world::MAX_TIME_STEP) {
+            return Err(format!(
+                "dt = {} s is out of range; valid range: more than 0 and at most 1 s",
+                self.dt
+            ));
+        }
+        let world = World::from_state(self.world.clone()).map_err(|e| format!("world: {e}"))?;
+        if let Some(saved) = &self.hash {
+            let hash = hash_text(world.state_hash());
+            if *saved != hash {
+                return Err(format!(
+                    "the world does not match its hash ({saved} saved, {hash} read): the file was changed \
+                     or damaged (delete the \"hash\" field to load a file edited by hand)"
+                ));
+            }
+        }
+        let mut scene = (entry.create)(values);
+        *scene.world_mut() = world;
+        scene.restore_state(&self.scene_state).map_err(|e| format!("scene_state: {e}"))?;
+        Ok(scene)
+    }
+}

@@ -1,0 +1,359 @@
+//! Snapshots: a saved and reloaded run steps on with the same bits as one never
+//! stopped, in this process and in a new one; a bad file is refused in one line and
+//! changes nothing.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use particle_lab::physics::{Integrator, SolverKind, SolverSettings};
+use particle_lab::scenes::snapshot::{Snapshot, VERSION, hash_text};
+use particle_lab::scenes::{self, SCENES, Scene};
+use particle_lab::ui::Lab;
+use proptest::prelude::*;
+use serde_json::Value;
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_particle-lab")).args(args).output().expect("binary runs")
+}
+
+/// A fresh scratch directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("particle-lab-snapshots-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Parameters that keep a scene quick to step while it still collides: the pile is
+/// cut to 300 spheres (the paper's resolver takes seconds a step at 2,000).
+fn quick_params(name: &str) -> Vec<String> {
+    if name == "pile" { vec!["count=300".into(), "width=6".into()] } else { Vec::new() }
+}
+
+fn scene_with(name: &str, solver: SolverSettings) -> Box<dyn Scene> {
+    let mut scene = scenes::build(name, &quick_params(name)).unwrap();
+    scene.world_mut().set_solver(solver).unwrap();
+    scene
+}
+
+fn step(scene: &mut dyn Scene, steps: u32, dt: f32) {
+    for _ in 0..steps {
+        scene.step(dt).unwrap();
+    }
+}
+
+/// Everything `simulate` would print of a world, plus its hash: the comparison of two
+/// runs, bit for bit (the JSON numbers are shortest round-trip forms of the f32s).
+fn fingerprint(scene: &dyn Scene) -> (u64, Vec<u32>) {
+    let world = scene.world();
+    let p = &world.particles;
+    let mut bits = Vec::new();
+    for (x, v) in p.positions().iter().zip(p.velocities()) {
+        bits.extend(x.to_array().map(f32::to_bits));
+        bits.extend(v.to_array().map(f32::to_bits));
+    }
+    bits.extend(world.links().iter().map(|l| l.tension.to_bits()));
+    let e = world.energy();
+    bits.extend([e.kinetic, e.potential, e.dissipated, e.work, e.error].map(f32::to_bits));
+    bits.push(world.steps() as u32);
+    (world.state_hash(), bits)
+}
+
+fn solvers() -> [(&'static str, SolverSettings); 2] {
+    [
+        ("soft", SolverSettings::default()),
+        ("paper", SolverSettings { kind: SolverKind::Paper, ..SolverSettings::default() }),
+    ]
+}
+
+#[test]
+fn every_scene_replays_bit_for_bit_through_a_snapshot_with_both_solvers() {
+    for entry in SCENES {
+        let name = entry.info.name;
+        for (solver_name, solver) in solvers() {
+            let dt = entry.info.dt;
+            let mut straight = scene_with(name, solver);
+            step(straight.as_mut(), 400, dt);
+
+            let mut first = scene_with(name, solver);
+            step(first.as_mut(), 200, dt);
+            let text = Snapshot::of(first.as_ref(), dt).unwrap().to_json();
+            let mut second = Snapshot::from_json(&text).unwrap().restore().unwrap();
+            assert_eq!(
+                fingerprint(second.as_ref()),
+                fingerprint(first.as_ref()),
+                "{name} {solver_name} at load"
+            );
+            step(second.as_mut(), 200, dt);
+            assert_eq!(
+                fingerprint(second.as_ref()),
+                fingerprint(straight.as_ref()),
+                "{name} with {solver_name}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_other_integrators_replay_too() {
+    for integrator in [Integrator::ExplicitEuler, Integrator::Verlet, Integrator::Rk4] {
+        for (solver_name, solver) in solvers() {
+            for name in ["springForces", "pendulum", "cradle"] {
+                let solver = SolverSettings { integrator, ..solver };
+                let dt = scenes::find(name).unwrap().info.dt;
+                let mut straight = scene_with(name, solver);
+                step(straight.as_mut(), 300, dt);
+                let mut first = scene_with(name, solver);
+                step(first.as_mut(), 150, dt);
+                let text = Snapshot::of(first.as_ref(), dt).unwrap().to_json();
+                let mut second = Snapshot::from_json(&text).unwrap().restore().unwrap();
+                step(second.as_mut(), 150, dt);
+                let what = format!("{name}, {solver_name}, {}", integrator.name());
+                assert_eq!(fingerprint(second.as_ref()), fingerprint(straight.as_ref()), "{what}");
+            }
+        }
+    }
+}
+
+/// The last JSON line `simulate` printed.
+fn last_line(output: &Output) -> Value {
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let text = String::from_utf8_lossy(&output.stdout);
+    serde_json::from_str(text.lines().last().expect("a line")).unwrap()
+}
+
+#[test]
+fn a_run_split_by_save_and_a_new_process_gives_the_same_bits_as_one_run() {
+    let dir = scratch("split");
+    for entry in SCENES {
+        let name = entry.info.name;
+        for solver in ["soft", "paper"] {
+            let mut args = vec!["simulate", "--scene", name, "--solver", solver, "--every", "1000000"];
+            let params = quick_params(name);
+            for p in &params {
+                args.extend(["--set", p.as_str()]);
+            }
+            let mut whole = args.clone();
+            whole.extend(["--steps", "400"]);
+            let whole = last_line(&run(&whole));
+
+            let file = dir.join(format!("{name}-{solver}.json"));
+            let file = file.to_str().unwrap();
+            let mut half = args.clone();
+            half.extend(["--steps", "200", "--save", file]);
+            let half = last_line(&run(&half));
+            assert_eq!(half["step"], 200);
+            let rest = last_line(&run(&["simulate", "--from", file, "--steps", "200", "--every", "1000000"]));
+
+            assert_eq!(rest["step"], 400, "{name} {solver}: step numbers go on from the snapshot's");
+            assert_eq!(rest["hash"], whole["hash"], "{name} {solver}");
+            // Not only the hash: every number printed.
+            assert_eq!(rest, whole, "{name} {solver}");
+            assert_ne!(half["hash"], whole["hash"], "{name} {solver}: the hash follows the state");
+        }
+    }
+}
+
+#[test]
+fn simulate_prints_the_state_hash_of_every_line() {
+    let output = run(&["simulate", "--scene", "pendulum", "--steps", "3"]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    let hashes: Vec<String> = text
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(l).unwrap()["hash"].as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(hashes.len(), 4);
+    assert!(hashes.iter().all(|h| h.len() == 16 && h.chars().all(|c| c.is_ascii_hexdigit())), "{hashes:?}");
+    let mut unique = hashes.clone();
+    unique.dedup();
+    assert_eq!(unique.len(), 4, "a swinging pendulum changes every step: {hashes:?}");
+    let mut scene = scenes::build("pendulum", &[]).unwrap();
+    assert_eq!(hashes[0], hash_text(scene.world().state_hash()));
+    step(scene.as_mut(), 3, scenes::find("pendulum").unwrap().info.dt);
+    assert_eq!(hashes[3], hash_text(scene.world().state_hash()));
+}
+
+/// A lab on `name` run a little, and a snapshot of it taken later, to load over it.
+fn lab_and_snapshot(name: &str) -> (Lab, String) {
+    let mut lab = Lab::new(name, &quick_params(name)).unwrap();
+    lab.run_steps(30);
+    let text = lab.snapshot().unwrap().to_json();
+    lab.run_steps(20);
+    (lab, text)
+}
+
+/// Loads `text` into the lab through a file, as File → Load does; returns the status.
+fn load_text(lab: &mut Lab, dir: &std::path::Path, text: &[u8]) -> String {
+    let path = dir.join("bad.json");
+    std::fs::write(&path, text).unwrap();
+    lab.load_snapshot_from(&path);
+    std::mem::take(&mut lab.status)
+}
+
+#[test]
+fn the_window_loads_a_snapshot_and_quick_saves() {
+    let dir = scratch("lab");
+    let (mut lab, text) = lab_and_snapshot("projectile");
+    let wanted = Snapshot::from_json(&text).unwrap();
+    let status = load_text(&mut lab, &dir, text.as_bytes());
+    assert!(status.starts_with("Loaded"), "{status}");
+    assert_eq!(lab.scene.world().steps(), 30);
+    assert_eq!(Some(lab.state_hash()), wanted.hash);
+
+    lab.quick_save();
+    let saved = lab.state_hash();
+    lab.run_steps(25);
+    assert_ne!(lab.state_hash(), saved);
+    lab.quick_load();
+    assert_eq!(lab.state_hash(), saved);
+    assert!(lab.status.starts_with("Back to the quick save"), "{}", lab.status);
+
+    // A snapshot of another scene switches the lab to it.
+    let other = Lab::new("bridge", &[]).unwrap().snapshot().unwrap().to_json();
+    load_text(&mut lab, &dir, other.as_bytes());
+    assert_eq!(lab.scene.info().name, "bridge");
+    assert_eq!(lab.entry.info.name, "bridge");
+}
+
+/// Every way a file can be bad gets one line naming the problem, and the running
+/// scene stays exactly as it was.
+#[test]
+fn bad_snapshots_get_one_line_and_change_nothing() {
+    let dir = scratch("bad");
+    let (mut lab, good) = lab_and_snapshot("springForces");
+    let json: Value = serde_json::from_str(&good).unwrap();
+    let edit = |change: &dyn Fn(&mut Value)| {
+        let mut copy = json.clone();
+        change(&mut copy);
+        serde_json::to_vec(&copy).unwrap()
+    };
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        ("empty", Vec::new(), "not a snapshot"),
+        ("truncated", good.as_bytes()[..good.len() / 2].to_vec(), "EOF while parsing"),
+        ("not JSON", b"\x00\x01binary".to_vec(), "not a snapshot"),
+        ("another format", br#"{"format": "something else", "version": 1}"#.to_vec(), "\"format\" field"),
+        ("newer", edit(&|v| v["version"] = (VERSION + 1).into()), "made by a newer particle-lab"),
+        ("unknown scene", edit(&|v| v["scene"] = "trampoline".into()), "unknown scene 'trampoline'"),
+        ("unknown parameter", edit(&|v| v["params"][0][0] = "spin".into()), "unknown parameter 'spin'"),
+        ("parameter out of range", edit(&|v| v["params"][0][1] = 1e6.into()), "out of range"),
+        (
+            "moved particle",
+            edit(&|v| v["world"]["particles"]["position"][0][1] = 7.5.into()),
+            "does not match its hash",
+        ),
+        (
+            "missing field",
+            edit(&|v| v["world"].as_object_mut().unwrap().remove("particles").map(|_| ()).unwrap()),
+            "missing field `particles`",
+        ),
+        ("zero dt", edit(&|v| v["dt"] = 0.0.into()), "dt = 0"),
+        (
+            "negative mass, no hash",
+            edit(&|v| {
+                v.as_object_mut().unwrap().remove("hash");
+                v["world"]["particles"]["inverse_mass"][0] = (-1.0).into();
+            }),
+            "inverse mass",
+        ),
+        (
+            "dangling link, no hash",
+            edit(&|v| {
+                v.as_object_mut().unwrap().remove("hash");
+                v["world"]["forces"][0][1]["a"] = 99.into();
+            }),
+            "does not exist",
+        ),
+        (
+            "short array, no hash",
+            edit(&|v| {
+                v.as_object_mut().unwrap().remove("hash");
+                v["world"]["particles"]["velocity"].as_array_mut().unwrap().pop();
+            }),
+            "different lengths",
+        ),
+    ];
+    for (what, bytes, expected) in cases {
+        let before = lab.state_hash();
+        let (steps, name) = (lab.scene.world().steps(), lab.scene.info().name);
+        let status = load_text(&mut lab, &dir, &bytes);
+        assert!(status.contains(expected), "{what}: '{status}' should say '{expected}'");
+        assert!(!status.contains('\n'), "{what}: one line: {status}");
+        assert!(status.contains("bad.json"), "{what}: names the file: {status}");
+        assert_eq!(
+            (lab.state_hash(), lab.scene.world().steps(), lab.scene.info().name),
+            (before, steps, name),
+            "{what}"
+        );
+    }
+    // And the command line says the same, in one line, with exit code 2.
+    let path = dir.join("newer.json");
+    std::fs::write(&path, edit(&|v| v["version"] = (VERSION + 1).into())).unwrap();
+    let output = run(&["simulate", "--from", path.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.starts_with("particle-lab: ") && stderr.contains("made by a newer particle-lab"),
+        "{stderr}"
+    );
+    let output = run(&["render", "--from", path.to_str().unwrap(), "--out", "x.png"]);
+    assert_eq!(output.status.code(), Some(2));
+    let missing = run(&["simulate", "--from", "/nonexistent/snap.json"]);
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("cannot read /nonexistent/snap.json"));
+}
+
+/// One snapshot of each scene, to cut and damage (made once).
+fn snapshots() -> &'static [String] {
+    static TEXTS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+    TEXTS.get_or_init(|| {
+        SCENES
+            .iter()
+            .map(|entry| {
+                let mut scene = scenes::build(entry.info.name, &quick_params(entry.info.name)).unwrap();
+                step(scene.as_mut(), 40, entry.info.dt);
+                Snapshot::of(scene.as_ref(), entry.info.dt).unwrap().to_json()
+            })
+            .collect()
+    })
+}
+
+/// Reads damaged text as the window and `--from` do; panics only if a load panics or
+/// an error is not one line.
+fn read_damaged(text: &[u8]) -> bool {
+    let Ok(text) = std::str::from_utf8(text) else { return false };
+    match Snapshot::from_json(text).and_then(|s| s.restore()) {
+        Ok(mut scene) => {
+            // What loads must also step.
+            let _ = scene.step(scene.info().dt);
+            true
+        }
+        Err(error) => {
+            assert!(!error.contains('\n'), "one line: {error}");
+            assert!(!error.is_empty());
+            false
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    #[test]
+    fn truncated_snapshots_are_refused(scene in 0..6usize, cut in 0.0..1.0f64) {
+        let texts = snapshots();
+        let text = texts[scene].as_bytes();
+        let end = ((text.len() as f64) * cut) as usize;
+        // Only a cut in the trailing whitespace could still load.
+        let loaded = read_damaged(&text[..end]);
+        prop_assert!(!loaded || text[end..].iter().all(u8::is_ascii_whitespace));
+    }
+
+    #[test]
+    fn mutated_snapshots_never_panic(scene in 0..6usize, at in 0.0..1.0f64, byte in any::<u8>()) {
+        let texts = snapshots();
+        let mut text = texts[scene].as_bytes().to_vec();
+        let i = ((text.len() as f64) * at) as usize % text.len();
+        text[i] = byte;
+        read_damaged(&text);
+    }
+}
