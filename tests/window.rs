@@ -167,9 +167,9 @@ fn a_person_switches_scene_drags_a_slider_pauses_resizes_minimises_and_closes() 
     pause();
 
     // Scene menu -> bridge.
-    display.xdotool(&["mousemove", "--window", &window, "26", "12", "click", "1"]);
+    display.xdotool(&["mousemove", "--window", &window, "58", "12", "click", "1"]);
     pause();
-    display.xdotool(&["mousemove", "--window", &window, "36", "85", "click", "1"]);
+    display.xdotool(&["mousemove", "--window", &window, "68", "85", "click", "1"]);
     app.expect_log("scene: bridge");
 
     // Drag the g slider (4th parameter, under the solver and integrator rows) to the right, in small
@@ -253,9 +253,9 @@ fn opens_on_the_scene_and_settings_given_picks_the_pile_and_its_solver_and_quits
     pause();
 
     // Scene menu -> pile (the fourth entry).
-    display.xdotool(&["mousemove", "--window", &window, "26", "12", "click", "1"]);
+    display.xdotool(&["mousemove", "--window", &window, "58", "12", "click", "1"]);
     pause();
-    display.xdotool(&["mousemove", "--window", &window, "36", "107", "click", "1"]);
+    display.xdotool(&["mousemove", "--window", &window, "68", "107", "click", "1"]);
     app.expect_log("scene: pile");
     // The solver menu under the run controls -> paper (the second entry).
     pause();
@@ -270,6 +270,34 @@ fn opens_on_the_scene_and_settings_given_picks_the_pile_and_its_solver_and_quits
     assert!(status.success(), "exit status {status}:\n{log}");
     assert!(log.contains("quit"), "{log}");
     assert!(!log.contains("panicked"), "{log}");
+    std::fs::remove_dir_all(&app.dir).ok();
+}
+
+#[test]
+fn the_window_left_alone_has_the_state_hash_simulate_prints_at_the_same_step() {
+    let display = Display::start();
+    let mut app = App::start(&display, &["--scene", "pendulum", "--set", "links=2"], "hash");
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    std::thread::sleep(Duration::from_millis(1500));
+    display.xdotool(&["key", "space"]);
+    let line = app.expect_log("paused at step");
+    // "... paused at step 123, state hash 0123456789abcdef"
+    let rest = line.split("paused at step ").nth(1).expect("the step");
+    let (step, hash) = rest.split_once(", state hash ").expect("the hash");
+    let step: u64 = step.trim().parse().expect("a step number");
+    assert!(step > 0, "{line}");
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["simulate", "--scene", "pendulum", "--set", "links=2", "--steps", &step.to_string()])
+        .args(["--every", &step.to_string()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let last: serde_json::Value = serde_json::from_str(stdout.lines().last().expect("a line")).unwrap();
+    assert_eq!(last["step"], step);
+    assert_eq!(last["hash"].as_str(), Some(hash.trim()), "window: {line}");
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
     std::fs::remove_dir_all(&app.dir).ok();
 }
 
