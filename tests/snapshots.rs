@@ -228,9 +228,13 @@ fn bad_snapshots_get_one_line_and_change_nothing() {
         serde_json::to_vec(&copy).unwrap()
     };
     let cases: Vec<(&str, Vec<u8>, &str)> = vec![
-        ("empty", Vec::new(), "not a snapshot"),
-        ("truncated", good.as_bytes()[..good.len() / 2].to_vec(), "EOF while parsing"),
-        ("not JSON", b"\x00\x01binary".to_vec(), "not a snapshot"),
+        ("empty", Vec::new(), "ends too early"),
+        (
+            "truncated",
+            good.as_bytes()[..good.len() / 2].to_vec(),
+            "ends too early (cut short?): EOF while parsing",
+        ),
+        ("not JSON", b"\x00\x01binary".to_vec(), "not valid JSON"),
         ("another format", br#"{"format": "something else", "version": 1}"#.to_vec(), "\"format\" field"),
         ("newer", edit(&|v| v["version"] = (VERSION + 1).into()), "made by a newer particle-lab"),
         ("unknown scene", edit(&|v| v["scene"] = "trampoline".into()), "unknown scene 'trampoline'"),

@@ -91,8 +91,13 @@ impl Snapshot {
     /// making sense, or which field is wrong.
     pub fn from_json(text: &str) -> Result<Self, String> {
         // Format and version first: a newer file's unknown fields are not its problem.
-        let value: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| format!("not a snapshot: {e}"))?;
+        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+            if e.is_eof() {
+                format!("the file ends too early (cut short?): {e}")
+            } else {
+                format!("not a snapshot (not valid JSON): {e}")
+            }
+        })?;
         let format = value.get("format").and_then(serde_json::Value::as_str);
         if format != Some(FORMAT) {
             return Err(format!("not a snapshot: its \"format\" field is not \"{FORMAT}\""));
