@@ -321,19 +321,23 @@ fn snapshots() -> &'static [String] {
     })
 }
 
-/// Reads damaged text as the window and `--from` do; panics only if a load panics or
-/// an error is not one line.
+/// Loads damaged text into a running lab as File → Load does. An error must be one
+/// line and leave the lab's scene exactly as it was; what loads must also step.
 fn read_damaged(text: &[u8]) -> bool {
+    let mut lab = Lab::new("pendulum", &[]).unwrap();
+    lab.run_steps(7);
+    let before = (lab.state_hash(), lab.scene.info().name, lab.scene.world().steps());
     let Ok(text) = std::str::from_utf8(text) else { return false };
-    match Snapshot::from_json(text).and_then(|s| s.restore()) {
-        Ok(mut scene) => {
-            // What loads must also step.
-            let _ = scene.step(scene.info().dt);
+    match Snapshot::from_json(text).and_then(|s| lab.load_snapshot(&s)) {
+        Ok(()) => {
+            lab.run_steps(1);
             true
         }
         Err(error) => {
             assert!(!error.contains('\n'), "one line: {error}");
             assert!(!error.is_empty());
+            let after = (lab.state_hash(), lab.scene.info().name, lab.scene.world().steps());
+            assert_eq!(after, before, "a refused file changed the running scene: {error}");
             false
         }
     }
