@@ -365,3 +365,26 @@ proptest! {
         read_damaged(&text);
     }
 }
+
+/// Compare can branch from now: the copy starts from a snapshot of the running scene.
+/// With a "change" to the setting already in use it runs bit for bit with the original;
+/// with a real one it differs, and the original runs on without starting again.
+#[test]
+fn compare_branches_from_now_through_a_snapshot() {
+    use particle_lab::ui::compare::Change;
+    let mut lab = Lab::new("springForces", &[]).unwrap();
+    lab.run_steps(100);
+    lab.branch_compare(Change::Integrator(Integrator::SemiImplicitEuler));
+    lab.run_steps(200);
+    assert_eq!(lab.scene.world().steps(), 300, "the original runs on");
+    let copy = lab.compare.as_ref().expect("a copy");
+    assert_eq!(copy.scene.world().state_hash(), lab.scene.world().state_hash());
+
+    lab.branch_compare(Change::Integrator(Integrator::ExplicitEuler));
+    lab.run_steps(200);
+    let copy = lab.compare.as_ref().expect("a copy");
+    assert_eq!(copy.scene.world().time(), lab.scene.world().time());
+    assert_eq!(copy.scene.world().solver().integrator, Integrator::ExplicitEuler);
+    assert_ne!(copy.scene.world().state_hash(), lab.scene.world().state_hash());
+    assert_eq!(lab.scene.world().steps(), 500);
+}

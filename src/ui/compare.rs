@@ -6,6 +6,7 @@
 use std::collections::VecDeque;
 
 use crate::physics::{Integrator, SolverKind, SolverSettings};
+use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{Scene, SceneEntry};
 
 use super::lab::EnergySample;
@@ -120,6 +121,28 @@ impl Compare {
             Change::Param(name, value) => scene.set_param(name, value).map_err(|e| e.to_string())?,
         }
         scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
+        let mut compare = Self { scene, change, dt, energy: VecDeque::new(), stopped: None };
+        compare.record();
+        Ok(compare)
+    }
+
+    /// A copy that starts from a snapshot of the running scene (taken at time step
+    /// `dt`) instead of from the beginning, then has `change` applied: what happens if
+    /// the integrator changed now. A parameter the scene cannot change in flight
+    /// rebuilds the copy from the beginning, as it would the original.
+    pub fn branch(snapshot: &Snapshot, change: Change) -> Result<Self, String> {
+        let mut scene = snapshot.restore()?;
+        let mut solver = *scene.world().solver();
+        let mut dt = snapshot.dt;
+        match change {
+            Change::Integrator(integrator) => solver.integrator = integrator,
+            Change::Solver(kind) => solver.kind = kind,
+            Change::Rate(rate) => dt = 1.0 / rate,
+            Change::Param(name, value) => scene.set_param(name, value).map_err(|e| e.to_string())?,
+        }
+        if solver != *scene.world().solver() {
+            scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
+        }
         let mut compare = Self { scene, change, dt, energy: VecDeque::new(), stopped: None };
         compare.record();
         Ok(compare)

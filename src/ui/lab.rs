@@ -434,6 +434,21 @@ impl Lab {
         self.reset();
     }
 
+    /// Starts a copy with `change` from the scene as it is now; the scene runs on
+    /// undisturbed. A reset later starts both from the beginning, as
+    /// [`Lab::start_compare`] does.
+    pub fn branch_compare(&mut self, change: Change) {
+        let branched = self.snapshot().and_then(|snapshot| Compare::branch(&snapshot, change));
+        match branched {
+            Ok(compare) => {
+                log::info!("compare from t = {:.3} s: {}", self.scene.world().time(), change.describe());
+                self.compare = Some(compare);
+                self.compare_change = Some(change);
+            }
+            Err(error) => self.status = error,
+        }
+    }
+
     /// Stops the copy.
     pub fn stop_compare(&mut self) {
         self.compare = None;

@@ -512,13 +512,25 @@ fn compare_controls(ui: &mut egui::Ui, lab: &mut Lab) {
             }
         }
         lab.compare_draft = draft;
-        if ui
-            .button("Run the copy")
-            .on_hover_text("Both the scene and its copy start again from the beginning")
-            .clicked()
-        {
-            lab.start_compare(draft);
-        }
+        ui.horizontal(|ui| {
+            if ui
+                .button("Run the copy")
+                .on_hover_text("Both the scene and its copy start again from the beginning")
+                .clicked()
+            {
+                lab.start_compare(draft);
+            }
+            if ui
+                .button("Branch from now")
+                .on_hover_text(
+                    "The copy starts from the scene as it is now (a snapshot), with the one setting \
+                     changed; the scene runs on undisturbed",
+                )
+                .clicked()
+            {
+                lab.branch_compare(draft);
+            }
+        });
     });
 }
 
