@@ -9,5 +9,6 @@ pub mod cli;
 pub mod physics;
 pub mod render;
 pub mod scenes;
+pub mod settings;
 pub mod snapshot;
 pub mod ui;
