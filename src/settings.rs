@@ -372,7 +372,8 @@ impl Settings {
             self.scene,
             params.join(" "),
             self.solver.integrator,
-            self.physics_rate,
+            // 1 / (1/240) in f32 is 239.99998: the log shows it as the panel does.
+            (self.physics_rate * 1000.0).round() / 1000.0,
             self.time_scale,
             self.view.on().join(" "),
             self.window.width,
