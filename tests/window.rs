@@ -321,7 +321,7 @@ fn the_window_comes_back_as_it_was_left_and_fresh_starts_from_the_defaults() {
     app.expect_log("set bridge.g = ");
     pause();
     let log = app.log();
-    let last_set = log.lines().filter(|l| l.contains("set bridge.g = ")).last().unwrap();
+    let last_set = log.lines().rfind(|l| l.contains("set bridge.g = ")).unwrap();
     let g = last_set.rsplit(' ').next().unwrap().trim().to_string();
     assert_ne!(g, "9.81", "the drag changed g");
     display.xdotool(&["key", "v"]);
