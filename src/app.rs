@@ -90,8 +90,11 @@ impl App {
 
     /// Writes the settings now, as the window closes.
     fn save_settings(&mut self) {
-        self.store.save_reporting(&Settings::of(&self.lab, self.window_size));
-        log::info!("settings saved to {}", self.store.path().map_or("nowhere".into(), |p| p.display().to_string()));
+        if self.store.save_reporting(&Settings::of(&self.lab, self.window_size))
+            && let Some(path) = self.store.path()
+        {
+            log::info!("settings saved to {}", path.display());
+        }
     }
 }
 

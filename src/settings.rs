@@ -594,16 +594,24 @@ impl Store {
         self.save_reporting(&current());
     }
 
-    /// Saves now (on exit), reporting a failure as [`Self::autosave`] does.
-    pub fn save_reporting(&mut self, settings: &Settings) {
+    /// Saves now (on exit), reporting a failure as [`Self::autosave`] does; true if
+    /// the file holds `settings` afterwards.
+    pub fn save_reporting(&mut self, settings: &Settings) -> bool {
         match self.save(settings) {
-            Ok(true) => log::debug!("settings saved"),
-            Ok(false) => {}
-            Err(message) if !self.save_failed => {
-                self.save_failed = true;
-                eprintln!("particle-lab: {message}");
+            Ok(wrote) => {
+                if wrote {
+                    log::debug!("settings saved");
+                }
+                self.path.is_some()
             }
-            Err(message) => log::debug!("{message}"),
+            Err(message) => {
+                if std::mem::replace(&mut self.save_failed, true) {
+                    log::debug!("{message}");
+                } else {
+                    eprintln!("particle-lab: {message}");
+                }
+                false
+            }
         }
     }
 }
@@ -626,6 +634,8 @@ pub struct Opened {
 /// saved settings (unless `--fresh`, or there are none or they are unusable), with
 /// whatever the command line typed winning. An error is a bad command line.
 pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
+    // A mistyped scene is refused before the file is touched.
+    let typed_scene = launch.scene.as_deref().map(scenes::find).transpose()?.map(|entry| entry.info.name);
     let place =
         store.path().map_or_else(|| "nowhere (no config directory)".to_string(), |p| p.display().to_string());
     let (saved, origin, warning) = if launch.fresh {
@@ -641,11 +651,7 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
     };
     let resolved = saved.as_ref().map(Settings::resolve).transpose()?;
     let saved_scene = resolved.as_ref().map(|r| r.entry.info.name);
-    let scene = match (&launch.scene, saved_scene) {
-        (Some(typed), _) => scenes::find(typed)?.info.name,
-        (None, Some(saved)) => saved,
-        (None, None) => DEFAULT_SCENE,
-    };
+    let scene = typed_scene.or(saved_scene).unwrap_or(DEFAULT_SCENE);
     let same_scene = saved_scene == Some(scene);
     // The saved values first, then `--set` over them: the later assignment wins.
     let mut assignments: Vec<String> = Vec::new();

@@ -191,6 +191,13 @@ fn typed_flags_win_over_the_saved_settings_each_on_its_own() {
             .unwrap();
     assert!(error.contains("unknown scene 'nope'"), "{error}");
     assert!(dir.join(FILE_NAME).exists());
+    // A mistyped scene is refused before the file is looked at: even a bad one stays.
+    std::fs::write(dir.join(FILE_NAME), "not json").unwrap();
+    assert!(
+        settings::open(&Launch { scene: Some("nope".into()), ..Launch::default() }, Store::in_dir(&dir))
+            .is_err()
+    );
+    assert_eq!(std::fs::read_to_string(dir.join(FILE_NAME)).unwrap(), "not json");
 }
 
 #[test]
