@@ -467,3 +467,45 @@ proptest! {
         std::fs::remove_dir_all(&dir).ok();
     }
 }
+
+/// The startup line of the real binary opened on `args` with the settings in `dir`
+/// (no display: the settings are read and logged before the window is asked for).
+fn startup_line(dir: &Path, args: &[&str]) -> String {
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(args)
+        .env("XDG_CONFIG_HOME", dir)
+        .env("RUST_LOG", "warn,particle_lab=info")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    stderr
+        .lines()
+        .find(|l| l.contains("particle_lab::app] settings "))
+        .unwrap_or_else(|| panic!("{stderr}"))
+        .to_string()
+}
+
+#[test]
+fn the_binary_tells_typed_flags_from_their_defaults() {
+    let dir = temp_dir("typed");
+    std::fs::create_dir_all(dir.join("particle-lab")).unwrap();
+    Store::in_dir(&dir.join("particle-lab")).save(&Settings::of(&changed_lab(), [1000, 650])).unwrap();
+    let line = startup_line(&dir, &[]);
+    assert!(
+        line.contains("settings restored from ") && line.contains("solver paper, integrator rk4"),
+        "{line}"
+    );
+    // Typed at their default values, they still win over the saved paper solver and rk4.
+    let line = startup_line(&dir, &["--solver", "soft", "--integrator", "semi-implicit-euler"]);
+    assert!(line.contains("from the command line: --solver --integrator"), "{line}");
+    assert!(line.contains("solver soft (9 substeps), integrator semi-implicit-euler"), "{line}");
+    let line = startup_line(&dir, &["--substeps", "4", "--set", "g=3"]);
+    assert!(line.contains("scene bridge [g=3 load_mass=10 load_x=2.5"), "{line}");
+    assert!(line.contains("solver paper, integrator rk4"), "{line}");
+    let line = startup_line(&dir, &["--fresh", "--scene", "cradle"]);
+    assert!(line.contains("settings --fresh: starting from the defaults"), "{line}");
+    assert!(line.contains("scene cradle [") && line.contains("solver soft (4 substeps)"), "{line}");
+}
