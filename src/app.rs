@@ -12,6 +12,7 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::window::{Window, WindowId};
 
 use crate::render::{Gpu, GpuError, OffscreenTarget};
+use crate::settings::{self, Launch, Settings, Store};
 use crate::ui::paint::{Painter, UiFrame};
 use crate::ui::{self, Lab};
 
@@ -24,20 +25,22 @@ pub enum AppError {
     Fatal(String),
 }
 
-/// Opens the window on `scene` with `KEY=VALUE` settings and runs until it is closed.
-pub fn run(
-    scene: &str,
-    assignments: &[String],
-    solver: crate::physics::SolverSettings,
-) -> Result<(), AppError> {
-    let lab = Lab::with_solver(scene, assignments, solver).map_err(AppError::Usage)?;
+/// Opens the window as the command line and the saved settings say (see
+/// [`settings`]) and runs until it is closed, keeping the settings as it goes.
+pub fn run(launch: &Launch) -> Result<(), AppError> {
+    let opened = settings::open(launch, Store::from_platform()).map_err(AppError::Usage)?;
+    if let Some(warning) = &opened.warning {
+        eprintln!("{warning}");
+    }
+    log::info!("{}", opened.summary);
+    let settings::Opened { lab, window: window_size, store, .. } = opened;
     let event_loop = EventLoop::new().map_err(|e| {
         AppError::Fatal(format!(
             "cannot open a window: no display ({e}); run it on a desktop, or under a virtual \
              display: apt-get install xvfb, then 'Xvfb :99 &' and 'DISPLAY=:99 particle-lab'"
         ))
     })?;
-    let mut app = App { lab, window: None, error: None, timing_logged: Instant::now() };
+    let mut app = App { lab, window: None, error: None, timing_logged: Instant::now(), store, window_size };
     event_loop
         .run_app(&mut app)
         .map_err(|e| AppError::Fatal(format!("the window's event loop failed: {e}")))?;
@@ -53,6 +56,10 @@ struct App {
     error: Option<String>,
     /// When the frame timings last went to the debug log.
     timing_logged: Instant,
+    /// The settings file, written every few seconds when something changed and on exit.
+    store: Store,
+    /// The window's inner size as last seen, not minimised (logical pixels).
+    window_size: [u32; 2],
 }
 
 /// How often the frame timings go to the log at debug level (`RUST_LOG=particle_lab=debug`),
@@ -80,6 +87,15 @@ impl App {
         self.error = Some(message);
         event_loop.exit();
     }
+
+    /// Writes the settings now, as the window closes.
+    fn save_settings(&mut self) {
+        if self.store.save_reporting(&Settings::of(&self.lab, self.window_size))
+            && let Some(path) = self.store.path()
+        {
+            log::info!("settings saved to {}", path.display());
+        }
+    }
 }
 
 impl ApplicationHandler for App {
@@ -87,7 +103,7 @@ impl ApplicationHandler for App {
         if self.window.is_some() {
             return;
         }
-        match WindowState::new(event_loop) {
+        match WindowState::new(event_loop, self.window_size) {
             Ok(state) => {
                 log::info!("window open: scene {}", self.lab.entry.info.name);
                 self.window = Some(state);
@@ -106,10 +122,15 @@ impl ApplicationHandler for App {
         match event {
             WindowEvent::CloseRequested => {
                 log::info!("window closed");
+                self.save_settings();
                 event_loop.exit();
             }
             WindowEvent::Resized(size) => {
                 state.visible = size.width > 0 && size.height > 0;
+                if state.visible {
+                    let logical = size.to_logical::<f64>(state.window.scale_factor());
+                    self.window_size = [logical.width.round() as u32, logical.height.round() as u32];
+                }
                 state.resize(size.width, size.height);
                 state.window.request_redraw();
             }
@@ -139,8 +160,11 @@ impl ApplicationHandler for App {
                 }
                 if self.lab.requests.quit {
                     log::info!("quit");
+                    self.save_settings();
                     event_loop.exit();
+                    return;
                 }
+                self.store.autosave(|| Settings::of(&self.lab, self.window_size));
             }
             _ => {}
         }
@@ -156,11 +180,13 @@ impl ApplicationHandler for App {
 }
 
 impl WindowState {
-    fn new(event_loop: &ActiveEventLoop) -> Result<Self, String> {
+    /// Opens a window of `size` logical pixels.
+    fn new(event_loop: &ActiveEventLoop, size: [u32; 2]) -> Result<Self, String> {
+        let [min_width, min_height] = settings::MIN_WINDOW;
         let attributes = Window::default_attributes()
             .with_title("particle-lab")
-            .with_inner_size(LogicalSize::new(1280.0, 720.0))
-            .with_min_inner_size(LogicalSize::new(320.0, 240.0));
+            .with_inner_size(LogicalSize::new(size[0], size[1]))
+            .with_min_inner_size(LogicalSize::new(min_width, min_height));
         let window = Arc::new(
             event_loop.create_window(attributes).map_err(|e| format!("cannot create the window: {e}"))?,
         );

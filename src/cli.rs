@@ -31,6 +31,10 @@ pub struct Cli {
     /// Solver choice for the window.
     #[command(flatten)]
     pub solver: SolverArgs,
+    /// Open the window with the default settings, without reading the saved ones
+    /// (they are replaced on exit).
+    #[arg(long)]
+    pub fresh: bool,
 }
 
 /// The solver flags shared by the window, `simulate` and `render`.

@@ -3,11 +3,13 @@
 //! - [`physics`]: the engine (particles, forces, contacts, links, world). No graphics.
 //! - [`scenes`]: the demos as data: each builds a world and declares its parameters.
 //! - [`cli`]: the command line (`scenes`, `simulate`).
+//! - [`settings`]: what the window remembers from one launch to the next.
 
 pub mod app;
 pub mod cli;
 pub mod physics;
 pub mod render;
 pub mod scenes;
+pub mod settings;
 pub mod snapshot;
 pub mod ui;

@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use particle_lab::app::{self, AppError};
 use particle_lab::cli::{self, Command, USAGE_ERROR};
+use particle_lab::settings::Launch;
 
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn,particle_lab=info"))
@@ -33,12 +34,7 @@ fn main() -> ExitCode {
                 ExitCode::from(code)
             }
         },
-        None => match args
-            .solver
-            .settings()
-            .map_err(AppError::Usage)
-            .and_then(|solver| app::run(args.scene.as_deref().unwrap_or("projectile"), &args.set, solver))
-        {
+        None => match Launch::from_cli(&args).map_err(AppError::Usage).and_then(|launch| app::run(&launch)) {
             Ok(()) => ExitCode::SUCCESS,
             Err(AppError::Usage(message)) => usage_error(&message),
             Err(AppError::Fatal(message)) => {

@@ -13,10 +13,17 @@ struct Display {
     name: String,
     server: Child,
     window_manager: Child,
+    /// One display at a time: windows drawn side by side on a software GPU, on a busy
+    /// machine, can take longer than the tests' pauses to draw their first frame.
+    _serial: std::sync::MutexGuard<'static, ()>,
 }
+
+static ONE_DISPLAY_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 impl Display {
     fn start() -> Self {
+        // A test that failed holding the lock has let go of its display all the same.
+        let serial = ONE_DISPLAY_AT_A_TIME.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         for tool in ["Xvfb", "xdotool", "openbox", "wmctrl", "import"] {
             let found = Command::new("sh").args(["-c", &format!("command -v {tool}")]).output().unwrap();
             assert!(found.status.success(), "{tool} is missing; 'bash scripts/test.sh' installs it");
@@ -38,7 +45,7 @@ impl Display {
             .stderr(Stdio::null())
             .spawn()
             .expect("openbox starts");
-        let display = Self { name, server, window_manager };
+        let display = Self { name, server, window_manager, _serial: serial };
         wait_until("the window manager", || {
             Command::new("wmctrl")
                 .env("DISPLAY", &display.name)
@@ -84,14 +91,24 @@ struct App {
 }
 
 impl App {
+    /// Starts the app with settings of its own (a fresh config directory), so that a
+    /// developer's saved settings never change what a test sees.
     fn start(display: &Display, args: &[&str], tag: &str) -> Self {
-        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("window-{tag}-{}", std::process::id()));
+        let config = test_dir(tag).join("config");
+        let _ = std::fs::remove_dir_all(&config);
+        Self::start_with_config(display, args, tag, &config)
+    }
+
+    /// Starts the app with its settings in `config` (its `XDG_CONFIG_HOME`).
+    fn start_with_config(display: &Display, args: &[&str], tag: &str, config: &Path) -> Self {
+        let dir = test_dir(tag);
         std::fs::create_dir_all(&dir).unwrap();
         let log = dir.join("app.log");
         let child = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
             .args(args)
             .current_dir(&dir)
             .env("DISPLAY", &display.name)
+            .env("XDG_CONFIG_HOME", config)
             .env("RUST_LOG", "warn,particle_lab=info")
             .env_remove("WAYLAND_DISPLAY")
             .stdout(Stdio::null())
@@ -152,6 +169,11 @@ impl Drop for App {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// A directory of the test's own under the target directory.
+fn test_dir(tag: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("window-{tag}-{}", std::process::id()))
 }
 
 fn pause() {
@@ -302,8 +324,89 @@ fn the_window_left_alone_has_the_state_hash_simulate_prints_at_the_same_step() {
 }
 
 #[test]
+fn the_window_comes_back_as_it_was_left_and_fresh_starts_from_the_defaults() {
+    let display = Display::start();
+    let config = test_dir("settings-config");
+    let _ = std::fs::remove_dir_all(&config);
+
+    // First launch: nothing saved yet.
+    let mut app = App::start_with_config(&display, &[], "settings-1", &config);
+    let window = app.window(&display);
+    app.expect_log("settings none saved yet at ");
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    // Scene menu -> bridge; drag its g slider right; the side view on; a smaller window.
+    display.xdotool(&["mousemove", "--window", &window, "58", "12", "click", "1"]);
+    pause();
+    display.xdotool(&["mousemove", "--window", &window, "68", "85", "click", "1"]);
+    app.expect_log("scene: bridge");
+    display.xdotool(&["mousemove", "--window", &window, "41", "314", "mousedown", "1"]);
+    for step in 1..=6 {
+        std::thread::sleep(Duration::from_millis(100));
+        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "314"]);
+    }
+    display.xdotool(&["mouseup", "1"]);
+    app.expect_log("set bridge.g = ");
+    pause();
+    let log = app.log();
+    let last_set = log.lines().rfind(|l| l.contains("set bridge.g = ")).unwrap();
+    let g = last_set.rsplit(' ').next().unwrap().trim().to_string();
+    assert_ne!(g, "9.81", "the drag changed g");
+    display.xdotool(&["key", "v"]);
+    app.expect_log("side view: true");
+    display.xdotool(&["windowsize", &window, "900", "600"]);
+    app.expect_log("resized to 900x600");
+    pause();
+    display.xdotool(&["key", "ctrl+q"]);
+    let status = app.wait_exit();
+    assert!(status.success(), "exit status {status}:
+{}", app.log());
+    app.expect_log("settings saved to ");
+    let file = config.join("particle-lab").join("settings.json");
+    let saved: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(saved["scene"], "bridge", "{saved}");
+    assert_eq!(saved["view"]["side_view"], true, "{saved}");
+    assert_eq!(saved["window"]["width"], 900, "{saved}");
+
+    // Second launch, same config: the bridge, its g, the side view and the size are back.
+    let mut app = App::start_with_config(&display, &[], "settings-2", &config);
+    let window = app.window(&display);
+    app.expect_log("window open: scene bridge");
+    let restored = app.expect_log("settings restored from ");
+    assert!(restored.contains("scene bridge [") && restored.contains(&format!("g={g} ")), "g={g}: {restored}");
+    assert!(restored.contains(" side") && restored.contains("window 900x600"), "{restored}");
+    let geometry = display.xdotool(&["getwindowgeometry", &window]);
+    assert!(geometry.contains("Geometry: 900x600"), "{geometry}");
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    // The side view is on: V turns it off, as a person would find it.
+    display.xdotool(&["key", "v"]);
+    app.expect_log("side view: false");
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+
+    // --fresh: the defaults, whatever was saved.
+    let mut app = App::start_with_config(&display, &["--fresh"], "settings-3", &config);
+    let window = app.window(&display);
+    app.expect_log("window open: scene projectile");
+    app.expect_log("settings --fresh: starting from the defaults");
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    let log = app.log();
+    assert!(!log.contains("settings restored"), "{log}");
+    assert!(!log.contains("panicked"), "{log}");
+    for tag in ["settings-1", "settings-2", "settings-3", "settings-config"] {
+        std::fs::remove_dir_all(test_dir(tag)).ok();
+    }
+}
+
+#[test]
 fn without_a_display_it_says_what_is_missing() {
+    let config = test_dir("no-display").join("config");
     let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .env("XDG_CONFIG_HOME", &config)
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
         .env_remove("WAYLAND_SOCKET")

@@ -199,6 +199,8 @@ pub struct Lab {
     pub compare: Option<Compare>,
     /// The change the Compare section has ready to run.
     pub compare_draft: Change,
+    /// The Compare section is expanded (kept with the settings).
+    pub compare_open: bool,
     /// What the copy changes; kept so a reset rebuilds it.
     compare_change: Option<Change>,
     /// The 2D side view: an orthographic camera looking along -z.
@@ -281,6 +283,7 @@ impl Lab {
             compare: None,
             compare_change: None,
             compare_draft: Change::Integrator(crate::physics::Integrator::ExplicitEuler),
+            compare_open: false,
             hovered: None,
             grab: None,
             selected: None,
@@ -358,6 +361,35 @@ impl Lab {
         } else if !crowded && std::mem::take(&mut self.msaa_dropped) && !self.view.msaa {
             self.view.msaa = true;
             log::info!("anti-aliasing back on");
+        }
+    }
+
+    /// "Restore defaults": the scene's parameters, the solver, integrator, physics rate,
+    /// time scale and view toggles go back to their defaults, and the scene starts again.
+    /// The scene, the camera (unless the side view was on), the panel and a running
+    /// comparison stay.
+    pub fn restore_defaults(&mut self) {
+        log::info!("restore defaults: {}", self.entry.info.name);
+        self.solver = SolverSettings::default();
+        self.physics_rate = 1.0 / self.entry.info.dt;
+        self.time_scale = 1.0;
+        self.view = ViewOptions::default();
+        self.apply_scene_view();
+        if self.side_view {
+            self.set_side_view(false);
+        }
+        self.follow = false;
+        self.scene = self.entry.create_default();
+        self.restart();
+        // A crowd keeps MSAA off, as when it was first built.
+        self.crowded = false;
+        self.msaa_dropped = false;
+        self.follow_crowd();
+        if self.status.is_empty() {
+            self.status = format!(
+                "Defaults restored for {}: parameters, solver, integrator, physics rate and view",
+                self.entry.info.name
+            );
         }
     }
 

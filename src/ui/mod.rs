@@ -280,6 +280,13 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
         if ui.button("Reset").on_hover_text("R").clicked() {
             lab.reset();
         }
+        if ui
+            .button("Restore defaults")
+            .on_hover_text("The scene's parameters, solver, integrator, physics rate and view back to their defaults")
+            .clicked()
+        {
+            lab.restore_defaults();
+        }
     });
     ui.add(
         egui::Slider::new(&mut lab.time_scale, TIME_SCALE.clone())
@@ -443,7 +450,8 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
 fn compare_controls(ui: &mut egui::Ui, lab: &mut Lab) {
     use compare::Change;
     let header = if lab.compare.is_some() { "Compare (running)" } else { "Compare" };
-    egui::CollapsingHeader::new(header).id_salt("compare").show(ui, |ui| {
+    let section = egui::CollapsingHeader::new(header).id_salt("compare").default_open(lab.compare_open);
+    let shown = section.show(ui, |ui| {
         if let Some(running) = &lab.compare {
             ui.colored_label(srgb(paint::COMPARE_COLOR), format!("copy: {}", running.change.describe()))
                 .on_hover_text(
@@ -532,6 +540,10 @@ fn compare_controls(ui: &mut egui::Ui, lab: &mut Lab) {
             }
         });
     });
+    // Kept with the settings once the section has finished opening or closing.
+    if shown.openness == 0.0 || shown.openness == 1.0 {
+        lab.compare_open = shown.openness == 1.0;
+    }
 }
 
 /// `ms` milliseconds, as µs below one.

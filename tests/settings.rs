@@ -1,0 +1,511 @@
+//! Settings that persist (issue 10, section 3): the round trip through the file, what
+//! the command line overrides, `--fresh`, Restore defaults, and every kind of unusable
+//! file (each set aside with one warning line, the lab left at its defaults), with a
+//! property test over truncated and mutated files.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use glam::Vec3;
+use particle_lab::physics::{Integrator, SolverKind, SolverSettings};
+use particle_lab::render::ViewOptions;
+use particle_lab::settings::{self, FILE_NAME, Launch, Loaded, Settings, Store};
+use particle_lab::ui::Lab;
+use proptest::prelude::*;
+
+/// A fresh, empty directory for one test's settings.
+fn temp_dir(tag: &str) -> PathBuf {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNT.fetch_add(1, Ordering::Relaxed);
+    let dir =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("settings-{tag}-{}-{n}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A bridge lab with something changed in every part that persists.
+fn changed_lab() -> Lab {
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    lab.set_param("g", 5.0);
+    lab.set_param("load_x", 2.5);
+    lab.set_solver(SolverSettings {
+        kind: SolverKind::Paper,
+        integrator: Integrator::Rk4,
+        substeps: 9,
+        ..SolverSettings::default()
+    });
+    lab.physics_rate = 120.0;
+    lab.time_scale = 0.5;
+    lab.view.tension_colors = true;
+    lab.view.grid = false;
+    lab.view.msaa = false;
+    lab.view.trails = false;
+    lab.view.contacts = true;
+    lab.camera.target = Vec3::new(1.0, 2.0, -3.0);
+    lab.camera.distance = 7.5;
+    lab.camera.yaw = 0.75;
+    lab.camera.pitch = 0.25;
+    lab.camera_moved = true;
+    lab.panel_open = false;
+    lab.show_help = true;
+    lab.compare_open = true;
+    lab
+}
+
+/// What a window opened with no settings and no flags shows.
+fn defaults() -> Settings {
+    Settings::of(&Lab::new(settings::DEFAULT_SCENE, &[]).unwrap(), settings::DEFAULT_WINDOW)
+}
+
+fn open(launch: &Launch, dir: &Path) -> settings::Opened {
+    settings::open(launch, Store::in_dir(dir)).unwrap()
+}
+
+#[test]
+fn everything_saved_comes_back_at_the_next_launch() {
+    let dir = temp_dir("round-trip");
+    let saved = Settings::of(&changed_lab(), [1000, 650]);
+    assert!(Store::in_dir(&dir).save(&saved).unwrap(), "a first save writes the file");
+
+    let opened = open(&Launch::default(), &dir);
+    assert_eq!(opened.warning, None);
+    assert_eq!(Settings::of(&opened.lab, opened.window), saved, "every saved field comes back");
+    let lab = &opened.lab;
+    assert_eq!(lab.entry.info.name, "bridge");
+    assert_eq!(lab.scene.params().get("g"), 5.0);
+    assert_eq!(lab.scene.params().get("load_x"), 2.5);
+    assert_eq!(lab.scene.params().get("load_mass"), 10.0, "an unchanged parameter keeps its default");
+    let solver = lab.solver();
+    assert_eq!((solver.kind, solver.integrator, solver.substeps), (SolverKind::Paper, Integrator::Rk4, 9));
+    assert_eq!(lab.scene.world().solver().kind, SolverKind::Paper, "the world runs the saved solver");
+    assert_eq!((lab.physics_rate, lab.time_scale), (120.0, 0.5));
+    assert!(
+        lab.view.tension_colors && lab.view.contacts && !lab.view.grid && !lab.view.msaa && !lab.view.trails
+    );
+    assert!(!lab.follow && !lab.side_view);
+    assert_eq!(lab.camera.distance, 7.5);
+    assert_eq!((lab.camera.yaw, lab.camera.pitch), (0.75, 0.25));
+    assert!(lab.camera_moved, "a restored camera is not reframed when the window's shape is first seen");
+    assert!(!lab.panel_open && lab.show_help && lab.compare_open);
+    assert_eq!(opened.window, [1000, 650]);
+    assert!(opened.summary.starts_with("settings restored from "), "{}", opened.summary);
+    assert!(
+        opened
+            .summary
+            .contains("scene bridge [g=5 load_mass=10 load_x=2.5 load_z=0.5], solver paper, integrator rk4"),
+        "{}",
+        opened.summary
+    );
+}
+
+#[test]
+fn the_file_is_pretty_versioned_json_and_unchanged_settings_are_not_rewritten() {
+    let dir = temp_dir("format");
+    let mut store = Store::in_dir(&dir);
+    let saved = Settings::of(&changed_lab(), [800, 600]);
+    assert!(store.save(&saved).unwrap());
+    let text = std::fs::read_to_string(dir.join(FILE_NAME)).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["version"], 1);
+    assert_eq!(json["scene"], "bridge");
+    assert_eq!(json["params"]["g"], 5.0);
+    assert_eq!(json["solver"]["kind"], "paper");
+    assert_eq!(json["solver"]["integrator"], "rk4");
+    assert_eq!(json["view"]["tension_colors"], true);
+    assert_eq!(json["window"]["width"], 800);
+    assert!(text.lines().count() > 30, "one field a line, for a person to read:\n{text}");
+    assert!(!store.save(&saved).unwrap(), "the same settings are not written twice");
+    assert!(!dir.join("settings.json.tmp").exists(), "the temporary file is renamed into place");
+}
+
+#[test]
+fn a_first_launch_and_fresh_start_from_the_defaults_and_fresh_does_not_read_the_file() {
+    let dir = temp_dir("fresh");
+    let first = open(&Launch::default(), &dir);
+    assert_eq!(Settings::of(&first.lab, first.window), defaults());
+    assert!(first.summary.starts_with("settings none saved yet at "), "{}", first.summary);
+
+    std::fs::write(dir.join(FILE_NAME), Settings::of(&changed_lab(), [900, 700]).to_text()).unwrap();
+    let before = std::fs::read(dir.join(FILE_NAME)).unwrap();
+    let fresh = open(&Launch { fresh: true, ..Launch::default() }, &dir);
+    assert_eq!(Settings::of(&fresh.lab, fresh.window), defaults(), "--fresh ignores the saved bridge");
+    assert!(fresh.summary.starts_with("settings --fresh: starting from the defaults"), "{}", fresh.summary);
+    assert_eq!(std::fs::read(dir.join(FILE_NAME)).unwrap(), before, "--fresh leaves the file alone");
+
+    // Even an unusable file is not looked at with --fresh.
+    std::fs::write(dir.join(FILE_NAME), "{ not json").unwrap();
+    let fresh = open(&Launch { fresh: true, ..Launch::default() }, &dir);
+    assert_eq!(fresh.warning, None);
+    assert!(dir.join(FILE_NAME).exists() && !dir.join("settings.json.bad").exists());
+}
+
+#[test]
+fn typed_flags_win_over_the_saved_settings_each_on_its_own() {
+    let dir = temp_dir("flags");
+    Store::in_dir(&dir).save(&Settings::of(&changed_lab(), [1000, 650])).unwrap();
+
+    // --solver soft: the saved integrator and substeps stay.
+    let opened = open(&Launch { solver: Some(SolverKind::Soft), ..Launch::default() }, &dir);
+    let solver = opened.lab.solver();
+    assert_eq!((solver.kind, solver.integrator, solver.substeps), (SolverKind::Soft, Integrator::Rk4, 9));
+    assert!(opened.summary.contains("from the command line: --solver"), "{}", opened.summary);
+
+    // --integrator and --substeps alone.
+    let launch = Launch { integrator: Some(Integrator::Verlet), substeps: Some(2), ..Launch::default() };
+    let solver = open(&launch, &dir).lab.solver();
+    assert_eq!((solver.kind, solver.integrator, solver.substeps), (SolverKind::Paper, Integrator::Verlet, 2));
+
+    // --set on the saved scene: over the saved values.
+    let opened = open(&Launch { set: vec!["g=7".into()], ..Launch::default() }, &dir);
+    let params = opened.lab.scene.params();
+    assert_eq!((params.get("g"), params.get("load_x")), (7.0, 2.5));
+    assert_eq!(opened.lab.physics_rate, 120.0);
+
+    // --scene naming the saved scene: the same as not typing it.
+    let opened = open(&Launch { scene: Some("Bridge".into()), ..Launch::default() }, &dir);
+    assert_eq!(opened.lab.scene.params().get("load_x"), 2.5);
+    assert_eq!(opened.lab.camera.distance, 7.5);
+
+    // Another scene: its own parameters, rate, camera, trails and colours; the rest saved.
+    let opened = open(&Launch { scene: Some("pendulum".into()), ..Launch::default() }, &dir);
+    let lab = &opened.lab;
+    assert_eq!(lab.entry.info.name, "pendulum");
+    assert_eq!(lab.scene.params().get("g"), 9.81, "the bridge's g does not carry over");
+    assert_eq!(lab.physics_rate, Lab::new("pendulum", &[]).unwrap().physics_rate, "the pendulum's own rate");
+    assert!(!lab.camera_moved, "the bridge's camera is not put on the pendulum");
+    assert!(lab.view.trails, "the pendulum's own trails");
+    assert_eq!(lab.solver().kind, SolverKind::Paper, "the saved solver still applies");
+    assert!(lab.view.tension_colors && !lab.view.grid && !lab.panel_open);
+
+    // A bad flag is still a usage error, and the file stays.
+    let error =
+        settings::open(&Launch { set: vec!["bogus=1".into()], ..Launch::default() }, Store::in_dir(&dir))
+            .err()
+            .unwrap();
+    assert!(error.contains("unknown parameter 'bogus'"), "{error}");
+    let error =
+        settings::open(&Launch { scene: Some("nope".into()), ..Launch::default() }, Store::in_dir(&dir))
+            .err()
+            .unwrap();
+    assert!(error.contains("unknown scene 'nope'"), "{error}");
+    assert!(dir.join(FILE_NAME).exists());
+    // A mistyped scene is refused before the file is looked at: even a bad one stays.
+    std::fs::write(dir.join(FILE_NAME), "not json").unwrap();
+    assert!(
+        settings::open(&Launch { scene: Some("nope".into()), ..Launch::default() }, Store::in_dir(&dir))
+            .is_err()
+    );
+    assert_eq!(std::fs::read_to_string(dir.join(FILE_NAME)).unwrap(), "not json");
+}
+
+#[test]
+fn a_saved_side_view_comes_back_orthographic_with_its_camera() {
+    let dir = temp_dir("side");
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    lab.set_side_view(true);
+    // Follow comes back too (it then puts the target on the round at the launcher).
+    lab.follow = true;
+    lab.camera.target.x = 12.0;
+    lab.camera.distance = 30.0;
+    lab.camera_moved = true;
+    Store::in_dir(&dir).save(&Settings::of(&lab, [1280, 720])).unwrap();
+    let opened = open(&Launch::default(), &dir);
+    assert!(opened.lab.side_view && opened.lab.follow, "{}", opened.summary);
+    assert!(opened.lab.camera.orthographic);
+    assert_eq!(opened.lab.camera.distance, 30.0);
+    assert_eq!((opened.lab.camera.yaw, opened.lab.camera.pitch), (0.0, 0.0));
+}
+
+#[test]
+fn restore_defaults_resets_parameters_solver_rate_and_view_and_keeps_the_scene_and_camera() {
+    let mut lab = changed_lab();
+    lab.follow = true;
+    let camera = lab.camera;
+    lab.restore_defaults();
+    assert_eq!(lab.entry.info.name, "bridge");
+    let fresh = Lab::new("bridge", &[]).unwrap();
+    assert_eq!(lab.scene.params(), fresh.scene.params());
+    assert_eq!(lab.solver(), SolverSettings::default());
+    assert_eq!(*lab.scene.world().solver(), SolverSettings::default(), "the world runs the default solver");
+    assert_eq!((lab.physics_rate, lab.time_scale), (fresh.physics_rate, 1.0));
+    assert_eq!(lab.view, fresh.view);
+    assert_eq!(lab.view, ViewOptions { trails: false, ..ViewOptions::default() }, "the bridge has no trails");
+    assert!(!lab.follow && !lab.side_view);
+    assert_eq!(lab.camera, camera, "the camera stays");
+    assert!(!lab.panel_open && lab.compare_open, "the panel's state stays");
+    assert_eq!(lab.scene.world().steps(), 0, "the scene starts again");
+    assert!(lab.status.starts_with("Defaults restored for bridge"), "{}", lab.status);
+
+    // From the side view, back to the framed 3D view.
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    lab.set_side_view(true);
+    lab.restore_defaults();
+    assert!(!lab.side_view && !lab.camera.orthographic);
+}
+
+/// A valid file's text with `field` (a JSON pointer) replaced by `value`.
+fn with(pointer: &str, value: serde_json::Value) -> String {
+    let mut json: serde_json::Value =
+        serde_json::to_value(Settings::of(&changed_lab(), [1000, 650])).unwrap();
+    *json.pointer_mut(pointer).unwrap_or_else(|| panic!("no {pointer}")) = value;
+    serde_json::to_string_pretty(&json).unwrap()
+}
+
+/// Opens on a settings file holding `bytes`: it must be set aside with one warning line
+/// containing `reason`, and the lab must be at its defaults.
+fn assert_set_aside(bytes: &[u8], reason: &str) {
+    let dir = temp_dir("bad");
+    let file = dir.join(FILE_NAME);
+    std::fs::write(&file, bytes).unwrap();
+    let opened = open(&Launch::default(), &dir);
+    let warning = opened.warning.unwrap_or_else(|| panic!("no warning for a file with {reason}"));
+    assert!(warning.starts_with("particle-lab: the settings file "), "{warning}");
+    assert!(warning.contains(reason), "'{reason}' not in: {warning}");
+    assert!(
+        warning.ends_with(&format!(
+            "moved it to {} and started from the defaults",
+            dir.join("settings.json.bad").display()
+        )),
+        "{warning}"
+    );
+    assert!(!warning.contains('\n'), "one line: {warning}");
+    assert!(!file.exists(), "the unusable file is moved away");
+    assert_eq!(std::fs::read(dir.join("settings.json.bad")).unwrap(), bytes, "moved as it was");
+    assert_eq!(Settings::of(&opened.lab, opened.window), defaults(), "the lab starts from the defaults");
+    assert!(opened.summary.contains("was unusable; starting from the defaults"), "{}", opened.summary);
+}
+
+#[test]
+fn every_kind_of_unusable_file_is_set_aside_with_one_warning() {
+    use serde_json::json;
+    let cases: Vec<(Vec<u8>, &str)> = vec![
+        (b"{ \"version\": 1, ".to_vec(), "not valid JSON: EOF while parsing"),
+        (b"".to_vec(), "not valid JSON"),
+        (b"[1, 2, 3]".to_vec(), "no version number"),
+        (b"\xff\xfe{}".to_vec(), "not UTF-8 text"),
+        (
+            with("/version", json!(2)).into_bytes(),
+            "version 2, from a newer particle-lab (this one reads version 1)",
+        ),
+        (with("/version", json!(0)).into_bytes(), "its version is 0"),
+        (with("/version", json!("1")).into_bytes(), "its version is \"1\""),
+        (with("/physics_rate", json!("fast")).into_bytes(), "invalid type: string \"fast\", expected f32"),
+        (with("/view/grid", json!(1)).into_bytes(), "invalid type: integer `1`, expected a boolean"),
+        (with("/params", json!([1, 2])).into_bytes(), "invalid type: sequence, expected a map"),
+        (with("/window/width", json!(-5)).into_bytes(), "invalid value: integer `-5`, expected u32"),
+        (with("/scene", json!("moonbase")).into_bytes(), "scene: unknown scene 'moonbase'"),
+        (with("/params/g", json!(99.0)).into_bytes(), "'g' = 99 is out of range; valid range: 0 to 30"),
+        (with("/params", json!({"g": 1.0, "wobble": 1.0})).into_bytes(), "unknown parameter 'wobble'"),
+        (with("/solver/kind", json!("pgs")).into_bytes(), "solver.kind: unknown solver 'pgs'"),
+        (with("/solver/integrator", json!("leapfrog")).into_bytes(), "unknown integrator 'leapfrog'"),
+        (
+            with("/solver/substeps", json!(0)).into_bytes(),
+            "solver.substeps = 0 is out of range; valid range: 1 to 64",
+        ),
+        (with("/physics_rate", json!(5000.0)).into_bytes(), "physics_rate = 5000 is out of range"),
+        (with("/physics_rate", json!(1e300)).into_bytes(), "number out of range at line 24"),
+        (with("/time_scale", json!(0.0)).into_bytes(), "time_scale = 0 is out of range"),
+        (with("/camera/pitch", json!(3.0)).into_bytes(), "camera.pitch = 3 is out of range"),
+        (with("/camera/distance", json!(-1.0)).into_bytes(), "camera.distance = -1 is out of range"),
+        (
+            with("/camera/target", json!([0.0, 1.0])).into_bytes(),
+            "invalid length 2, expected an array of length 3",
+        ),
+        (
+            with("/window/height", json!(10)).into_bytes(),
+            "window.height = 10 is out of range; valid range: 240 to 16384",
+        ),
+        (with("/panel", json!({"open": true, "colour": true})).into_bytes(), "unknown field `colour`"),
+        (with("/camera", json!(null)).into_bytes(), "invalid type: null, expected struct CameraSettings"),
+    ];
+    for (bytes, reason) in cases {
+        assert_set_aside(&bytes, reason);
+    }
+    // A missing part is unusable; a missing toggle or parameter takes its default.
+    let mut json: serde_json::Value = serde_json::from_str(&with("/version", json!(1))).unwrap();
+    json.as_object_mut().unwrap().remove("solver");
+    assert_set_aside(json.to_string().as_bytes(), "missing field `solver`");
+    let mut json: serde_json::Value = serde_json::from_str(&with("/version", json!(1))).unwrap();
+    json["view"].as_object_mut().unwrap().remove("grid");
+    json["params"].as_object_mut().unwrap().remove("load_x");
+    let restored = Settings::parse(&json.to_string()).unwrap();
+    assert!(restored.view.grid, "a missing toggle takes its default (on)");
+    let dir = temp_dir("partial");
+    std::fs::write(dir.join(FILE_NAME), json.to_string()).unwrap();
+    assert_eq!(open(&Launch::default(), &dir).lab.scene.params().get("load_x"), 0.0);
+}
+
+#[test]
+fn an_older_bad_file_is_replaced_and_a_new_one_is_written_after_it() {
+    let dir = temp_dir("replace");
+    std::fs::write(dir.join("settings.json.bad"), "old").unwrap();
+    std::fs::write(dir.join(FILE_NAME), "garbage").unwrap();
+    let mut opened = open(&Launch::default(), &dir);
+    assert!(opened.warning.is_some());
+    assert_eq!(std::fs::read_to_string(dir.join("settings.json.bad")).unwrap(), "garbage");
+    // The session's settings are written as usual after that.
+    assert!(opened.store.save(&Settings::of(&opened.lab, opened.window)).unwrap());
+    assert!(matches!(Store::in_dir(&dir).load(), Loaded::Restored(s) if s == defaults()));
+}
+
+#[test]
+fn a_settings_file_that_cannot_be_written_is_an_error_message_not_a_panic() {
+    let dir = temp_dir("unwritable");
+    // The config "directory" is a file: nothing can be created under it.
+    let blocker = dir.join("particle-lab");
+    std::fs::write(&blocker, "a file").unwrap();
+    let mut store = Store::in_dir(&blocker);
+    let error = store.save(&defaults()).unwrap_err();
+    assert!(error.starts_with("cannot save the settings to "), "{error}");
+    assert!(error.contains("particle-lab/settings.json"), "{error}");
+    // A directory where the file should be: unreadable, reported, not moved.
+    let dir = temp_dir("directory");
+    std::fs::create_dir(dir.join(FILE_NAME)).unwrap();
+    let opened = open(&Launch::default(), &dir);
+    let warning = opened.warning.unwrap();
+    assert!(warning.starts_with("particle-lab: cannot read the settings file "), "{warning}");
+    assert_eq!(Settings::of(&opened.lab, opened.window), defaults());
+}
+
+#[test]
+fn the_binary_honours_xdg_config_home_and_warns_once_about_a_bad_file_even_without_a_display() {
+    let dir = temp_dir("binary");
+    let config = dir.join("particle-lab");
+    std::fs::create_dir_all(&config).unwrap();
+    std::fs::write(config.join(FILE_NAME), "{\"version\": 1, \"scene\": 3}").unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .env("XDG_CONFIG_HOME", &dir)
+        .env("RUST_LOG", "warn")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("settings")).collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    assert!(warnings[0].starts_with("particle-lab: the settings file "), "{stderr}");
+    assert!(warnings[0].contains("invalid type: integer `3`, expected a string"), "{stderr}");
+    assert!(config.join("settings.json.bad").exists() && !config.join(FILE_NAME).exists());
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(output.status.code(), Some(1), "then it stops for want of a display:\n{stderr}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Any truncation of a valid file is refused with a reason, never a panic.
+    #[test]
+    fn a_truncated_file_is_refused(cut in 0usize..10_000) {
+        let text = Settings::of(&changed_lab(), [1000, 650]).to_text();
+        let body = text.trim_end();
+        let cut = cut % body.len();
+        let error = Settings::parse(&body[..cut]).unwrap_err();
+        prop_assert!(!error.is_empty());
+    }
+
+    /// Bytes replaced, inserted or removed anywhere: parsing never panics, and a file
+    /// it accepts holds valid settings that save and read back the same.
+    #[test]
+    fn a_mutated_file_parses_to_valid_settings_or_is_refused(
+        edits in prop::collection::vec((0usize..10_000, 0u8..3, any::<u8>()), 1..6)
+    ) {
+        let mut bytes = Settings::of(&changed_lab(), [1000, 650]).to_text().into_bytes();
+        for (at, kind, byte) in edits {
+            let at = at % bytes.len();
+            match kind {
+                0 => bytes[at] = byte,
+                1 => bytes.insert(at, byte),
+                _ => { bytes.remove(at); }
+            }
+        }
+        if let Ok(text) = std::str::from_utf8(&bytes)
+            && let Ok(settings) = Settings::parse(text)
+        {
+            prop_assert_eq!(Settings::parse(&settings.to_text()).unwrap(), settings);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(40))]
+
+    /// Opening on a damaged file: either it is used (and stays where it was) or it is
+    /// set aside with one warning and the lab is at its defaults; never a panic.
+    #[test]
+    fn opening_on_a_damaged_file_restores_it_or_falls_back_to_the_defaults_with_a_warning(
+        cut in 0usize..10_000,
+        digit_at in 0usize..10_000,
+        digit in b'0'..=b'9',
+    ) {
+        let dir = temp_dir("prop");
+        let file = dir.join(FILE_NAME);
+        let mut bytes = Settings::of(&changed_lab(), [1000, 650]).to_text().into_bytes();
+        // A changed digit (a value that may leave its range) and maybe a truncation.
+        let digits: Vec<usize> = (0..bytes.len()).filter(|i| bytes[*i].is_ascii_digit()).collect();
+        bytes[digits[digit_at % digits.len()]] = digit;
+        if cut % 2 == 0 {
+            bytes.truncate(cut % bytes.len());
+        }
+        std::fs::write(&file, &bytes).unwrap();
+        let opened = open(&Launch::default(), &dir);
+        match &opened.warning {
+            None => {
+                prop_assert!(file.exists());
+                let expected = Settings::parse(std::str::from_utf8(&bytes).unwrap()).unwrap();
+                prop_assert_eq!(Settings::of(&opened.lab, opened.window), expected);
+            }
+            Some(warning) => {
+                prop_assert!(warning.starts_with("particle-lab: the settings file "), "{}", warning);
+                prop_assert!(!warning.contains('\n'));
+                prop_assert!(!file.exists() && dir.join("settings.json.bad").exists());
+                prop_assert_eq!(Settings::of(&opened.lab, opened.window), defaults());
+            }
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
+/// The startup line of the real binary opened on `args` with the settings in `dir`
+/// (no display: the settings are read and logged before the window is asked for).
+fn startup_line(dir: &Path, args: &[&str]) -> String {
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(args)
+        .env("XDG_CONFIG_HOME", dir)
+        .env("RUST_LOG", "warn,particle_lab=info")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    stderr
+        .lines()
+        .find(|l| l.contains("particle_lab::app] settings "))
+        .unwrap_or_else(|| panic!("{stderr}"))
+        .to_string()
+}
+
+#[test]
+fn the_binary_tells_typed_flags_from_their_defaults() {
+    let dir = temp_dir("typed");
+    std::fs::create_dir_all(dir.join("particle-lab")).unwrap();
+    Store::in_dir(&dir.join("particle-lab")).save(&Settings::of(&changed_lab(), [1000, 650])).unwrap();
+    let line = startup_line(&dir, &[]);
+    assert!(
+        line.contains("settings restored from ") && line.contains("solver paper, integrator rk4"),
+        "{line}"
+    );
+    // Typed at their default values, they still win over the saved paper solver and rk4.
+    let line = startup_line(&dir, &["--solver", "soft", "--integrator", "semi-implicit-euler"]);
+    assert!(line.contains("from the command line: --solver --integrator"), "{line}");
+    assert!(line.contains("solver soft (9 substeps), integrator semi-implicit-euler"), "{line}");
+    let line = startup_line(&dir, &["--substeps", "4", "--set", "g=3"]);
+    assert!(line.contains("scene bridge [g=3 load_mass=10 load_x=2.5"), "{line}");
+    assert!(line.contains("solver paper, integrator rk4"), "{line}");
+    let line = startup_line(&dir, &["--fresh", "--scene", "cradle"]);
+    assert!(line.contains("settings --fresh: starting from the defaults"), "{line}");
+    assert!(line.contains("scene cradle [") && line.contains("solver soft (4 substeps)"), "{line}");
+}
