@@ -11,6 +11,12 @@ use crate::physics::{
 };
 use crate::scenes::{self, SCENES, Scene};
 
+pub mod clock;
+pub mod progress;
+pub mod record;
+pub mod setup;
+pub mod usage;
+
 /// Exit code for input the user can fix.
 pub const USAGE_ERROR: i32 = 2;
 
@@ -118,9 +124,20 @@ pub struct RenderArgs {
     /// a scene parameter, KEY=VALUE.
     #[arg(long, value_name = "KEY=VALUE")]
     pub compare: Option<String>,
-    /// Where to write the PNG.
-    #[arg(long, value_name = "FILE.png")]
+    /// Where to write the frame, a .png. With --frames, by the extension: run.png
+    /// writes a numbered sequence run-0001.png, run-0002.png, ...; run.gif an animated
+    /// GIF; run.apng an animated PNG. Animations loop and show each frame for the
+    /// simulated time between frames (a GIF to 1/100 s, at least 0.02 s).
+    #[arg(long, value_name = "FILE")]
     pub out: std::path::PathBuf,
+    /// Record N frames (1 to 10000) instead of one: the first after --steps, then one
+    /// every --every steps.
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u32>,
+    /// Physics steps between recorded frames (1 to 100000) [default: the steps
+    /// nearest 1/30 s].
+    #[arg(long, value_name = "K")]
+    pub every: Option<u64>,
 }
 
 /// Largest image side `render` accepts (px).
@@ -139,9 +156,8 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     if args.steps > MAX_STEPS {
         return Err((2, format!("--steps {} is out of range; valid range: 0 to {MAX_STEPS}", args.steps)));
     }
-    if args.out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
-        return Err((2, format!("--out {} must name a .png file", args.out.display())));
-    }
+    let container = record::Container::of(&args.out, args.frames.is_some(), args.every.is_some())
+        .map_err(|e| (2, e))?;
     let solver = args.solver.settings().map_err(|e| (2, e))?;
     let mut lab = crate::ui::Lab::with_solver(&args.scene, &args.set, solver).map_err(|e| (2, e))?;
     lab.view.swept |= args.swept;
@@ -166,7 +182,14 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         }
         lab.select(Some(id));
     }
-    lab.run_steps_recorded(args.steps);
+    if let Some(frames) = args.frames {
+        let plan = record::Plan::new(container, frames, args.every, args.steps, lab.dt(), MAX_STEPS)
+            .map_err(|e| (2, e))?;
+        return record::record(&mut lab, &plan, &args.out, args.size, args.ui, args.steps);
+    }
+    let mut progress = progress::Progress::new(args.steps, "steps", progress::Progress::for_terminal(true));
+    record::step(&mut lab, args.steps, &mut progress, 0);
+    drop(progress);
     let mut snapshotter = crate::snapshot::Snapshotter::new().map_err(|e| (1, e))?;
     let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
     crate::render::offscreen::write_png(&args.out, args.size, &pixels).map_err(|e| (1, e))?;
@@ -228,7 +251,8 @@ pub struct SimulateArgs {
 /// Most steps `simulate` accepts in one run.
 pub const MAX_STEPS: u64 = 100_000_000;
 
-/// Parses the command line; on bad flags prints clap's first line and exits 2.
+/// Parses the command line; on bad flags prints clap's error on one line, with its
+/// suggestions, and exits 2.
 #[must_use]
 pub fn parse() -> Cli {
     match Cli::try_parse() {
@@ -243,10 +267,7 @@ pub fn parse() -> Cli {
             ) {
                 error.exit();
             }
-            // clap's message is a paragraph, then usage; keep the paragraph on one line.
-            let text = error.render().to_string();
-            let message: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
-            eprintln!("{} (see 'particle-lab --help')", message.join(" "));
+            eprintln!("particle-lab: {}", usage::one_line(&error.render().to_string()));
             std::process::exit(USAGE_ERROR);
         }
     }
@@ -380,6 +401,10 @@ pub fn simulate(
 ) -> io::Result<Result<(), String>> {
     let mut links = Vec::new();
     let mut line = Vec::with_capacity(4096);
+    // Times as the step stands for them (0.0208333 s), not as f32 steps add up.
+    let clock = clock::Step::of(plan.dt);
+    let (start_time, start_steps) = (scene.world().time(), scene.world().steps());
+    let mut progress = progress::Progress::new(plan.steps, "steps", progress::Progress::for_terminal(false));
     if plan.format == StateFormat::Csv {
         writeln!(out, "{CSV_HEADER}")?;
     }
@@ -388,6 +413,7 @@ pub fn simulate(
             if let Err(error) = scene.step(plan.dt) {
                 return Ok(Err(error.to_string()));
             }
+            progress.set(step);
             if !scene.world().is_finite() {
                 out.flush()?;
                 return Ok(Err(format!(
@@ -398,12 +424,13 @@ pub fn simulate(
         }
         if step == 0 || step == plan.steps || step % plan.every == 0 {
             line.clear();
+            let t = clock.time_after(start_time, scene.world().steps() - start_steps);
             match plan.format {
                 StateFormat::Json => {
-                    write_state(&mut line, step, scene.world(), &mut links)?;
+                    write_state(&mut line, step, t, scene.world(), &mut links)?;
                     line.push(b'\n');
                 }
-                StateFormat::Csv => write_csv_rows(&mut line, step, scene.world())?,
+                StateFormat::Csv => write_csv_rows(&mut line, step, t, scene.world())?,
             }
             out.write_all(&line)?;
             // Each printed step reaches a pipe as soon as it is computed.
@@ -467,8 +494,9 @@ struct ResolverJson {
     max_penetration: f32,
 }
 
-/// One CSV row per particle (by id), each with the step's energy budget.
-fn write_csv_rows(out: &mut Vec<u8>, step: u64, world: &World) -> io::Result<()> {
+/// One CSV row per particle (by id), each with the step's energy budget; `t` is the
+/// time printed (s).
+fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Result<()> {
     let p = &world.particles;
     let e = world.energy();
     let mut order: Vec<usize> = (0..p.len()).collect();
@@ -478,8 +506,7 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, world: &World) -> io::Result<()>
         let mass = if p.inverse_masses()[i] > 0.0 { p.mass(i).to_string() } else { String::new() };
         writeln!(
             out,
-            "{step},{},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{}",
-            world.time(),
+            "{step},{t},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{}",
             p.ids()[i].0,
             x.x,
             x.y,
@@ -498,7 +525,14 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, world: &World) -> io::Result<()>
     Ok(())
 }
 
-fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<LinkState>) -> io::Result<()> {
+/// The state as one JSON object; `t` is the time printed (s).
+fn write_state(
+    out: &mut Vec<u8>,
+    step: u64,
+    t: f64,
+    world: &World,
+    links: &mut Vec<LinkState>,
+) -> io::Result<()> {
     let p = &world.particles;
     let mut particles: Vec<ParticleJson> = (0..p.len())
         .map(|i| ParticleJson {
@@ -532,7 +566,7 @@ fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<Link
     let energy = world.energy();
     let state = StateJson {
         step,
-        t: world.time(),
+        t,
         particles,
         links,
         contacts: world.contact_count(),
@@ -565,7 +599,7 @@ mod tests {
         world.add_particle(desc).unwrap();
         world.add_particle(ParticleDesc { immovable: true, position: Vec3::X, ..desc }).unwrap();
         let mut line = Vec::new();
-        write_state(&mut line, 0, &world, &mut Vec::new()).unwrap();
+        write_state(&mut line, 0, 0.0, &world, &mut Vec::new()).unwrap();
         let state: serde_json::Value = serde_json::from_slice(&line).unwrap();
         let particles = state["particles"].as_array().unwrap();
         assert_eq!(particles[0]["m"].as_f64(), Some(2.5));
