@@ -294,9 +294,11 @@ fn help_and_version_still_print_to_stdout_and_succeed() {
     assert!(run(&["--help"]).stderr.is_empty());
 }
 
-/// The binary with `args` and environment changes: `(name, Some(value))` sets,
-/// `(name, None)` removes.
-fn run_with(args: &[&str], env: &[(&str, Option<&str>)]) -> Output {
+/// An environment change: `(name, Some(value))` sets, `(name, None)` removes.
+type Env<'a> = (&'a str, Option<&'a str>);
+
+/// The binary with `args` and environment changes.
+fn run_with(args: &[&str], env: &[Env]) -> Output {
     let mut command = Command::new(env!("CARGO_BIN_EXE_particle-lab"));
     command.args(args).env_remove("RUST_LOG");
     for (name, value) in env {
@@ -311,28 +313,8 @@ fn run_with(args: &[&str], env: &[(&str, Option<&str>)]) -> Output {
 #[test]
 fn failures_outside_the_command_line_say_so_in_our_words() {
     let no_display = [("DISPLAY", None), ("WAYLAND_DISPLAY", None), ("WAYLAND_SOCKET", None)];
-    // (arguments, environment, exit code, words the one line must hold)
-    let cases: [(&[&str], &[(&str, Option<&str>)], i32, &[&str]); 5] = [
-        (&[], &no_display, 1, &["no display", "neither DISPLAY nor WAYLAND_DISPLAY is set", "Xvfb"]),
-        (
-            &["--scene", "bridge"],
-            &[("DISPLAY", Some(":1234567")), ("WAYLAND_DISPLAY", None)],
-            1,
-            &["the display DISPLAY=:1234567 does not answer", "Xvfb"],
-        ),
-        (
-            &["render", "--scene", "bridge", "--size", "64x64", "--out", "x.png"],
-            &[
-                ("VK_ICD_FILENAMES", Some("/nonexistent.json")),
-                ("VK_DRIVER_FILES", Some("/nonexistent.json")),
-            ],
-            1,
-            &["no GPU adapter found", "mesa-vulkan-drivers and libvulkan1"],
-        ),
-        (&["render", "--scene", "bridge", "--frames", "2", "--out", "x.jpg"], &[], 2, &[".gif or .apng"]),
-        (&["simulate", "--scene", "bridge", "--every", "-3"], &[], 2, &["'-3'"]),
-    ];
-    for (args, env, code, expected) in cases {
+    // The one line for `args` under `env`: its exit code and the words it must hold.
+    let check = |args: &[&str], env: &[Env], code: i32, expected: &[&str]| {
         let out = run_with(args, env);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(code), "{args:?}: {stderr}");
@@ -342,7 +324,22 @@ fn failures_outside_the_command_line_say_so_in_our_words() {
         for words in expected {
             assert!(stderr.contains(words), "{args:?}: '{words}' not in: {stderr}");
         }
-    }
+    };
+    check(&[], &no_display, 1, &["no display", "neither DISPLAY nor WAYLAND_DISPLAY is set", "Xvfb"]);
+    check(
+        &["--scene", "bridge"],
+        &[("DISPLAY", Some(":1234567")), ("WAYLAND_DISPLAY", None)],
+        1,
+        &["the display DISPLAY=:1234567 does not answer", "Xvfb"],
+    );
+    check(
+        &["render", "--scene", "bridge", "--size", "64x64", "--out", "x.png"],
+        &[("VK_ICD_FILENAMES", Some("/nonexistent.json")), ("VK_DRIVER_FILES", Some("/nonexistent.json"))],
+        1,
+        &["no GPU adapter found", "mesa-vulkan-drivers and libvulkan1"],
+    );
+    check(&["render", "--scene", "bridge", "--frames", "2", "--out", "x.jpg"], &[], 2, &[".gif or .apng"]);
+    check(&["simulate", "--scene", "bridge", "--every", "-3"], &[], 2, &["'-3'"]);
 }
 
 #[test]

@@ -56,7 +56,7 @@ impl Step {
     pub fn decimals(self) -> u32 {
         let mut denominator = self.denominator;
         let mut decimals = 0;
-        while denominator % 10 == 0 && denominator > 1 {
+        while denominator > 1 && denominator.is_multiple_of(10) {
             denominator /= 10;
             decimals += 1;
         }

@@ -139,7 +139,7 @@ impl Plan {
     pub fn interval_text(&self) -> String {
         let (numerator, denominator) = self.step.times(self.every);
         let mut power_of_ten = denominator;
-        while power_of_ten > 1 && power_of_ten % 10 == 0 {
+        while power_of_ten > 1 && power_of_ten.is_multiple_of(10) {
             power_of_ten /= 10;
         }
         if numerator == 1 && power_of_ten != 1 {
