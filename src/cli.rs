@@ -284,7 +284,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
                     SceneJson {
                         name: info.name,
                         summary: info.summary,
-                        dt: info.dt,
+                        dt: clock::Step::of(info.dt).seconds(),
                         default_steps: info.default_steps,
                         params: info
                             .params
@@ -313,7 +313,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
                 writeln!(
                     out,
                     "  dt {} s ({:.0} Hz), {} steps by default",
-                    info.dt,
+                    clock::Step::of(info.dt),
                     1.0 / info.dt,
                     info.default_steps
                 )?;
@@ -340,7 +340,8 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
 struct SceneJson {
     name: &'static str,
     summary: &'static str,
-    dt: f32,
+    /// The step it stands for (1/240 s), not its f32.
+    dt: f64,
     default_steps: u32,
     params: Vec<ParamJson>,
     presets: Vec<&'static str>,

@@ -543,3 +543,16 @@ fn the_window_is_quiet_when_nothing_is_wrong_and_names_the_driver_when_one_is() 
     assert!(stderr.contains("mesa-vulkan-drivers and libvulkan1"), "{stderr}");
     assert_no_source_paths(&stderr);
 }
+
+#[test]
+fn scenes_give_time_steps_as_the_rates_they_stand_for() {
+    let text = run(&["scenes"]);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.contains("dt 1/240 s (240 Hz)"), "{text}");
+    assert!(text.contains("dt 1/60 s (60 Hz)"), "the pile: {text}");
+    let json = run(&["scenes", "--format", "json"]);
+    let list: Value = serde_json::from_slice(&json.stdout).unwrap();
+    let dt = |name: &str| list.as_array().unwrap().iter().find(|s| s["name"] == name).unwrap()["dt"].as_f64();
+    assert_eq!(dt("projectile"), Some(1.0 / 240.0), "not the f32's 0.004166666883975267");
+    assert_eq!(dt("pile"), Some(1.0 / 60.0));
+}

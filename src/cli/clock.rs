@@ -83,6 +83,26 @@ impl Step {
     }
 }
 
+/// A decimal when it is one (`0.003`), else the fraction (`1/240`, `7/240`).
+impl std::fmt::Display for Step {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if !is_power_of_ten(self.denominator) {
+            write!(f, "{}/{}", self.numerator, self.denominator)
+        } else {
+            write!(f, "{}", self.seconds())
+        }
+    }
+}
+
+/// 1, 10, 100, ...
+#[must_use]
+pub fn is_power_of_ten(mut n: u64) -> bool {
+    while n > 1 && n.is_multiple_of(10) {
+        n /= 10;
+    }
+    n == 1
+}
+
 fn gcd(mut a: u64, mut b: u64) -> u64 {
     while b != 0 {
         (a, b) = (b, a % b);
@@ -118,6 +138,16 @@ mod tests {
         assert_eq!(step.time_after(0.0, 30).to_string(), "0.3");
         assert_eq!(Step::of(0.003).time_after(0.0, 7).to_string(), "0.021");
         assert_eq!(serde_json::to_string(&step.time_after(0.0, 3)).unwrap(), "0.03");
+    }
+
+    #[test]
+    fn a_step_reads_as_people_write_it() {
+        assert_eq!(Step::of(1.0 / 240.0).to_string(), "1/240");
+        assert_eq!(Step::of(1.0 / 60.0).to_string(), "1/60");
+        assert_eq!(Step::of(0.01).to_string(), "0.01");
+        assert_eq!(Step::of(0.003).to_string(), "0.003");
+        assert_eq!(Step::of(1.0).to_string(), "1");
+        assert_eq!(Step { numerator: 7, denominator: 240 }.to_string(), "7/240");
     }
 
     #[test]

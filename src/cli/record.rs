@@ -138,15 +138,7 @@ impl Plan {
     #[must_use]
     pub fn interval_text(&self) -> String {
         let (numerator, denominator) = self.step.times(self.every);
-        let mut power_of_ten = denominator;
-        while power_of_ten > 1 && power_of_ten.is_multiple_of(10) {
-            power_of_ten /= 10;
-        }
-        if numerator == 1 && power_of_ten != 1 {
-            format!("1/{denominator}")
-        } else {
-            (numerator as f64 / denominator as f64).to_string()
-        }
+        Step { numerator, denominator }.to_string()
     }
 }
 
