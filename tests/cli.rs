@@ -414,6 +414,11 @@ fn render_frames_writes_a_numbered_png_sequence() {
         })
         .collect();
     assert_ne!(frames[0], frames[3], "the round moved between the first frame and the last");
+    assert!(
+        result.stderr.is_empty(),
+        "no progress bar into a pipe: {}",
+        String::from_utf8_lossy(&result.stderr)
+    );
     let stdout = String::from_utf8_lossy(&result.stdout);
     assert!(stdout.contains("4 frames") && stdout.contains("steps 10 to 28"), "{stdout}");
 }
@@ -555,4 +560,25 @@ fn scenes_give_time_steps_as_the_rates_they_stand_for() {
     let dt = |name: &str| list.as_array().unwrap().iter().find(|s| s["name"] == name).unwrap()["dt"].as_f64();
     assert_eq!(dt("projectile"), Some(1.0 / 240.0), "not the f32's 0.004166666883975267");
     assert_eq!(dt("pile"), Some(1.0 / 60.0));
+}
+
+#[test]
+fn a_long_render_shows_progress_on_a_terminal_and_clears_it() {
+    // `script` gives the command a terminal and prints what reached it.
+    let dir = scratch("terminal");
+    let command = format!(
+        "'{}' render --scene bridge --size 320x200 --steps 0 --frames 150 --every 1 --out '{}'",
+        env!("CARGO_BIN_EXE_particle-lab"),
+        dir.join("run.png").display()
+    );
+    let out = Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .output()
+        .expect("script (util-linux) runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let screen = String::from_utf8_lossy(&out.stdout);
+    assert!(screen.contains("/149 steps"), "no progress bar on the terminal:\n{screen}");
+    // The bar is wiped ("\r", erase line) before the summary.
+    let last = screen.rsplit('\r').find(|part| !part.trim().is_empty()).unwrap_or("");
+    assert!(last.trim_start_matches("\u{1b}[2K").starts_with("wrote "), "{last:?}");
 }

@@ -179,10 +179,11 @@ pub fn record(
     with_ui: bool,
     warm_up: u64,
 ) -> Result<String, (u8, String)> {
-    let mut progress = Progress::new(warm_up + plan.span(), "steps", Progress::for_terminal(true));
-    let mut done = step(lab, warm_up, &mut progress, 0);
+    // The GPU and the file first: a missing driver or directory is said before a long run.
     let mut snapshotter = Snapshotter::new().map_err(|e| (1, e))?;
     let mut sink = Sink::create(out, size, plan).map_err(|e| (1, e))?;
+    let mut progress = Progress::new(warm_up + plan.span(), "steps", Progress::for_terminal(true));
+    let mut done = step(lab, warm_up, &mut progress, 0);
     // The first frame that shows the state the run stopped in, if it blew up.
     let mut frozen_from = lab.paused.then_some(1);
     for index in 1..=plan.frames {
