@@ -284,7 +284,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
                     SceneJson {
                         name: info.name,
                         summary: info.summary,
-                        dt: clock::Step::of(info.dt).seconds(),
+                        dt: clock::Step::of(info.dt).map_or(f64::from(info.dt), clock::Step::seconds),
                         default_steps: info.default_steps,
                         params: info
                             .params
@@ -313,7 +313,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
                 writeln!(
                     out,
                     "  dt {} s ({:.0} Hz), {} steps by default",
-                    clock::Step::of(info.dt),
+                    clock::Step::of(info.dt).map_or(info.dt.to_string(), |step| step.to_string()),
                     1.0 / info.dt,
                     info.default_steps
                 )?;
@@ -425,7 +425,9 @@ pub fn simulate(
         }
         if step == 0 || step == plan.steps || step % plan.every == 0 {
             line.clear();
-            let t = clock.time_after(start_time, scene.world().steps() - start_steps);
+            let t = clock.map_or(clock::to_f32_digits(scene.world().time()), |clock| {
+                clock.time_after(start_time, scene.world().steps() - start_steps)
+            });
             match plan.format {
                 StateFormat::Json => {
                     write_state(&mut line, step, t, scene.world(), &mut links)?;

@@ -19,21 +19,27 @@ const MAX_DECIMALS: u32 = 12;
 
 impl Step {
     /// What `dt` stands for: `1/N` when it is the `f32` nearest to a whole rate of `N`
-    /// Hz, else the shortest decimal that reads back as `dt` (`0.003` for `--dt 0.003`).
+    /// Hz, else the shortest decimal that reads back as `dt` (`0.003` for `--dt 0.003`);
+    /// `None` for a step that is not a positive number or needs more than 12 decimals.
     #[must_use]
-    pub fn of(dt: f32) -> Self {
+    pub fn of(dt: f32) -> Option<Self> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return None;
+        }
         let rate = (1.0 / f64::from(dt)).round();
         if (1.0..=1e9).contains(&rate) && (1.0 / rate) as f32 == dt {
-            return Self { numerator: 1, denominator: rate as u64 };
+            return Some(Self { numerator: 1, denominator: rate as u64 });
         }
         // Rust prints the shortest decimal that reads back as the same f32, never
         // with an exponent.
         let text = dt.to_string();
         let decimals = text.split_once('.').map_or(0, |(_, fraction)| fraction.len() as u32);
-        let decimals = decimals.min(MAX_DECIMALS);
+        if decimals > MAX_DECIMALS {
+            return None;
+        }
         let denominator = 10u64.pow(decimals);
-        let numerator = (f64::from(dt) * denominator as f64).round().max(1.0) as u64;
-        Self { numerator, denominator }
+        let numerator = (f64::from(dt) * denominator as f64).round() as u64;
+        Some(Self { numerator, denominator })
     }
 
     /// The step in seconds.
@@ -83,6 +89,13 @@ impl Step {
     }
 }
 
+/// `t` to 7 significant digits, about what an `f32` step carries: for a step too fine
+/// for [`Step::of`].
+#[must_use]
+pub fn to_f32_digits(t: f64) -> f64 {
+    format!("{t:.6e}").parse().unwrap_or(t)
+}
+
 /// A decimal when it is one (`0.003`), else the fraction (`1/240`, `7/240`).
 impl std::fmt::Display for Step {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -116,43 +129,52 @@ mod tests {
 
     #[test]
     fn a_rate_in_hz_is_recognised() {
-        assert_eq!(Step::of(1.0 / 240.0), Step { numerator: 1, denominator: 240 });
-        assert_eq!(Step::of(1.0 / 60.0), Step { numerator: 1, denominator: 60 });
-        assert_eq!(Step::of(0.01), Step { numerator: 1, denominator: 100 });
+        assert_eq!(Step::of(1.0 / 240.0).unwrap(), Step { numerator: 1, denominator: 240 });
+        assert_eq!(Step::of(1.0 / 60.0).unwrap(), Step { numerator: 1, denominator: 60 });
+        assert_eq!(Step::of(0.01).unwrap(), Step { numerator: 1, denominator: 100 });
     }
 
     #[test]
     fn a_typed_decimal_is_kept() {
-        assert_eq!(Step::of(0.003), Step { numerator: 3, denominator: 1000 });
-        assert_eq!(Step::of(0.0025), Step { numerator: 1, denominator: 400 });
-        assert_eq!(Step::of(0.75), Step { numerator: 75, denominator: 100 });
+        assert_eq!(Step::of(0.003).unwrap(), Step { numerator: 3, denominator: 1000 });
+        assert_eq!(Step::of(0.0025).unwrap(), Step { numerator: 1, denominator: 400 });
+        assert_eq!(Step::of(0.75).unwrap(), Step { numerator: 75, denominator: 100 });
     }
 
     #[test]
     fn times_print_as_short_decimals() {
-        let step = Step::of(1.0 / 240.0);
+        let step = Step::of(1.0 / 240.0).unwrap();
         assert_eq!(step.time_after(0.0, 5).to_string(), "0.0208333");
         assert_eq!(step.time_after(0.0, 240).to_string(), "1");
         assert_eq!(step.time_after(0.0, 240 * 3600 + 1).to_string(), "3600.0041667");
-        let step = Step::of(0.01);
+        let step = Step::of(0.01).unwrap();
         assert_eq!(step.time_after(0.0, 30).to_string(), "0.3");
-        assert_eq!(Step::of(0.003).time_after(0.0, 7).to_string(), "0.021");
+        assert_eq!(Step::of(0.003).unwrap().time_after(0.0, 7).to_string(), "0.021");
         assert_eq!(serde_json::to_string(&step.time_after(0.0, 3)).unwrap(), "0.03");
     }
 
     #[test]
+    fn a_step_too_fine_for_decimals_is_none() {
+        assert_eq!(Step::of(1e-20), None);
+        assert_eq!(Step::of(0.0), None);
+        assert_eq!(Step::of(f32::NAN), None);
+        let t = to_f32_digits(f64::from(1e-20f32) * 3.0);
+        assert_eq!(serde_json::to_string(&t).unwrap(), "3e-20");
+    }
+
+    #[test]
     fn a_step_reads_as_people_write_it() {
-        assert_eq!(Step::of(1.0 / 240.0).to_string(), "1/240");
-        assert_eq!(Step::of(1.0 / 60.0).to_string(), "1/60");
-        assert_eq!(Step::of(0.01).to_string(), "0.01");
-        assert_eq!(Step::of(0.003).to_string(), "0.003");
-        assert_eq!(Step::of(1.0).to_string(), "1");
+        assert_eq!(Step::of(1.0 / 240.0).unwrap().to_string(), "1/240");
+        assert_eq!(Step::of(1.0 / 60.0).unwrap().to_string(), "1/60");
+        assert_eq!(Step::of(0.01).unwrap().to_string(), "0.01");
+        assert_eq!(Step::of(0.003).unwrap().to_string(), "0.003");
+        assert_eq!(Step::of(1.0).unwrap().to_string(), "1");
         assert_eq!(Step { numerator: 7, denominator: 240 }.to_string(), "7/240");
     }
 
     #[test]
     fn a_frame_interval_is_an_exact_fraction() {
-        assert_eq!(Step::of(1.0 / 240.0).times(8), (1, 30));
-        assert_eq!(Step::of(0.003).times(10), (3, 100));
+        assert_eq!(Step::of(1.0 / 240.0).unwrap().times(8), (1, 30));
+        assert_eq!(Step::of(0.003).unwrap().times(10), (3, 100));
     }
 }

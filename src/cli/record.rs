@@ -97,7 +97,8 @@ impl Plan {
         if !(1..=MAX_FRAMES).contains(&frames) {
             return Err(format!("--frames {frames} is out of range; valid range: 1 to {MAX_FRAMES}"));
         }
-        let step = Step::of(dt);
+        let step =
+            Step::of(dt).ok_or_else(|| format!("a time step of {dt} s is too fine to time frames by"))?;
         let every = match every {
             Some(every) if !(1..=MAX_EVERY).contains(&every) => {
                 return Err(format!("--every {every} is out of range; valid range: 1 to {MAX_EVERY}"));
