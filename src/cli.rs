@@ -267,7 +267,11 @@ pub fn parse() -> Cli {
             ) {
                 error.exit();
             }
-            eprintln!("particle-lab: {}", usage::one_line(&error.render().to_string()));
+            // The subcommand typed, if any, for the help pointer when clap names none.
+            let typed = std::env::args().nth(1).unwrap_or_default();
+            let known = <Cli as clap::CommandFactory>::command().get_subcommands().any(|c| c.get_name() == typed);
+            let command = if known { format!("particle-lab {typed}") } else { "particle-lab".into() };
+            eprintln!("particle-lab: {}", usage::one_line(&error.render().to_string(), &command));
             std::process::exit(USAGE_ERROR);
         }
     }

@@ -5,11 +5,12 @@
 ///
 /// clap renders `error: MESSAGE`, indented detail and tip lines, then a usage block and
 /// "For more information, try '--help'.". The message, details and tips are kept, joined
-/// with "; "; the usage block becomes a pointer to the help of the command it names.
+/// with "; "; the usage block becomes a pointer to the help of the command it names,
+/// or without one, of `command` (`particle-lab scenes`: the subcommand typed).
 #[must_use]
-pub fn one_line(rendered: &str) -> String {
+pub fn one_line(rendered: &str, command: &str) -> String {
     let mut parts: Vec<String> = Vec::new();
-    let mut help = String::from("particle-lab --help");
+    let mut help = format!("{command} --help");
     for line in rendered.lines().map(str::trim) {
         if let Some(usage) = line.strip_prefix("Usage:") {
             help = help_command(usage);
@@ -55,7 +56,7 @@ mod tests {
                         '--scene'\n\nUsage: particle-lab simulate --scene <SCENE>\n\nFor more \
                         information, try '--help'.\n";
         assert_eq!(
-            one_line(rendered),
+            one_line(rendered, "particle-lab"),
             "unexpected argument '--sene' found; tip: a similar argument exists: '--scene' \
              (see 'particle-lab simulate --help')"
         );
@@ -66,7 +67,7 @@ mod tests {
         let rendered = "error: the following required arguments were not provided:\n  --scene \
                         <SCENE>\n\nUsage: particle-lab render --scene <SCENE> --out <FILE>\n";
         assert_eq!(
-            one_line(rendered),
+            one_line(rendered, "particle-lab"),
             "the following required arguments were not provided: --scene <SCENE> \
              (see 'particle-lab render --help')"
         );
@@ -77,9 +78,9 @@ mod tests {
         let rendered = "error: invalid value 'xml' for '--format <FORMAT>'\n  [possible values: text, \
                         json]\n\nFor more information, try '--help'.\n";
         assert_eq!(
-            one_line(rendered),
+            one_line(rendered, "particle-lab scenes"),
             "invalid value 'xml' for '--format <FORMAT>'; [possible values: text, json] \
-             (see 'particle-lab --help')"
+             (see 'particle-lab scenes --help')"
         );
     }
 }
