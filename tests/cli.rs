@@ -273,7 +273,14 @@ fn clap_errors_get_the_prefix_and_keep_their_suggestion() {
         &["render", "--scene", "bridge"],
         &["required arguments were not provided: --out <FILE>", "'particle-lab render --help'"],
     );
-    assert_usage_error(&["scenes", "--format", "jsn"], &["invalid value 'jsn'", "text, json"]);
+    assert_usage_error(
+        &["scenes", "--format", "jsn"],
+        &["invalid value 'jsn'", "text, json", "'particle-lab scenes --help'"],
+    );
+    assert_usage_error(
+        &["render", "--scene", "bridge", "--frames", "many", "--out", "x.gif"],
+        &["invalid value 'many' for '--frames <N>'"],
+    );
     assert_usage_error(&["--steps", "3"], &["unexpected argument '--steps'"]);
 }
 
