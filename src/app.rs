@@ -34,16 +34,14 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
     }
     log::info!("{}", opened.summary);
     let settings::Opened { lab, window: window_size, store, .. } = opened;
-    let event_loop = EventLoop::new().map_err(|e| {
-        AppError::Fatal(format!(
-            "cannot open a window: no display ({e}); run it on a desktop, or under a virtual \
-             display: apt-get install xvfb, then 'Xvfb :99 &' and 'DISPLAY=:99 particle-lab'"
-        ))
-    })?;
+    let event_loop =
+        EventLoop::new().map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
     let mut app = App { lab, window: None, error: None, timing_logged: Instant::now(), store, window_size };
     event_loop
         .run_app(&mut app)
-        .map_err(|e| AppError::Fatal(format!("the window's event loop failed: {e}")))?;
+        .map_err(|e| {
+            AppError::Fatal(format!("the window's event loop failed: {}", crate::messages::plain(&e.to_string())))
+        })?;
     match app.error {
         Some(message) => Err(AppError::Fatal(message)),
         None => Ok(()),
@@ -83,7 +81,8 @@ struct WindowState {
 
 impl App {
     fn fail(&mut self, event_loop: &ActiveEventLoop, message: String) {
-        log::error!("{message}");
+        // main prints it once, as it does every other error.
+        log::debug!("{message}");
         self.error = Some(message);
         event_loop.exit();
     }
@@ -188,14 +187,16 @@ impl WindowState {
             .with_inner_size(LogicalSize::new(size[0], size[1]))
             .with_min_inner_size(LogicalSize::new(min_width, min_height));
         let window = Arc::new(
-            event_loop.create_window(attributes).map_err(|e| format!("cannot create the window: {e}"))?,
+            event_loop
+                .create_window(attributes)
+                .map_err(|e| format!("cannot create the window: {}", crate::messages::plain(&e.to_string())))?,
         );
         let instance = wgpu::Instance::new(crate::render::gpu::instance_descriptor(Some(Box::new(
             event_loop.owned_display_handle(),
         ))));
         let surface = instance
             .create_surface(window.clone())
-            .map_err(|e| GpuError::Surface(e.to_string()).to_string())?;
+            .map_err(|e| crate::render::gpu::surface_error(&instance, &e.to_string()).to_string())?;
         let gpu = Gpu::with_instance(instance, Some(&surface)).map_err(|e| e.to_string())?;
         let capabilities = surface.get_capabilities(&gpu.adapter);
         // egui wants a gamma-space 8-bit surface; the 3D pass draws through its sRGB twin.
@@ -298,7 +299,7 @@ impl WindowState {
                 let instance = &self.gpu.instance;
                 self.surface = instance
                     .create_surface(self.window.clone())
-                    .map_err(|e| format!("cannot recreate the surface: {e}"))?;
+                    .map_err(|e| format!("cannot recreate the surface: {}", crate::messages::plain(&e.to_string())))?;
                 self.surface.configure(device, &self.config);
                 None
             }

@@ -12,6 +12,12 @@ use crate::physics::{
 use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{self, SCENES, Scene};
 
+pub mod clock;
+pub mod progress;
+pub mod record;
+pub mod setup;
+pub mod usage;
+
 /// Exit code for input the user can fix.
 pub const USAGE_ERROR: i32 = 2;
 
@@ -127,9 +133,20 @@ pub struct RenderArgs {
     /// a scene parameter, KEY=VALUE.
     #[arg(long, value_name = "KEY=VALUE")]
     pub compare: Option<String>,
-    /// Where to write the PNG.
-    #[arg(long, value_name = "FILE.png")]
+    /// Where to write the frame, a .png. With --frames, by the extension: run.png
+    /// writes a numbered sequence run-0001.png, run-0002.png, ...; run.gif an animated
+    /// GIF; run.apng an animated PNG. Animations loop and show each frame for the
+    /// simulated time between frames (a GIF to 1/100 s, at least 0.02 s).
+    #[arg(long, value_name = "FILE")]
     pub out: std::path::PathBuf,
+    /// Record N frames (1 to 10000) instead of one: the first after --steps, then one
+    /// every --every steps.
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u32>,
+    /// Physics steps between recorded frames (1 to 100000) [default: the steps
+    /// nearest 1/30 s].
+    #[arg(long, value_name = "K")]
+    pub every: Option<u64>,
 }
 
 /// Largest image side `render` accepts (px).
@@ -148,9 +165,8 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     if args.steps > MAX_STEPS {
         return Err((2, format!("--steps {} is out of range; valid range: 0 to {MAX_STEPS}", args.steps)));
     }
-    if args.out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("png")) {
-        return Err((2, format!("--out {} must name a .png file", args.out.display())));
-    }
+    let container = record::Container::of(&args.out, args.frames.is_some(), args.every.is_some())
+        .map_err(|e| (2, e))?;
     let mut lab = match &args.from {
         Some(path) => {
             let snapshot = Snapshot::load(path).map_err(|e| (2, e))?;
@@ -184,8 +200,16 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         }
         lab.select(Some(id));
     }
-    lab.run_steps_recorded(args.steps);
+    if let Some(frames) = args.frames {
+        let plan = record::Plan::new(container, frames, args.every, args.steps, lab.dt(), MAX_STEPS)
+            .map_err(|e| (2, e))?;
+        return record::record(&mut lab, &plan, &args.out, args.size, args.ui, args.steps);
+    }
+    // The GPU before the steps: a missing driver is said before a long run.
     let mut snapshotter = crate::snapshot::Snapshotter::new().map_err(|e| (1, e))?;
+    let mut progress = progress::Progress::new(args.steps, "steps", progress::Progress::for_terminal(true));
+    record::step(&mut lab, args.steps, &mut progress, 0);
+    drop(progress);
     let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
     crate::render::offscreen::write_png(&args.out, args.size, &pixels).map_err(|e| (1, e))?;
     Ok(format!(
@@ -253,7 +277,8 @@ pub struct SimulateArgs {
 /// Most steps `simulate` accepts in one run.
 pub const MAX_STEPS: u64 = 100_000_000;
 
-/// Parses the command line; on bad flags prints clap's first line and exits 2.
+/// Parses the command line; on bad flags prints clap's error on one line, with its
+/// suggestions, and exits 2.
 #[must_use]
 pub fn parse() -> Cli {
     match Cli::try_parse() {
@@ -268,10 +293,11 @@ pub fn parse() -> Cli {
             ) {
                 error.exit();
             }
-            // clap's message is a paragraph, then usage; keep the paragraph on one line.
-            let text = error.render().to_string();
-            let message: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
-            eprintln!("{} (see 'particle-lab --help')", message.join(" "));
+            // The subcommand typed, if any, for the help pointer when clap names none.
+            let typed = std::env::args().nth(1).unwrap_or_default();
+            let known = <Cli as clap::CommandFactory>::command().get_subcommands().any(|c| c.get_name() == typed);
+            let command = if known { format!("particle-lab {typed}") } else { "particle-lab".into() };
+            eprintln!("particle-lab: {}", usage::one_line(&error.render().to_string(), &command));
             std::process::exit(USAGE_ERROR);
         }
     }
@@ -288,7 +314,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
                     SceneJson {
                         name: info.name,
                         summary: info.summary,
-                        dt: info.dt,
+                        dt: clock::Step::of(info.dt).map_or(f64::from(info.dt), clock::Step::seconds),
                         default_steps: info.default_steps,
                         params: info
                             .params
@@ -317,7 +343,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
                 writeln!(
                     out,
                     "  dt {} s ({:.0} Hz), {} steps by default",
-                    info.dt,
+                    clock::Step::of(info.dt).map_or(info.dt.to_string(), |step| step.to_string()),
                     1.0 / info.dt,
                     info.default_steps
                 )?;
@@ -344,7 +370,8 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
 struct SceneJson {
     name: &'static str,
     summary: &'static str,
-    dt: f32,
+    /// The step it stands for (1/240 s), not its f32.
+    dt: f64,
     default_steps: u32,
     params: Vec<ParamJson>,
     presets: Vec<&'static str>,
@@ -418,6 +445,10 @@ pub fn simulate(
 ) -> io::Result<Result<(), String>> {
     let mut links = Vec::new();
     let mut line = Vec::with_capacity(4096);
+    // Times as the step stands for them (0.0208333 s), not as f32 steps add up.
+    let clock = clock::Step::of(plan.dt);
+    let (start_time, start_steps) = (scene.world().time(), scene.world().steps());
+    let mut progress = progress::Progress::new(plan.steps, "steps", progress::Progress::for_terminal(false));
     if plan.format == StateFormat::Csv {
         writeln!(out, "{CSV_HEADER}")?;
     }
@@ -428,6 +459,7 @@ pub fn simulate(
             if let Err(error) = scene.step(plan.dt) {
                 return Ok(Err(error.to_string()));
             }
+            progress.set(step);
             if !scene.world().is_finite() {
                 out.flush()?;
                 return Ok(Err(format!(
@@ -438,12 +470,15 @@ pub fn simulate(
         }
         if step == 0 || step == plan.steps || step % plan.every == 0 {
             line.clear();
+            let t = clock.map_or(clock::to_f32_digits(scene.world().time()), |clock| {
+                clock.time_after(start_time, scene.world().steps() - start_steps)
+            });
             match plan.format {
                 StateFormat::Json => {
-                    write_state(&mut line, first + step, scene.world(), &mut links)?;
+                    write_state(&mut line, first + step, t, scene.world(), &mut links)?;
                     line.push(b'\n');
                 }
-                StateFormat::Csv => write_csv_rows(&mut line, first + step, scene.world())?,
+                StateFormat::Csv => write_csv_rows(&mut line, first + step, t, scene.world())?,
             }
             out.write_all(&line)?;
             // Each printed step reaches a pipe as soon as it is computed.
@@ -515,8 +550,9 @@ struct ResolverJson {
     max_penetration: f32,
 }
 
-/// One CSV row per particle (by id), each with the step's energy budget.
-fn write_csv_rows(out: &mut Vec<u8>, step: u64, world: &World) -> io::Result<()> {
+/// One CSV row per particle (by id), each with the step's energy budget; `t` is the
+/// time printed (s).
+fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Result<()> {
     let p = &world.particles;
     let e = world.energy();
     let mut order: Vec<usize> = (0..p.len()).collect();
@@ -526,8 +562,7 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, world: &World) -> io::Result<()>
         let mass = if p.inverse_masses()[i] > 0.0 { p.mass(i).to_string() } else { String::new() };
         writeln!(
             out,
-            "{step},{},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{}",
-            world.time(),
+            "{step},{t},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{}",
             p.ids()[i].0,
             x.x,
             x.y,
@@ -546,7 +581,14 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, world: &World) -> io::Result<()>
     Ok(())
 }
 
-fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<LinkState>) -> io::Result<()> {
+/// The state as one JSON object; `t` is the time printed (s).
+fn write_state(
+    out: &mut Vec<u8>,
+    step: u64,
+    t: f64,
+    world: &World,
+    links: &mut Vec<LinkState>,
+) -> io::Result<()> {
     let p = &world.particles;
     let mut particles: Vec<ParticleJson> = (0..p.len())
         .map(|i| ParticleJson {
@@ -580,7 +622,7 @@ fn write_state(out: &mut Vec<u8>, step: u64, world: &World, links: &mut Vec<Link
     let energy = world.energy();
     let state = StateJson {
         step,
-        t: world.time(),
+        t,
         hash: crate::scenes::snapshot::hash_text(world.state_hash()),
         particles,
         links,
@@ -614,7 +656,7 @@ mod tests {
         world.add_particle(desc).unwrap();
         world.add_particle(ParticleDesc { immovable: true, position: Vec3::X, ..desc }).unwrap();
         let mut line = Vec::new();
-        write_state(&mut line, 0, &world, &mut Vec::new()).unwrap();
+        write_state(&mut line, 0, 0.0, &world, &mut Vec::new()).unwrap();
         let state: serde_json::Value = serde_json::from_slice(&line).unwrap();
         let particles = state["particles"].as_array().unwrap();
         assert_eq!(particles[0]["m"].as_f64(), Some(2.5));

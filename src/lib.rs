@@ -7,6 +7,7 @@
 
 pub mod app;
 pub mod cli;
+pub mod messages;
 pub mod physics;
 pub mod render;
 pub mod scenes;

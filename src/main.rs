@@ -8,9 +8,10 @@ use particle_lab::cli::{self, Command, USAGE_ERROR};
 use particle_lab::settings::Launch;
 
 fn main() -> ExitCode {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn,particle_lab=info"))
-        .format_timestamp(None)
-        .init();
+    // SAFETY: the first thing the process does; no other thread exists yet.
+    unsafe { cli::setup::private_runtime_dir() };
+    cli::setup::init_logging();
+    cli::setup::plain_panics();
     let args = cli::parse();
     match args.command {
         Some(Command::Scenes { format }) => {

@@ -166,6 +166,8 @@ fn assert_usage_error(args: &[&str], expected: &[&str]) {
     assert_eq!(out.status.code(), Some(2), "{args:?} should exit 2");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: one line, got:\n{stderr}");
+    assert!(stderr.starts_with("particle-lab: "), "{args:?}: no prefix: {stderr}");
+    assert_no_source_paths(&stderr);
     assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
     for word in expected {
         assert!(stderr.contains(word), "{args:?}: '{word}' not in: {stderr}");
@@ -248,4 +250,342 @@ fn simulate_writes_csv_with_the_same_numbers_as_json() {
         assert_eq!(row[3 + axis], particle["p"][axis].as_f64().unwrap(), "position of particle 5");
     }
     assert_eq!(row[13], last["energy"]["dissipated"].as_f64().unwrap());
+}
+
+/// A message names no source file or crate path.
+fn assert_no_source_paths(message: &str) {
+    for sign in ["/src/", ".rs:", ".cargo", "/rustc/", "registry"] {
+        assert!(!message.contains(sign), "'{sign}' in: {message}");
+    }
+}
+
+#[test]
+fn clap_errors_get_the_prefix_and_keep_their_suggestion() {
+    assert_usage_error(
+        &["simulate", "--sene", "bridge"],
+        &["particle-lab: unexpected argument '--sene' found", "a similar argument exists: '--scene'"],
+    );
+    assert_usage_error(
+        &["simulat", "--scene", "bridge"],
+        &["unrecognized subcommand 'simulat'", "a similar subcommand exists: 'simulate'"],
+    );
+    assert_usage_error(
+        &["render", "--scene", "bridge"],
+        &["required arguments were not provided: --out <FILE>", "'particle-lab render --help'"],
+    );
+    assert_usage_error(
+        &["scenes", "--format", "jsn"],
+        &["invalid value 'jsn'", "text, json", "'particle-lab scenes --help'"],
+    );
+    assert_usage_error(
+        &["render", "--scene", "bridge", "--frames", "many", "--out", "x.gif"],
+        &["invalid value 'many' for '--frames <N>'"],
+    );
+    assert_usage_error(&["--steps", "3"], &["unexpected argument '--steps'"]);
+}
+
+#[test]
+fn help_and_version_still_print_to_stdout_and_succeed() {
+    let version = run(&["--version"]);
+    assert_eq!(version.status.code(), Some(0));
+    assert_eq!(
+        String::from_utf8_lossy(&version.stdout).trim(),
+        format!("particle-lab {}", env!("CARGO_PKG_VERSION"))
+    );
+    let help = run(&["render", "--help"]);
+    assert_eq!(help.status.code(), Some(0));
+    let help = String::from_utf8_lossy(&help.stdout);
+    for words in ["--frames <N>", "--every <K>", "run-0001.png", ".gif", ".apng"] {
+        assert!(help.contains(words), "'{words}' not in render --help:\n{help}");
+    }
+    assert!(run(&["--help"]).stderr.is_empty());
+}
+
+/// An environment change: `(name, Some(value))` sets, `(name, None)` removes.
+type Env<'a> = (&'a str, Option<&'a str>);
+
+/// The binary with `args` and environment changes.
+fn run_with(args: &[&str], env: &[Env]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_particle-lab"));
+    command.args(args).env_remove("RUST_LOG");
+    for (name, value) in env {
+        match value {
+            Some(value) => command.env(name, value),
+            None => command.env_remove(name),
+        };
+    }
+    command.output().expect("binary runs")
+}
+
+#[test]
+fn failures_outside_the_command_line_say_so_in_our_words() {
+    let no_display = [("DISPLAY", None), ("WAYLAND_DISPLAY", None), ("WAYLAND_SOCKET", None)];
+    // The one line for `args` under `env`: its exit code and the words it must hold.
+    let check = |args: &[&str], env: &[Env], code: i32, expected: &[&str]| {
+        let out = run_with(args, env);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: one line, got:\n{stderr}");
+        assert!(stderr.starts_with("particle-lab: "), "{args:?}: {stderr}");
+        assert_no_source_paths(&stderr);
+        for words in expected {
+            assert!(stderr.contains(words), "{args:?}: '{words}' not in: {stderr}");
+        }
+    };
+    check(&[], &no_display, 1, &["no display", "neither DISPLAY nor WAYLAND_DISPLAY is set", "Xvfb"]);
+    check(
+        &["--scene", "bridge"],
+        &[("DISPLAY", Some(":1234567")), ("WAYLAND_DISPLAY", None)],
+        1,
+        &["the display DISPLAY=:1234567 does not answer", "Xvfb"],
+    );
+    check(
+        &["render", "--scene", "bridge", "--size", "64x64", "--out", "x.png"],
+        &[("VK_ICD_FILENAMES", Some("/nonexistent.json")), ("VK_DRIVER_FILES", Some("/nonexistent.json"))],
+        1,
+        &["no GPU adapter found", "mesa-vulkan-drivers and libvulkan1"],
+    );
+    check(&["render", "--scene", "bridge", "--frames", "2", "--out", "x.jpg"], &[], 2, &[".gif or .apng"]);
+    check(&["simulate", "--scene", "bridge", "--every", "-3"], &[], 2, &["'-3'"]);
+}
+
+#[test]
+fn simulate_prints_times_as_short_decimals() {
+    // 1/240 s steps: step 5 is at 0.0208333 s (not 0.020833334419876337).
+    let out = run(&["simulate", "--scene", "bridge", "--steps", "5"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let times: Vec<&str> =
+        text.lines().map(|l| l.split("\"t\":").nth(1).unwrap().split(',').next().unwrap()).collect();
+    assert_eq!(times, ["0.0", "0.0041667", "0.0083333", "0.0125", "0.0166667", "0.0208333"]);
+    assert!(
+        out.stderr.is_empty(),
+        "piped, simulate prints nothing on stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // A decimal --dt prints as typed, in CSV too.
+    let csv = run(&["simulate", "--scene", "bridge", "--steps", "3", "--dt", "0.01", "--format", "csv"]);
+    let text = String::from_utf8_lossy(&csv.stdout);
+    let times: Vec<&str> = text.lines().skip(1).step_by(12).map(|l| l.split(',').nth(1).unwrap()).collect();
+    assert_eq!(times, ["0", "0.01", "0.02", "0.03"]);
+}
+
+#[test]
+fn a_json_line_is_readable_while_simulate_still_runs() {
+    use std::io::BufRead;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["simulate", "--scene", "pile", "--steps", "100000000", "--every", "1000000"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("binary runs");
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let running = child.try_wait().unwrap().is_none();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let state: Value = serde_json::from_str(&line).unwrap_or_else(|e| panic!("bad first line {line}: {e}"));
+    assert_eq!(state["step"], 0);
+    assert_eq!(state["particles"].as_array().unwrap().len(), 2000);
+    assert!(running, "the first line arrived only when the run ended");
+}
+
+/// A scratch directory for one test's files.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn render_frames_writes_a_numbered_png_sequence() {
+    let dir = scratch("sequence");
+    let out = dir.join("run.png");
+    let args = ["render", "--scene", "projectile", "--size", "96x64", "--steps", "10", "--frames", "4"];
+    let result = run(&[&args[..], &["--every", "6", "--out", out.to_str().unwrap()]].concat());
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["run-0001.png", "run-0002.png", "run-0003.png", "run-0004.png"]);
+    let frames: Vec<Vec<u8>> = names
+        .iter()
+        .map(|name| {
+            let (pixels, size) = particle_lab::render::offscreen::read_png(&dir.join(name)).unwrap();
+            assert_eq!(size, [96, 64], "{name}");
+            pixels
+        })
+        .collect();
+    assert_ne!(frames[0], frames[3], "the round moved between the first frame and the last");
+    assert!(
+        result.stderr.is_empty(),
+        "no progress bar into a pipe: {}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    assert!(stdout.contains("4 frames") && stdout.contains("steps 10 to 28"), "{stdout}");
+}
+
+#[test]
+fn render_frames_writes_a_gif_and_an_apng_timed_by_the_simulation() {
+    let dir = scratch("animations");
+    // 8 steps of 1/240 s: frames 1/30 s apart.
+    let base =
+        ["render", "--scene", "bridge", "--size", "80x48", "--steps", "0", "--frames", "5", "--every", "8"];
+    let gif_path = dir.join("run.gif");
+    let result = run(&[&base[..], &["--out", gif_path.to_str().unwrap()]].concat());
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::RGBA);
+    let mut decoder = options.read_info(std::fs::File::open(&gif_path).unwrap()).unwrap();
+    assert_eq!((decoder.width(), decoder.height()), (80, 48));
+    let mut delays = Vec::new();
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        delays.push(frame.delay);
+    }
+    // 3.33 hundredths a frame, the rounding carried: 3, 4, 3, 3, 4.
+    assert_eq!(delays, [3, 4, 3, 3, 4], "five frames, 1/30 s apart");
+
+    let apng_path = dir.join("run.apng");
+    let result = run(&[&base[..], &["--out", apng_path.to_str().unwrap()]].concat());
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&apng_path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let control = reader.info().animation_control.expect("an animated PNG");
+    assert_eq!((control.num_frames, control.num_plays), (5, 0), "five frames, looping");
+    let mut buffer = vec![0; reader.output_buffer_size().unwrap()];
+    let mut frames = 0;
+    while frames < 5 {
+        let info = reader.next_frame(&mut buffer).unwrap();
+        assert_eq!((info.width, info.height), (80, 48));
+        let fctl = reader.info().frame_control.expect("each frame has its timing");
+        assert_eq!((fctl.delay_num, fctl.delay_den), (1, 30), "frame {frames}");
+        frames += 1;
+    }
+    assert!(reader.next_frame(&mut buffer).is_err(), "no sixth frame");
+}
+
+/// A private Xvfb display (no window manager), killed on drop.
+struct VirtualDisplay {
+    name: String,
+    server: std::process::Child,
+}
+
+impl VirtualDisplay {
+    fn start() -> Self {
+        use std::io::BufRead;
+        let mut server = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("Xvfb starts ('bash scripts/test.sh' installs it)");
+        let mut number = String::new();
+        std::io::BufReader::new(server.stdout.take().unwrap()).read_line(&mut number).unwrap();
+        Self { name: format!(":{}", number.trim()), server }
+    }
+
+    fn has_window(&self, title: &str) -> bool {
+        Command::new("xdotool")
+            .env("DISPLAY", &self.name)
+            .args(["search", "--name", title])
+            .output()
+            .is_ok_and(|o| !o.stdout.is_empty())
+    }
+}
+
+impl Drop for VirtualDisplay {
+    fn drop(&mut self) {
+        let _ = self.server.kill();
+        let _ = self.server.wait();
+    }
+}
+
+#[test]
+fn the_window_is_quiet_when_nothing_is_wrong_and_names_the_driver_when_one_is() {
+    let display = VirtualDisplay::start();
+    let dir = scratch("window");
+    let log = dir.join("stderr.txt");
+    // No RUST_LOG, no XDG_RUNTIME_DIR: a server or CI machine without a login session.
+    let mut app = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["--scene", "bridge"])
+        .current_dir(&dir)
+        .env("DISPLAY", &display.name)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("RUST_LOG")
+        .env_remove("XDG_RUNTIME_DIR")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !display.has_window("^particle-lab$") {
+        assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(&log).unwrap());
+        assert!(start.elapsed().as_secs() < 60, "no window");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    // Let it draw a few frames (the GPU is set up by then).
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(&log).unwrap());
+    app.kill().unwrap();
+    app.wait().unwrap();
+    let stderr = std::fs::read_to_string(&log).unwrap();
+    assert!(
+        stderr.is_empty(),
+        "a window left alone prints nothing (no XDG_RUNTIME_DIR lines, no info):\n{stderr}"
+    );
+
+    let out = run_with(
+        &["--scene", "bridge"],
+        &[
+            ("DISPLAY", Some(&display.name)),
+            ("WAYLAND_DISPLAY", None),
+            ("VK_ICD_FILENAMES", Some("/nonexistent.json")),
+            ("VK_DRIVER_FILES", Some("/nonexistent.json")),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "said once:\n{stderr}");
+    assert!(stderr.starts_with("particle-lab: no GPU adapter found"), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers and libvulkan1"), "{stderr}");
+    assert_no_source_paths(&stderr);
+}
+
+#[test]
+fn scenes_give_time_steps_as_the_rates_they_stand_for() {
+    let text = run(&["scenes"]);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.contains("dt 1/240 s (240 Hz)"), "{text}");
+    assert!(text.contains("dt 1/60 s (60 Hz)"), "the pile: {text}");
+    let json = run(&["scenes", "--format", "json"]);
+    let list: Value = serde_json::from_slice(&json.stdout).unwrap();
+    let dt = |name: &str| list.as_array().unwrap().iter().find(|s| s["name"] == name).unwrap()["dt"].as_f64();
+    assert_eq!(dt("projectile"), Some(1.0 / 240.0), "not the f32's 0.004166666883975267");
+    assert_eq!(dt("pile"), Some(1.0 / 60.0));
+}
+
+#[test]
+fn a_long_render_shows_progress_on_a_terminal_and_clears_it() {
+    // `script` gives the command a terminal and prints what reached it.
+    let dir = scratch("terminal");
+    let command = format!(
+        "'{}' render --scene bridge --size 320x200 --steps 0 --frames 150 --every 1 --out '{}'",
+        env!("CARGO_BIN_EXE_particle-lab"),
+        dir.join("run.png").display()
+    );
+    let out = Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .output()
+        .expect("script (util-linux) runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let screen = String::from_utf8_lossy(&out.stdout);
+    assert!(screen.contains("/149 steps"), "no progress bar on the terminal:\n{screen}");
+    // The bar is wiped ("\r", erase line) before the summary.
+    let last = screen.rsplit('\r').find(|part| !part.trim().is_empty()).unwrap_or("");
+    assert!(last.trim_start_matches("\u{1b}[2K").starts_with("wrote "), "{last:?}");
 }

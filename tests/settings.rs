@@ -483,7 +483,7 @@ fn startup_line(dir: &Path, args: &[&str]) -> String {
     let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
     stderr
         .lines()
-        .find(|l| l.contains("particle_lab::app] settings "))
+        .find(|l| l.contains("[particle_lab::app]: settings "))
         .unwrap_or_else(|| panic!("{stderr}"))
         .to_string()
 }

@@ -65,7 +65,7 @@ impl Gpu {
             compatible_surface: surface,
             apply_limit_buckets: false,
         }))
-        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        .map_err(|e| GpuError::NoAdapter(crate::messages::plain(&e.to_string())))?;
         let info = adapter.get_info();
         log::info!("GPU adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
         // The 3D pass draws through an sRGB view of a gamma-space texture that egui
@@ -88,8 +88,21 @@ impl Gpu {
             required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
             ..Default::default()
         }))
-        .map_err(|e| GpuError::NoDevice(e.to_string()))?;
+        .map_err(|e| GpuError::NoDevice(crate::messages::plain(&e.to_string())))?;
         Ok(Self { instance, adapter, device, queue })
+    }
+}
+
+/// Why a window's surface could not be made from `instance`: most often no Vulkan
+/// driver loaded at all, which is then said as [`GpuError::NoAdapter`] says it, with the
+/// packages to install.
+#[must_use]
+pub fn surface_error(instance: &wgpu::Instance, why: &str) -> GpuError {
+    let options = wgpu::RequestAdapterOptions::default();
+    match pollster::block_on(instance.request_adapter(&options)) {
+        Err(error) => GpuError::NoAdapter(crate::messages::plain(&error.to_string())),
+        // wgpu ends with the map of each backend's error, empty when none was tried.
+        Ok(_) => GpuError::Surface(crate::messages::plain(why).trim_end_matches(": {}").to_string()),
     }
 }
 
