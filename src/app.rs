@@ -1,6 +1,7 @@
 //! The window: winit events in, egui and the 3D view out. A thin shell around
 //! [`Lab`], [`ui::show`] and [`Painter`].
 
+use crate::scenes::snapshot::Snapshot;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -33,15 +34,20 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
         eprintln!("{warning}");
     }
     log::info!("{}", opened.summary);
-    let settings::Opened { lab, window: window_size, store, .. } = opened;
+    let settings::Opened { mut lab, window: window_size, store, .. } = opened;
+    if let Some(path) = &launch.from {
+        // Read before any window opens: a bad file is a usage error, said in one line.
+        let snapshot = Snapshot::load(path).map_err(AppError::Usage)?;
+        lab.load_snapshot(&snapshot).map_err(|e| AppError::Usage(format!("{}: {e}", path.display())))?;
+        lab.frame_scene();
+        log::info!("opened snapshot {} at step {}", path.display(), lab.scene.world().steps());
+    }
     let event_loop =
         EventLoop::new().map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
     let mut app = App { lab, window: None, error: None, timing_logged: Instant::now(), store, window_size };
-    event_loop
-        .run_app(&mut app)
-        .map_err(|e| {
-            AppError::Fatal(format!("the window's event loop failed: {}", crate::messages::plain(&e.to_string())))
-        })?;
+    event_loop.run_app(&mut app).map_err(|e| {
+        AppError::Fatal(format!("the window's event loop failed: {}", crate::messages::plain(&e.to_string())))
+    })?;
     match app.error {
         Some(message) => Err(AppError::Fatal(message)),
         None => Ok(()),
@@ -186,11 +192,10 @@ impl WindowState {
             .with_title("particle-lab")
             .with_inner_size(LogicalSize::new(size[0], size[1]))
             .with_min_inner_size(LogicalSize::new(min_width, min_height));
-        let window = Arc::new(
-            event_loop
-                .create_window(attributes)
-                .map_err(|e| format!("cannot create the window: {}", crate::messages::plain(&e.to_string())))?,
-        );
+        let window =
+            Arc::new(event_loop.create_window(attributes).map_err(|e| {
+                format!("cannot create the window: {}", crate::messages::plain(&e.to_string()))
+            })?);
         let instance = wgpu::Instance::new(crate::render::gpu::instance_descriptor(Some(Box::new(
             event_loop.owned_display_handle(),
         ))));
@@ -297,9 +302,9 @@ impl WindowState {
             wgpu::CurrentSurfaceTexture::Lost => {
                 log::warn!("surface lost; recreating it");
                 let instance = &self.gpu.instance;
-                self.surface = instance
-                    .create_surface(self.window.clone())
-                    .map_err(|e| format!("cannot recreate the surface: {}", crate::messages::plain(&e.to_string())))?;
+                self.surface = instance.create_surface(self.window.clone()).map_err(|e| {
+                    format!("cannot recreate the surface: {}", crate::messages::plain(&e.to_string()))
+                })?;
                 self.surface.configure(device, &self.config);
                 None
             }

@@ -41,6 +41,10 @@ pub struct Cli {
     /// (they are replaced on exit).
     #[arg(long)]
     pub fresh: bool,
+    /// Open on a snapshot (File → Save snapshot, or `simulate --save`): its scene,
+    /// parameters, solver and time step, at the step it was saved.
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "set", "solver", "substeps", "integrator"])]
+    pub from: Option<std::path::PathBuf>,
 }
 
 /// The solver flags shared by the window, `simulate` and `render`.
@@ -165,8 +169,8 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     if args.steps > MAX_STEPS {
         return Err((2, format!("--steps {} is out of range; valid range: 0 to {MAX_STEPS}", args.steps)));
     }
-    let container = record::Container::of(&args.out, args.frames.is_some(), args.every.is_some())
-        .map_err(|e| (2, e))?;
+    let container =
+        record::Container::of(&args.out, args.frames.is_some(), args.every.is_some()).map_err(|e| (2, e))?;
     let mut lab = match &args.from {
         Some(path) => {
             let snapshot = Snapshot::load(path).map_err(|e| (2, e))?;
@@ -295,7 +299,8 @@ pub fn parse() -> Cli {
             }
             // The subcommand typed, if any, for the help pointer when clap names none.
             let typed = std::env::args().nth(1).unwrap_or_default();
-            let known = <Cli as clap::CommandFactory>::command().get_subcommands().any(|c| c.get_name() == typed);
+            let known =
+                <Cli as clap::CommandFactory>::command().get_subcommands().any(|c| c.get_name() == typed);
             let command = if known { format!("particle-lab {typed}") } else { "particle-lab".into() };
             eprintln!("particle-lab: {}", usage::one_line(&error.render().to_string(), &command));
             std::process::exit(USAGE_ERROR);

@@ -410,6 +410,8 @@ pub struct Launch {
     pub integrator: Option<Integrator>,
     /// `--fresh`: start from the defaults, without reading the settings file.
     pub fresh: bool,
+    /// `--from FILE`: open on this snapshot (the saved view and window still apply).
+    pub from: Option<std::path::PathBuf>,
 }
 
 impl Launch {
@@ -425,6 +427,7 @@ impl Launch {
             substeps: typed[1].then_some(solver.substeps),
             integrator: typed[2].then_some(solver.integrator),
             fresh: cli.fresh,
+            from: cli.from.clone(),
         })
     }
 

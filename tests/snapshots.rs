@@ -302,6 +302,18 @@ fn bad_snapshots_get_one_line_and_change_nothing() {
     );
     let output = run(&["render", "--from", path.to_str().unwrap(), "--out", "x.png"]);
     assert_eq!(output.status.code(), Some(2));
+    // The window reads the file before it asks for a display: the same line, exit 2.
+    let window = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["--from", path.to_str().unwrap()])
+        .env("XDG_CONFIG_HOME", dir.join("config"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert_eq!(window.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&window.stderr);
+    assert!(stderr.trim_end().ends_with("this one reads version 1)"), "{stderr}");
+    assert_eq!(stderr.lines().filter(|l| l.contains("newer")).count(), 1, "{stderr}");
     let missing = run(&["simulate", "--from", "/nonexistent/snap.json"]);
     assert!(String::from_utf8_lossy(&missing.stderr).contains("cannot read /nonexistent/snap.json"));
 }

@@ -359,8 +359,12 @@ fn the_window_comes_back_as_it_was_left_and_fresh_starts_from_the_defaults() {
     pause();
     display.xdotool(&["key", "ctrl+q"]);
     let status = app.wait_exit();
-    assert!(status.success(), "exit status {status}:
-{}", app.log());
+    assert!(
+        status.success(),
+        "exit status {status}:
+{}",
+        app.log()
+    );
     app.expect_log("settings saved to ");
     let file = config.join("particle-lab").join("settings.json");
     let saved: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
@@ -373,7 +377,10 @@ fn the_window_comes_back_as_it_was_left_and_fresh_starts_from_the_defaults() {
     let window = app.window(&display);
     app.expect_log("window open: scene bridge");
     let restored = app.expect_log("settings restored from ");
-    assert!(restored.contains("scene bridge [") && restored.contains(&format!("g={g} ")), "g={g}: {restored}");
+    assert!(
+        restored.contains("scene bridge [") && restored.contains(&format!("g={g} ")),
+        "g={g}: {restored}"
+    );
     assert!(restored.contains(" side") && restored.contains("window 900x600"), "{restored}");
     let geometry = display.xdotool(&["getwindowgeometry", &window]);
     assert!(geometry.contains("Geometry: 900x600"), "{geometry}");
@@ -400,6 +407,46 @@ fn the_window_comes_back_as_it_was_left_and_fresh_starts_from_the_defaults() {
     for tag in ["settings-1", "settings-2", "settings-3", "settings-config"] {
         std::fs::remove_dir_all(test_dir(tag)).ok();
     }
+}
+
+/// Opened on a snapshot, the window steps on from it with the bits `simulate --from`
+/// gives: the same hash at the same step.
+#[test]
+fn the_window_opened_on_a_snapshot_steps_on_as_simulate_does() {
+    let dir = test_dir("from-snapshot");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("half.json");
+    let file = file.to_str().unwrap();
+    let saved = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["simulate", "--scene", "cradle", "--steps", "200", "--every", "200", "--save", file])
+        .output()
+        .unwrap();
+    assert!(saved.status.success(), "{}", String::from_utf8_lossy(&saved.stderr));
+    let display = Display::start();
+    let mut app = App::start(&display, &["--from", file], "from");
+    let window = app.window(&display);
+    app.expect_log("opened snapshot");
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    std::thread::sleep(Duration::from_millis(1500));
+    display.xdotool(&["key", "space"]);
+    let line = app.expect_log("paused at step");
+    let rest = line.split("paused at step ").nth(1).expect("the step");
+    let (step, hash) = rest.split_once(", state hash ").expect("the hash");
+    let step: u64 = step.trim().parse().expect("a step number");
+    assert!(step > 200, "it went on from step 200: {line}");
+    let more = (step - 200).to_string();
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["simulate", "--from", file, "--steps", &more, "--every", &more])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let last: serde_json::Value = serde_json::from_str(stdout.lines().last().expect("a line")).unwrap();
+    assert_eq!(last["step"], step);
+    assert_eq!(last["hash"].as_str(), Some(hash.trim()), "window: {line}");
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    std::fs::remove_dir_all(&app.dir).ok();
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

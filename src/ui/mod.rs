@@ -282,7 +282,9 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
         }
         if ui
             .button("Restore defaults")
-            .on_hover_text("The scene's parameters, solver, integrator, physics rate and view back to their defaults")
+            .on_hover_text(
+                "The scene's parameters, solver, integrator, physics rate and view back to their defaults",
+            )
             .clicked()
         {
             lab.restore_defaults();
