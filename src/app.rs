@@ -26,11 +26,13 @@ pub enum AppError {
 
 /// Opens the window on `scene` with `KEY=VALUE` settings and runs until it is closed.
 pub fn run(
-    scene: &str,
+    scene: &'static crate::scenes::SceneEntry,
     assignments: &[String],
     solver: crate::physics::SolverSettings,
 ) -> Result<(), AppError> {
-    let lab = Lab::with_solver(scene, assignments, solver).map_err(AppError::Usage)?;
+    let mut lab = Lab::from_entry(scene, assignments, solver).map_err(AppError::Usage)?;
+    // A scene from a file reloads when the file changes.
+    lab.watch_scene_file();
     let event_loop = EventLoop::new().map_err(|e| {
         AppError::Fatal(format!(
             "cannot open a window: no display ({e}); run it on a desktop, or under a virtual \

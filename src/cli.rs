@@ -24,6 +24,10 @@ pub struct Cli {
     /// Scene to open the window on.
     #[arg(long, global = false)]
     pub scene: Option<String>,
+    /// Scene file (TOML) to open the window on, instead of --scene; reloaded when it
+    /// changes.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<std::path::PathBuf>,
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -85,7 +89,10 @@ pub enum Command {
 pub struct RenderArgs {
     /// Scene name (see `particle-lab scenes`).
     #[arg(long)]
-    pub scene: String,
+    pub scene: Option<String>,
+    /// Scene file (TOML), instead of --scene.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<std::path::PathBuf>,
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -143,7 +150,8 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         return Err((2, format!("--out {} must name a .png file", args.out.display())));
     }
     let solver = args.solver.settings().map_err(|e| (2, e))?;
-    let mut lab = crate::ui::Lab::with_solver(&args.scene, &args.set, solver).map_err(|e| (2, e))?;
+    let entry = scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref()).map_err(|e| (2, e))?;
+    let mut lab = crate::ui::Lab::from_entry(entry, &args.set, solver).map_err(|e| (2, e))?;
     lab.view.swept |= args.swept;
     for option in &args.view {
         lab.set_view_option(option).map_err(|e| (2, e))?;
@@ -175,7 +183,7 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         args.out.display(),
         args.size[0],
         args.size[1],
-        args.scene,
+        entry.info.name,
         args.steps
     ))
 }
@@ -204,7 +212,10 @@ pub enum StateFormat {
 pub struct SimulateArgs {
     /// Scene name (see `particle-lab scenes`).
     #[arg(long)]
-    pub scene: String,
+    pub scene: Option<String>,
+    /// Scene file (TOML), instead of --scene.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<std::path::PathBuf>,
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -352,7 +363,8 @@ pub struct RunPlan {
 /// Builds the scene and checks the numbers of a `simulate` run.
 pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String> {
     let solver = args.solver.settings()?;
-    let mut scene = scenes::build(&args.scene, &args.set)?;
+    let entry = scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
+    let mut scene = scenes::build_entry(entry, &args.set)?;
     scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
     let info = scene.info();
     let dt = args.dt.unwrap_or(info.dt);

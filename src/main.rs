@@ -37,7 +37,14 @@ fn main() -> ExitCode {
             .solver
             .settings()
             .map_err(AppError::Usage)
-            .and_then(|solver| app::run(args.scene.as_deref().unwrap_or("projectile"), &args.set, solver))
+            .and_then(|solver| {
+                let scene = match (args.scene.as_deref(), args.scene_file.as_deref()) {
+                    (None, None) => Some("projectile"),
+                    (scene, _) => scene,
+                };
+                let entry = particle_lab::scenes::file::choose(scene, args.scene_file.as_deref());
+                app::run(entry.map_err(AppError::Usage)?, &args.set, solver)
+            })
         {
             Ok(()) => ExitCode::SUCCESS,
             Err(AppError::Usage(message)) => usage_error(&message),

@@ -229,6 +229,8 @@ pub struct Lab {
     pub net_force_measured: bool,
     /// Requests for the window.
     pub requests: Requests,
+    /// The open scene file, watched for changes (hot reload).
+    pub scene_file: Option<super::scene_files::Watch>,
     last_frame: Option<Instant>,
     /// The scene's read-outs as last computed, and when, at which step and time step.
     readouts: Vec<(String, String)>,
@@ -247,8 +249,17 @@ impl Lab {
 
     /// A lab on `name` with `KEY=VALUE` settings and the given solver.
     pub fn with_solver(name: &str, assignments: &[String], solver: SolverSettings) -> Result<Self, String> {
-        let entry = scenes::find(name)?;
-        let mut scene = scenes::build(name, assignments)?;
+        Self::from_entry(scenes::find(name)?, assignments, solver)
+    }
+
+    /// A lab on a registered or loaded scene (a scene file) with `KEY=VALUE` settings
+    /// and the given solver.
+    pub fn from_entry(
+        entry: &'static SceneEntry,
+        assignments: &[String],
+        solver: SolverSettings,
+    ) -> Result<Self, String> {
+        let mut scene = scenes::build_entry(entry, assignments)?;
         scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
         let mut lab = Self {
             solver,
@@ -282,6 +293,7 @@ impl Lab {
             tape: false,
             tape_points: Vec::new(),
             requests: Requests::default(),
+            scene_file: None,
             last_frame: None,
             readouts: Vec::new(),
             readouts_taken: None,

@@ -5,6 +5,7 @@
 pub mod compare;
 pub mod lab;
 pub mod paint;
+pub mod scene_files;
 
 use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
 use glam::{Vec2, Vec3};
@@ -45,6 +46,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
 /// Draws the whole interface for one frame and handles its input. Returns the 3D
 /// view's rectangle (in points).
 pub fn show(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
+    lab.poll_scene_file();
     shortcuts(ui.ctx(), lab);
     egui::Panel::top("menu").show(ui, |ui| menu_bar(ui, lab));
     if !lab.status.is_empty() {
@@ -134,7 +136,10 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
                     ui.close();
                 }
             }
+            scene_files::scene_menu(ui, lab);
         });
+        // After Scene, so that the Scene menu keeps its place (the window test clicks it).
+        ui.menu_button("File", |ui| scene_files::file_menu(ui, lab));
         ui.menu_button("View", |ui| {
             let crowded = lab.scene.world().particles.len() > Trails::PARTICLE_LIMIT;
             ui.add_enabled(!crowded, egui::Checkbox::new(&mut lab.view.trails, "Trails"))
