@@ -705,9 +705,9 @@ impl Builder<'_> {
                 match (indices.as_slice(), group.rows) {
                     ([], _) if single => Ok(vec![group.first]),
                     ([], _) => Ok((group.first..group.first + group.rows * group.cols).collect()),
-                    ([k], 1) => Ok(vec![group.first + member(*k, group.cols)?]),
+                    ([k], 1) => Ok(vec![group.first + member(k, group.cols)?]),
                     ([i, j], _) => {
-                        Ok(vec![group.first + member(*i, group.rows)? * group.cols + member(*j, group.cols)?])
+                        Ok(vec![group.first + member(i, group.rows)? * group.cols + member(j, group.cols)?])
                     }
                     ([_], _) => Err(Located::at(
                         &span,
@@ -762,10 +762,10 @@ impl Builder<'_> {
             shared.span = span.clone();
             self.check_link_room(pairs.len(), &span)?;
             for (a, b) in pairs {
-                if let End::Particle(b) = b {
-                    if a == b {
-                        return Err(Located::at(&span, format!("particle {a} is linked to itself")));
-                    }
+                if let End::Particle(b) = b
+                    && a == b
+                {
+                    return Err(Located::at(&span, format!("particle {a} is linked to itself")));
                 }
                 self.plans.push(LinkPlan { a, b, span: span.clone(), ..shared });
             }
@@ -965,6 +965,8 @@ fn kind_name(kind: Kind) -> &'static str {
 
 /// Where a row's or grid's particles go: a formula of `i` (and `j`), or a start and
 /// steps along columns (and rows).
+// One lives for the building of one group: its size does not matter.
+#[allow(clippy::large_enum_variant)]
 enum Placement {
     Formula([Value; 3]),
     Steps([Value; 3], [Value; 3], Option<[Value; 3]>),
