@@ -139,7 +139,7 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
             scene_files::scene_menu(ui, lab);
         });
         // After Scene, so that the Scene menu keeps its place (the window test clicks it).
-        ui.menu_button("File", |ui| scene_files::file_menu(ui, lab));
+        scene_files::file_menu(ui, lab);
         ui.menu_button("View", |ui| {
             let crowded = lab.scene.world().particles.len() > Trails::PARTICLE_LIMIT;
             ui.add_enabled(!crowded, egui::Checkbox::new(&mut lab.view.trails, "Trails"))

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, channel};
 use std::time::{Duration, Instant};
 
+use egui::containers::menu::{MenuButton, MenuConfig};
 use notify::{RecursiveMode, Watcher};
 
 use super::Lab;
@@ -156,44 +157,53 @@ impl Lab {
     }
 }
 
-/// The running values the new entry's table accepts, over its defaults; `None` when
+/// The values a user moved away from the old file's defaults, where the new entry's
+/// table accepts them, over its defaults (an edited default takes effect); `None` when
 /// that is just the defaults.
 fn kept_values(entry: &'static SceneEntry, old: &ParamValues) -> Option<ParamValues> {
     let mut values = ParamValues::defaults(entry.info.params);
     for (param, value) in old.iter() {
-        // A parameter the new file dropped or narrowed falls back to its default.
-        let _ = values.set(param.name, value);
+        if value != param.default {
+            // A parameter the new file dropped or narrowed falls back to its default.
+            let _ = values.set(param.name, value);
+        }
     }
     (values != ParamValues::defaults(entry.info.params)).then_some(values)
 }
 
-/// The File menu: open a scene file by its path.
+/// The File menu: open a scene file by its path. It stays open while the path is
+/// typed (a menu closes on any click by default, the text field's too).
 pub fn file_menu(ui: &mut egui::Ui, lab: &mut Lab) {
-    let id = egui::Id::unique("scene file path");
-    let mut text = ui.data_mut(|d| d.get_temp::<String>(id)).unwrap_or_default();
-    ui.label("Open a scene file (TOML):");
-    let field = ui.add(
-        egui::TextEdit::singleline(&mut text).hint_text("assets/scenes/cloth.toml").desired_width(260.0),
-    );
-    let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-    if (ui.button("Open").clicked() || entered)
-        && !text.trim().is_empty()
-        && lab.open_scene_file(Path::new(text.trim()))
-    {
-        ui.close();
-    }
-    if let Some((_, Some(path))) = lab.scene.source() {
-        ui.separator();
-        ui.label(format!("Watching {} for changes", path.display()));
-    }
-    ui.data_mut(|d| d.insert_temp(id, text));
+    let config = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
+    MenuButton::new("File").config(config).ui(ui, |ui| {
+        let id = egui::Id::unique("scene file path");
+        let mut text = ui.data_mut(|d| d.get_temp::<String>(id)).unwrap_or_default();
+        ui.label("Open a scene file (TOML):");
+        let field = ui.add(
+            egui::TextEdit::singleline(&mut text).hint_text("assets/scenes/cloth.toml").desired_width(260.0),
+        );
+        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        let path = text.trim().to_string();
+        if (ui.button("Open").clicked() || entered)
+            && !path.is_empty()
+            && lab.open_scene_file(Path::new(&path))
+        {
+            ui.close();
+        }
+        if let Some((_, Some(path))) = lab.scene.source() {
+            ui.separator();
+            ui.label(format!("Watching {} for changes", path.display()));
+        }
+        ui.data_mut(|d| d.insert_temp(id, text));
+    });
 }
 
 /// The shipped scene files, under the compiled scenes in the Scene menu.
 pub fn scene_menu(ui: &mut egui::Ui, lab: &mut Lab) {
     ui.separator();
     for &entry in file::shipped() {
-        let current = lab.entry.info.name == entry.info.name && file::definition(lab.entry).is_some();
+        let path = |e: &SceneEntry| file::definition(e).map(|d| d.path().map(Path::to_path_buf));
+        let current = lab.entry.info.name == entry.info.name && path(lab.entry) == path(entry);
         let label = format!("{} (file)", entry.info.name);
         if ui.selectable_label(current, label).on_hover_text(entry.info.summary).clicked() {
             match file::definition(entry).and_then(|d| d.path().map(Path::to_path_buf)) {
