@@ -516,3 +516,49 @@ fn every_shipped_scene_file_matches_its_reference_image() {
     matches_golden(&mut snapshotter, "platform", &[], 300, "file-platform");
     matches_golden(&mut snapshotter, "blob", &[], 165, "file-blob");
 }
+
+#[test]
+fn an_edited_default_takes_effect_on_reload() {
+    let dir = scratch_dir("default");
+    let path = dir.join("n.toml");
+    let text = |n: u32| {
+        format!(
+            "[scene]\nname = \"n\"\n[[param]]\nname = \"n\"\ndefault = {n}\nmin = 1\nmax = 9\n\
+             [[row]]\ncount = \"n\"\nstart = [0, 1, 0]\n"
+        )
+    };
+    std::fs::write(&path, text(3)).unwrap();
+    let mut lab = Lab::from_entry(file::load_path(&path).unwrap(), &[], SolverSettings::default()).unwrap();
+    lab.watch_scene_file();
+    std::thread::sleep(Duration::from_millis(100));
+    std::fs::write(&path, text(4)).unwrap();
+    assert!(
+        poll_until(&mut lab, |lab| lab.scene.world().particles.len() == 4),
+        "the new default was not taken"
+    );
+    assert_eq!(lab.scene.params().get("n"), 4.0);
+}
+
+/// A small fixed-seed generator, so the soak is the same every run.
+fn lcg(state: &mut u64) -> f32 {
+    *state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+    (*state >> 40) as f32 / (1u64 << 24) as f32
+}
+
+#[test]
+fn shipped_scenes_stay_finite_with_parameters_changed_at_random() {
+    let mut seed = 7;
+    for &entry in file::shipped() {
+        let mut scene = entry.create_default();
+        let params = entry.info.params;
+        for step in 0..3000 {
+            if step % 50 == 0 {
+                let p = &params[(lcg(&mut seed) * params.len() as f32) as usize % params.len()];
+                let value = p.min + (p.max - p.min) * lcg(&mut seed);
+                scene.set_param(p.name, value).unwrap_or_else(|e| panic!("{}: {e}", entry.info.name));
+            }
+            scene.step(entry.info.dt).unwrap();
+            assert!(scene.world().is_finite(), "{} went non-finite at step {step}", entry.info.name);
+        }
+    }
+}
