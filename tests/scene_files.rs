@@ -515,6 +515,23 @@ fn every_shipped_scene_file_matches_its_reference_image() {
     matches_golden(&mut snapshotter, "cloth", &["tear=10"], 200, "file-cloth-torn");
     matches_golden(&mut snapshotter, "platform", &[], 300, "file-platform");
     matches_golden(&mut snapshotter, "blob", &[], 165, "file-blob");
+
+    // The same through the command line, from the file.
+    let out = std::env::temp_dir().join(format!("particle-lab-scene-file-{}.png", std::process::id()));
+    let run = run(&[
+        "render",
+        "--scene-file",
+        "assets/scenes/blob.toml",
+        "--steps",
+        "3",
+        "--size",
+        "64x48",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(String::from_utf8_lossy(&run.stdout).contains("64x48, blob after 3 steps"));
+    assert_eq!(read_png(&out).unwrap().1, [64, 48]);
 }
 
 #[test]
@@ -561,4 +578,100 @@ fn shipped_scenes_stay_finite_with_parameters_changed_at_random() {
             assert!(scene.world().is_finite(), "{} went non-finite at step {step}", entry.info.name);
         }
     }
+}
+
+#[test]
+fn every_kind_of_link_force_and_contact_can_be_declared() {
+    let text = r#"
+[scene]
+name = "kinds"
+
+[[particle]]
+name = "a"
+position = [0, 2, 0]
+[[particle]]
+name = "b"
+position = [1, 2, 0]
+[[particle]]
+name = "float"
+position = [3, 0.5, 0]
+radius = 0.2
+
+[[link]]
+kind = "rod"
+a = "a"
+b = "b"
+[[link]]
+kind = "cable"
+a = "a"
+b = "b"
+length = 1.5
+restitution = 0.5
+[[link]]
+kind = "spring"
+a = "a"
+b = "b"
+k = 10
+length = 0.5
+[[link]]
+kind = "bungee"
+a = "a"
+b = "b"
+k = 10
+[[link]]
+kind = "rod"
+a = "a"
+anchor = [0, 3, 0]
+[[link]]
+kind = "cable"
+a = "b"
+anchor = [1, 3.5, 0]
+[[link]]
+kind = "stiff_spring"
+a = "float"
+anchor = [3, 1, 0]
+k = 1e6
+damping_ratio = 0.5
+
+[[drag]]
+k1 = 0.1
+k2 = 0.01
+targets = ["a", 1]
+
+[[buoyancy]]
+particle = "float"
+surface = 0.5
+half_height = 0.2
+volume = 0.02
+
+[ground]
+height = -1
+
+[[wall]]
+normal = [1, 0, 0]
+point = [-4, 0, 0]
+
+[collisions]
+restitution = 0.2
+"#;
+    let mut scene = load(text).unwrap();
+    let mut kinds: Vec<&str> = scene.world().links().iter().map(|l| l.spec.kind.name()).collect();
+    kinds.sort_unstable();
+    assert_eq!(kinds, ["bungee", "cable", "rod", "spring", "stiff_spring", "support_cable", "support_rod"]);
+    // Drag, buoyancy, two springs and the stiff spring are forces.
+    assert_eq!(scene.world().forces.len(), 5);
+    let water = scene.water().expect("buoyancy draws its water");
+    assert_eq!(water.height, 0.5);
+    for _ in 0..240 {
+        scene.step(1.0 / 240.0).unwrap();
+    }
+    assert!(scene.world().is_finite());
+    // The stiff spring holds the float near its anchor against its weight and buoyancy.
+    let float = scene.world().particles.positions()[2];
+    assert!((float - glam::Vec3::new(3.0, 1.0, 0.0)).length() < 0.01, "float at {float}");
+
+    let error = load_err(
+        "[scene]\nname = \"t\"\n[[particle]]\nposition = [0, 0, 0]\n[[link]]\nkind = \"stiff_spring\"\na = 0\nb = 0\nk = 5\n",
+    );
+    assert_eq!(error, "test.toml:8:5: a stiff spring joins a particle to an `anchor`, not to `b`");
 }
