@@ -99,6 +99,8 @@ const MASS: Bounds = Bounds { min: MIN_MASS as f64, max: MAX_MASS as f64, text: 
 /// The particles of one `[[particle]]`, `[[row]]` or `[[grid]]`.
 struct Group {
     name: Option<&'static str>,
+    /// A `[[particle]]`, not an array (even of one).
+    single: bool,
     first: usize,
     rows: usize,
     cols: usize,
@@ -201,7 +203,14 @@ pub fn build(doc: &'static Document, source: &str, params: &ParamValues) -> Resu
     links.extend(contacts);
     b.surfaces(doc)?;
     let camera = b.camera(doc)?;
-    let labels = b.groups.iter().filter_map(|group| Some((b.ids[group.first], group.name?))).collect();
+    // Named single particles are labelled; an array's name at one member would be
+    // ambiguous, and several arrays often start at the same corner.
+    let labels = b
+        .groups
+        .iter()
+        .filter(|group| group.single)
+        .filter_map(|group| Some((b.ids[group.first], group.name?)))
+        .collect();
     let water = water(&b.world, &floats);
     Ok(Built { world: b.world, links, labels, camera, floats, water, g_elsewhere: b.g_elsewhere })
 }
@@ -392,7 +401,7 @@ impl Builder<'_> {
                 damping: self.eval(&damping, &[], "damping", UNIT)?,
                 radius: self.eval(&radius, &[], "radius", NON_NEGATIVE)?,
             };
-            self.groups.push(Group { name, first: self.ids.len(), rows: 1, cols: 1 });
+            self.groups.push(Group { name, single: true, first: self.ids.len(), rows: 1, cols: 1 });
             self.add(desc, &span)?;
         }
         Ok(())
@@ -468,7 +477,7 @@ impl Builder<'_> {
                 };
                 self.add(desc, &span)?;
             }
-            self.groups.push(Group { name, first, rows: 1, cols: count });
+            self.groups.push(Group { name, single: false, first, rows: 1, cols: count });
             if let Some(kind) = &t.link {
                 let kind = Self::kind(kind)?;
                 let mut pairs: Vec<(usize, usize)> = (1..count).map(|k| (k - 1, k)).collect();
@@ -541,7 +550,7 @@ impl Builder<'_> {
                     self.add(desc, &span)?;
                 }
             }
-            self.groups.push(Group { name, first, rows, cols });
+            self.groups.push(Group { name, single: false, first, rows, cols });
             if let Some(kind) = &t.link {
                 let kind = Self::kind(kind)?;
                 let at = |i: usize, j: usize| i * cols + j;
@@ -701,7 +710,7 @@ impl Builder<'_> {
                         ))
                     }
                 };
-                let single = group.rows * group.cols == 1 && indices.is_empty();
+                let single = group.single && indices.is_empty();
                 match (indices.as_slice(), group.rows) {
                     ([], _) if single => Ok(vec![group.first]),
                     ([], _) => Ok((group.first..group.first + group.rows * group.cols).collect()),
