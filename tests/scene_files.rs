@@ -435,7 +435,7 @@ fn shipped() -> Vec<(&'static str, &'static str)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
 
     #[test]
     fn truncated_and_mutated_files_load_or_give_one_line(
@@ -674,4 +674,22 @@ restitution = 0.2
         "[scene]\nname = \"t\"\n[[particle]]\nposition = [0, 0, 0]\n[[link]]\nkind = \"stiff_spring\"\na = 0\nb = 0\nk = 5\n",
     );
     assert_eq!(error, "test.toml:8:5: a stiff spring joins a particle to an `anchor`, not to `b`");
+}
+
+#[test]
+fn a_value_the_file_cannot_be_built_with_is_refused_and_the_scene_stays() {
+    let text = "[scene]\nname = \"t\"\n[[param]]\nname = \"m\"\ndefault = 3\nmin = 0\nmax = 5\n\
+                [[particle]]\nposition = [0, 1, 0]\nmass = \"m - 1\"\n";
+    let mut scene = load(text).unwrap();
+    scene.step(1.0 / 240.0).unwrap();
+    let error = scene.set_param("m", 0.5).unwrap_err().to_string();
+    assert_eq!(
+        error,
+        "'m' cannot take that value: test.toml:10:8: mass = -0.5 is out of range; valid range: 1e-9 to 1e12 kg"
+    );
+    assert_eq!((scene.params().get("m"), scene.world().steps()), (3.0, 1), "nothing changed");
+    assert_eq!(scene.world().particles.mass(0), 2.0);
+    let entry = file::load_text(text, "test.toml", None).unwrap();
+    let error = scenes::build_entry(entry, &["m=0.5".into()]).err().unwrap();
+    assert_eq!(error, "test.toml:10:8: mass = -0.5 is out of range; valid range: 1e-9 to 1e12 kg");
 }
