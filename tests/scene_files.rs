@@ -562,13 +562,14 @@ fn lcg(state: &mut u64) -> f32 {
     (*state >> 40) as f32 / (1u64 << 24) as f32
 }
 
-#[test]
-fn shipped_scenes_stay_finite_with_parameters_changed_at_random() {
+/// Steps every shipped scene, changing a parameter at random (within its slider's
+/// range) every 50 steps; fails on an error or a non-finite state.
+fn soak(steps: u32) {
     let mut seed = 7;
     for &entry in file::shipped() {
         let mut scene = entry.create_default();
         let params = entry.info.params;
-        for step in 0..3000 {
+        for step in 0..steps {
             if step % 50 == 0 {
                 let p = &params[(lcg(&mut seed) * params.len() as f32) as usize % params.len()];
                 let value = p.min + (p.max - p.min) * lcg(&mut seed);
@@ -578,6 +579,18 @@ fn shipped_scenes_stay_finite_with_parameters_changed_at_random() {
             assert!(scene.world().is_finite(), "{} went non-finite at step {step}", entry.info.name);
         }
     }
+}
+
+#[test]
+fn shipped_scenes_stay_finite_with_parameters_changed_at_random() {
+    soak(3000);
+}
+
+/// The soak: 100,000 steps a scene (minutes; `-- --ignored` runs it).
+#[test]
+#[ignore]
+fn shipped_scenes_survive_the_long_soak() {
+    soak(100_000);
 }
 
 #[test]
