@@ -42,6 +42,8 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
         lab.frame_scene();
         log::info!("opened snapshot {} at step {}", path.display(), lab.scene.world().steps());
     }
+    // A scene from a file reloads when the file changes.
+    lab.watch_scene_file();
     let event_loop =
         EventLoop::new().map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
     let mut app = App { lab, window: None, error: None, timing_logged: Instant::now(), store, window_size };

@@ -31,6 +31,10 @@ pub struct Cli {
     /// Scene to open the window on.
     #[arg(long, global = false)]
     pub scene: Option<String>,
+    /// Scene file (TOML) to open the window on, instead of --scene; reloaded when it
+    /// changes.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<std::path::PathBuf>,
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -43,7 +47,7 @@ pub struct Cli {
     pub fresh: bool,
     /// Open on a snapshot (File → Save snapshot, or `simulate --save`): its scene,
     /// parameters, solver and time step, at the step it was saved.
-    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "set", "solver", "substeps", "integrator"])]
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "scene_file", "set", "solver", "substeps", "integrator"])]
     pub from: Option<std::path::PathBuf>,
 }
 
@@ -99,11 +103,14 @@ pub enum Command {
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
     /// Scene name (see `particle-lab scenes`).
-    #[arg(long, required_unless_present = "from")]
+    #[arg(long)]
     pub scene: Option<String>,
+    /// Scene file (TOML), instead of --scene.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<std::path::PathBuf>,
     /// Start from a snapshot instead of a scene's beginning; `--steps` then runs on
     /// from the step it was saved at.
-    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "set", "solver", "substeps", "integrator"])]
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "scene_file", "set", "solver", "substeps", "integrator"])]
     pub from: Option<std::path::PathBuf>,
     /// Set a scene parameter, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -178,8 +185,9 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         }
         None => {
             let solver = args.solver.settings().map_err(|e| (2, e))?;
-            let name = args.scene.as_deref().expect("clap requires --scene without --from");
-            crate::ui::Lab::with_solver(name, &args.set, solver).map_err(|e| (2, e))?
+            let entry = scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref())
+                .map_err(|e| (2, e))?;
+            crate::ui::Lab::from_entry(entry, &args.set, solver).map_err(|e| (2, e))?
         }
     };
     lab.view.swept |= args.swept;
@@ -249,11 +257,14 @@ pub enum StateFormat {
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
     /// Scene name (see `particle-lab scenes`).
-    #[arg(long, required_unless_present = "from")]
+    #[arg(long)]
     pub scene: Option<String>,
+    /// Scene file (TOML), instead of --scene.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<std::path::PathBuf>,
     /// Continue from a snapshot (File → Save in the window, or `--save`): its scene,
     /// parameters, solver and time step, at the step it was saved.
-    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "set", "solver", "substeps", "integrator"])]
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "scene_file", "set", "solver", "substeps", "integrator"])]
     pub from: Option<std::path::PathBuf>,
     /// Write a snapshot of the last state to FILE after the run.
     #[arg(long, value_name = "FILE.json")]
@@ -417,8 +428,8 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
         }
         None => {
             let solver = args.solver.settings()?;
-            let name = args.scene.as_deref().expect("clap requires --scene without --from");
-            let mut scene = scenes::build(name, &args.set)?;
+            let entry = scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
+            let mut scene = scenes::build_entry(entry, &args.set)?;
             scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
             (scene, None)
         }

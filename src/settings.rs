@@ -400,6 +400,8 @@ fn in_range(name: &str, value: f32, min: f32, max: f32) -> Result<(), String> {
 pub struct Launch {
     /// `--scene`.
     pub scene: Option<String>,
+    /// `--scene-file`.
+    pub scene_file: Option<std::path::PathBuf>,
     /// `--set KEY=VALUE`, in order.
     pub set: Vec<String>,
     /// `--solver`.
@@ -422,6 +424,7 @@ impl Launch {
         let typed = typed_solver_flags();
         Ok(Self {
             scene: cli.scene.clone(),
+            scene_file: cli.scene_file.clone(),
             set: cli.set.clone(),
             solver: typed[0].then_some(solver.kind),
             substeps: typed[1].then_some(solver.substeps),
@@ -445,6 +448,7 @@ impl Launch {
     fn typed(&self) -> Vec<&'static str> {
         let flags = [
             (self.scene.is_some(), "--scene"),
+            (self.scene_file.is_some(), "--scene-file"),
             (!self.set.is_empty(), "--set"),
             (self.solver.is_some(), "--solver"),
             (self.substeps.is_some(), "--substeps"),
@@ -637,8 +641,13 @@ pub struct Opened {
 /// saved settings (unless `--fresh`, or there are none or they are unusable), with
 /// whatever the command line typed winning. An error is a bad command line.
 pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
-    // A mistyped scene is refused before the file is touched.
-    let typed_scene = launch.scene.as_deref().map(scenes::find).transpose()?.map(|entry| entry.info.name);
+    // A mistyped scene (or a bad scene file) is refused before the settings file is
+    // touched.
+    let typed_entry = match (launch.scene.as_deref(), launch.scene_file.as_deref()) {
+        (None, None) => None,
+        (scene, file) => Some(scenes::file::choose(scene, file)?),
+    };
+    let typed_scene = typed_entry.map(|entry| entry.info.name);
     let place =
         store.path().map_or_else(|| "nowhere (no config directory)".to_string(), |p| p.display().to_string());
     let (saved, origin, warning) = if launch.fresh {
@@ -663,7 +672,11 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
     }
     assignments.extend(launch.set.iter().cloned());
     let base = resolved.as_ref().map_or_else(SolverSettings::default, |r| r.solver);
-    let mut lab = Lab::with_solver(scene, &assignments, launch.solver_over(base))?;
+    let solver = launch.solver_over(base);
+    let mut lab = match typed_entry {
+        Some(entry) => Lab::from_entry(entry, &assignments, solver)?,
+        None => Lab::with_solver(scene, &assignments, solver)?,
+    };
     let mut window = DEFAULT_WINDOW;
     if let Some(saved) = &saved {
         apply(saved, &mut lab, same_scene);

@@ -400,3 +400,64 @@ fn compare_branches_from_now_through_a_snapshot() {
     assert_ne!(copy.scene.world().state_hash(), lab.scene.world().state_hash());
     assert_eq!(lab.scene.world().steps(), 500);
 }
+
+/// Scenes from files replay too: the snapshot carries the file's text, so it loads
+/// where the file is not, and a cloth that tore keeps exactly the links it had left.
+#[test]
+fn scene_files_replay_through_snapshots_even_without_their_file() {
+    for (name, params) in
+        [("chain", vec![]), ("cloth", vec!["tear=2".to_string()]), ("platform", vec![]), ("blob", vec![])]
+    {
+        for (solver_name, solver) in solvers() {
+            let entry = scenes::find(name).unwrap();
+            let dt = entry.info.dt;
+            let build = || {
+                let mut scene = scenes::build_entry(entry, &params).unwrap();
+                scene.world_mut().set_solver(solver).unwrap();
+                scene
+            };
+            let mut straight = build();
+            step(straight.as_mut(), 400, dt);
+            let mut first = build();
+            step(first.as_mut(), 200, dt);
+            let snapshot = Snapshot::of(first.as_ref(), dt).unwrap();
+            assert!(snapshot.scene_file.is_some(), "{name}: the snapshot carries the scene's text");
+            let mut second = Snapshot::from_json(&snapshot.to_json()).unwrap().restore().unwrap();
+            step(second.as_mut(), 200, dt);
+            assert_eq!(
+                fingerprint(second.as_ref()),
+                fingerprint(straight.as_ref()),
+                "{name} with {solver_name}"
+            );
+        }
+    }
+    // The torn cloth did tear before the save, so the test covers a changed link set.
+    let entry = scenes::find("cloth").unwrap();
+    let mut cloth = scenes::build_entry(entry, &["tear=2".into()]).unwrap();
+    let before = cloth.world().links().len();
+    step(cloth.as_mut(), 200, entry.info.dt);
+    assert!(cloth.world().links().len() < before, "links tore in the first 200 steps");
+
+    // Across processes, with the scene file gone by the time the snapshot is read.
+    let dir = scratch("scene-file");
+    let toml = dir.join("my-chain.toml");
+    std::fs::copy(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/chain.toml"), &toml).unwrap();
+    let file = dir.join("chain.json");
+    let (toml_path, file) = (toml.to_str().unwrap(), file.to_str().unwrap());
+    let whole =
+        last_line(&run(&["simulate", "--scene-file", toml_path, "--steps", "300", "--every", "1000"]));
+    last_line(&run(&[
+        "simulate",
+        "--scene-file",
+        toml_path,
+        "--steps",
+        "100",
+        "--every",
+        "1000",
+        "--save",
+        file,
+    ]));
+    std::fs::remove_file(&toml).unwrap();
+    let rest = last_line(&run(&["simulate", "--from", file, "--steps", "200", "--every", "1000"]));
+    assert_eq!(rest, whole);
+}

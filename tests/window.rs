@@ -28,7 +28,33 @@ impl Display {
             let found = Command::new("sh").args(["-c", &format!("command -v {tool}")]).output().unwrap();
             assert!(found.status.success(), "{tool} is missing; 'bash scripts/test.sh' installs it");
         }
-        // Xvfb picks a free display number itself and prints it.
+        // A server and window manager that do not come up in time (a busy machine, a
+        // display number still being let go) are started again, up to three times.
+        let (name, server, window_manager) = Self::launch();
+        let mut display = Self { name, server, window_manager, _serial: serial };
+        for attempt in 1..=3 {
+            let up = wait_for(Duration::from_secs(15), || {
+                Command::new("wmctrl")
+                    .env("DISPLAY", &display.name)
+                    .arg("-m")
+                    .output()
+                    .is_ok_and(|o| o.status.success())
+            });
+            if up {
+                return display;
+            }
+            assert!(attempt < 3, "timed out waiting for the window manager, three times");
+            let _ = display.window_manager.kill();
+            let _ = display.server.kill();
+            let _ = display.window_manager.wait();
+            let _ = display.server.wait();
+            (display.name, display.server, display.window_manager) = Self::launch();
+        }
+        unreachable!("returned or panicked above")
+    }
+
+    /// Starts Xvfb on a free display (it picks the number and prints it) and openbox on it.
+    fn launch() -> (String, Child, Child) {
         let mut server = Command::new("Xvfb")
             .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
             .stdout(Stdio::piped())
@@ -45,15 +71,7 @@ impl Display {
             .stderr(Stdio::null())
             .spawn()
             .expect("openbox starts");
-        let display = Self { name, server, window_manager, _serial: serial };
-        wait_until("the window manager", || {
-            Command::new("wmctrl")
-                .env("DISPLAY", &display.name)
-                .arg("-m")
-                .output()
-                .is_ok_and(|o| o.status.success())
-        });
-        display
+        (name, server, window_manager)
     }
 
     fn run(&self, program: &str, args: &[&str]) -> String {
@@ -73,6 +91,18 @@ impl Drop for Display {
         let _ = self.window_manager.wait();
         let _ = self.server.wait();
     }
+}
+
+/// Polls `done` until it holds (true) or `limit` passes (false).
+fn wait_for(limit: Duration, mut done: impl FnMut() -> bool) -> bool {
+    let start = Instant::now();
+    while !done() {
+        if start.elapsed() > limit {
+            return false;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    true
 }
 
 fn wait_until(what: &str, mut done: impl FnMut() -> bool) {

@@ -26,6 +26,7 @@ macro_rules! scene_basics {
 
 mod bridge;
 mod cradle;
+pub mod file;
 pub mod ghost;
 mod params;
 mod pendulum;
@@ -33,6 +34,8 @@ pub mod pile;
 mod projectile;
 pub mod snapshot;
 mod spring_forces;
+
+use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
@@ -211,6 +214,12 @@ pub trait Scene: Send {
     fn restore_state(&mut self, _state: &serde_json::Value) -> Result<(), String> {
         Ok(())
     }
+
+    /// The text the scene was built from and the file it was read from, for a scene
+    /// loaded from a file (the path is `None` for a shipped scene built in).
+    fn source(&self) -> Option<(&str, Option<&Path>)> {
+        None
+    }
 }
 
 /// A scene in the registry: its description and how to build it.
@@ -233,12 +242,14 @@ impl SceneEntry {
 pub static SCENES: &[SceneEntry] =
     &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY, pile::ENTRY, pendulum::ENTRY, cradle::ENTRY];
 
-/// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works).
+/// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works):
+/// the compiled scenes, then the shipped scene files.
 pub fn find(name: &str) -> Result<&'static SceneEntry, String> {
     let simplify = |s: &str| s.chars().filter(|c| *c != '-' && *c != '_').collect::<String>().to_lowercase();
     let wanted = simplify(name);
     SCENES
         .iter()
+        .chain(file::shipped().iter().copied())
         .find(|entry| simplify(entry.info.name) == wanted)
         .ok_or_else(|| format!("unknown scene '{name}'; valid scenes: {}", scene_names().join(", ")))
 }
@@ -252,18 +263,26 @@ pub fn create_default(name: &str) -> Box<dyn Scene> {
     find(name).expect("scene is registered").create_default()
 }
 
-/// Names of every scene, in menu order.
+/// Names of every scene, in menu order: the compiled ones, then the shipped files.
 #[must_use]
 pub fn scene_names() -> Vec<&'static str> {
-    SCENES.iter().map(|e| e.info.name).collect()
+    SCENES.iter().chain(file::shipped().iter().copied()).map(|e| e.info.name).collect()
 }
 
 /// Builds a scene by name with `KEY=VALUE` assignments applied over its defaults.
 pub fn build(name: &str, assignments: &[String]) -> Result<Box<dyn Scene>, String> {
-    let entry = find(name)?;
+    build_entry(find(name)?, assignments)
+}
+
+/// Builds a scene with `KEY=VALUE` assignments applied over its defaults. A file
+/// scene that cannot be built with them says where in the file and why.
+pub fn build_entry(entry: &'static SceneEntry, assignments: &[String]) -> Result<Box<dyn Scene>, String> {
     let mut values = ParamValues::defaults(entry.info.params);
     for assignment in assignments {
         values.assign(assignment).map_err(|e| e.to_string())?;
     }
-    Ok((entry.create)(values))
+    match file::definition(entry) {
+        Some(definition) => definition.create(values).map_err(|e| e.to_string()),
+        None => Ok((entry.create)(values)),
+    }
 }

@@ -65,6 +65,14 @@ pub enum ParamError {
     },
     /// Not of the form KEY=VALUE.
     Malformed(String),
+    /// The value is in range, but the scene cannot be built with it (a scene file
+    /// whose expressions give, say, a negative mass at that value).
+    Rejected {
+        /// The parameter.
+        key: String,
+        /// Why, naming the place in the file.
+        reason: String,
+    },
 }
 
 impl fmt::Display for ParamError {
@@ -83,6 +91,7 @@ impl fmt::Display for ParamError {
             Self::Malformed(text) => {
                 write!(f, "'{text}' is not of the form KEY=VALUE (for example g=9.81)")
             }
+            Self::Rejected { key, reason } => write!(f, "'{key}' cannot take that value: {reason}"),
         }
     }
 }

@@ -22,7 +22,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::{ParamValues, Scene};
+use super::{ParamValues, Scene, SceneEntry};
 use crate::physics::{World, WorldState};
 
 /// The `format` field of every snapshot.
@@ -44,6 +44,10 @@ pub struct Snapshot {
     pub version: u32,
     /// The scene's name.
     pub scene: String,
+    /// For a scene built from a file: the file's text (and where it was read from), so
+    /// the snapshot rebuilds the same scene wherever it is opened.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_file: Option<SceneSource>,
     /// Every parameter's value, in the scene's table order.
     pub params: Vec<(String, f32)>,
     /// The physics time step the lab ran at (s).
@@ -56,6 +60,16 @@ pub struct Snapshot {
     /// What the scene keeps beside its world ([`Scene::save_state`]).
     #[serde(default)]
     pub scene_state: serde_json::Value,
+}
+
+/// The scene file a snapshot's scene was built from.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SceneSource {
+    /// Where it was read from, if from disk (shown in messages; not read again).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<String>,
+    /// The TOML text.
+    pub text: String,
 }
 
 /// A hash as snapshots and `simulate` print it.
@@ -73,6 +87,10 @@ impl Snapshot {
             format: FORMAT.into(),
             version: VERSION,
             scene: scene.info().name.into(),
+            scene_file: scene.source().map(|(text, path)| SceneSource {
+                path: path.map(|p| p.display().to_string()),
+                text: text.to_string(),
+            }),
             params: scene.params().iter().map(|(param, value)| (param.name.to_string(), value)).collect(),
             dt,
             hash: Some(hash_text(world.state_hash())),
@@ -148,7 +166,20 @@ impl Snapshot {
     /// parameters, then given the saved world and the scene's own state. Nothing is
     /// changed if any part is refused.
     pub fn restore(&self) -> Result<Box<dyn Scene>, String> {
-        let entry = super::find(&self.scene)?;
+        self.restore_with_entry().map(|(_, scene)| scene)
+    }
+
+    /// [`Snapshot::restore`], with the registry entry of the scene (for a scene file,
+    /// the entry its embedded text made).
+    pub fn restore_with_entry(&self) -> Result<(&'static SceneEntry, Box<dyn Scene>), String> {
+        let entry = match &self.scene_file {
+            Some(file) => {
+                let shown = file.path.clone().unwrap_or_else(|| format!("{} (in the snapshot)", self.scene));
+                super::file::load_text(&file.text, &shown, file.path.as_ref().map(std::path::PathBuf::from))
+                    .map_err(|e| format!("scene_file: {e}"))?
+            }
+            None => super::find(&self.scene)?,
+        };
         let mut values = ParamValues::defaults(entry.info.params);
         for (name, value) in &self.params {
             values.set(name, *value).map_err(|e| format!("parameter {e}"))?;
@@ -169,9 +200,12 @@ impl Snapshot {
                 ));
             }
         }
-        let mut scene = (entry.create)(values);
+        let mut scene = match super::file::definition(entry) {
+            Some(definition) => definition.create(values).map_err(|e| format!("scene_file: {e}"))?,
+            None => (entry.create)(values),
+        };
         *scene.world_mut() = world;
         scene.restore_state(&self.scene_state).map_err(|e| format!("scene_state: {e}"))?;
-        Ok(scene)
+        Ok((entry, scene))
     }
 }

@@ -232,6 +232,8 @@ pub struct Lab {
     pub net_force_measured: bool,
     /// Requests for the window.
     pub requests: Requests,
+    /// The open scene file, watched for changes (hot reload).
+    pub scene_file: Option<super::scene_files::Watch>,
     last_frame: Option<Instant>,
     /// The scene's read-outs as last computed, and when, at which step and time step.
     readouts: Vec<(String, String)>,
@@ -258,8 +260,17 @@ impl Lab {
 
     /// A lab on `name` with `KEY=VALUE` settings and the given solver.
     pub fn with_solver(name: &str, assignments: &[String], solver: SolverSettings) -> Result<Self, String> {
-        let entry = scenes::find(name)?;
-        let mut scene = scenes::build(name, assignments)?;
+        Self::from_entry(scenes::find(name)?, assignments, solver)
+    }
+
+    /// A lab on a registered or loaded scene (a scene file) with `KEY=VALUE` settings
+    /// and the given solver.
+    pub fn from_entry(
+        entry: &'static SceneEntry,
+        assignments: &[String],
+        solver: SolverSettings,
+    ) -> Result<Self, String> {
+        let mut scene = scenes::build_entry(entry, assignments)?;
         scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
         let mut lab = Self {
             solver,
@@ -294,6 +305,7 @@ impl Lab {
             tape: false,
             tape_points: Vec::new(),
             requests: Requests::default(),
+            scene_file: None,
             last_frame: None,
             readouts: Vec::new(),
             readouts_taken: None,
@@ -1012,7 +1024,8 @@ impl Lab {
     /// A lab on the scene a snapshot holds, at the step it was saved, framed by the
     /// scene's camera hint.
     pub fn from_snapshot(snapshot: &Snapshot) -> Result<Self, String> {
-        let mut lab = Self::with_solver(&snapshot.scene, &[], snapshot.world.solver())?;
+        let (entry, _) = snapshot.restore_with_entry()?;
+        let mut lab = Self::from_entry(entry, &[], snapshot.world.solver())?;
         lab.load_snapshot(snapshot)?;
         lab.camera = OrbitCamera::from_hint(lab.scene.camera());
         Ok(lab)
@@ -1027,8 +1040,7 @@ impl Lab {
     /// nothing changes. The plots and trails start again from the loaded state, and a
     /// Compare copy stops (it would have to run from the scene's start to catch up).
     pub fn load_snapshot(&mut self, snapshot: &Snapshot) -> Result<(), String> {
-        let scene = snapshot.restore()?;
-        let entry = scenes::find(&snapshot.scene)?;
+        let (entry, scene) = snapshot.restore_with_entry()?;
         self.stop_compare();
         self.entry = entry;
         self.scene = scene;

@@ -5,6 +5,7 @@
 pub mod compare;
 pub mod lab;
 pub mod paint;
+pub mod scene_files;
 
 use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
 use glam::{Vec2, Vec3};
@@ -45,6 +46,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
 /// Draws the whole interface for one frame and handles its input. Returns the 3D
 /// view's rectangle (in points).
 pub fn show(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
+    lab.poll_scene_file();
     shortcuts(ui.ctx(), lab);
     egui::Panel::top("menu").show(ui, |ui| menu_bar(ui, lab));
     if !lab.status.is_empty() {
@@ -136,7 +138,7 @@ fn shortcuts(ctx: &egui::Context, lab: &mut Lab) {
 
 fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
     egui::MenuBar::new().ui(ui, |ui| {
-        ui.menu_button("File", |ui| snapshot_menu(ui, lab));
+        scene_files::file_menu(ui, lab);
         ui.menu_button("Scene", |ui| {
             for entry in SCENES {
                 let current = std::ptr::eq(entry, lab.entry);
@@ -145,6 +147,7 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
                     ui.close();
                 }
             }
+            scene_files::scene_menu(ui, lab);
         });
         ui.menu_button("View", |ui| {
             let crowded = lab.scene.world().particles.len() > Trails::PARTICLE_LIMIT;
@@ -232,7 +235,7 @@ fn menu_bar(ui: &mut egui::Ui, lab: &mut Lab) {
 }
 
 /// The File menu's snapshot items: a path, Save and Load, and the quick save keys.
-fn snapshot_menu(ui: &mut egui::Ui, lab: &mut Lab) {
+pub(crate) fn snapshot_menu(ui: &mut egui::Ui, lab: &mut Lab) {
     ui.label("Snapshot file");
     ui.add(egui::TextEdit::singleline(&mut lab.snapshot_path).desired_width(260.0)).on_hover_text(
         "A snapshot holds the whole state: scene, parameters, solver, every particle and link, time",

@@ -1,0 +1,606 @@
+//! Scenes as files: a TOML file declares a scene's parameters and builds its particles,
+//! links, force generators and contact generators from them, without recompiling.
+//!
+//! # The format
+//!
+//! ```toml
+//! [scene]
+//! name = "chain"                 # the Scene menu's name
+//! summary = "A chain of rods hanging from a pivot"
+//! dt = 0.004166667               # physics step (s), default 1/240
+//! steps = 2400                   # steps `simulate` runs by default
+//! trails = true                  # trails on at the start (default true)
+//! gravity = "g"                  # downward acceleration of every particle (m/s²), default "g"
+//!
+//! [[param]]                      # one slider and one `--set` key each
+//! name = "links"
+//! unit = ""
+//! default = 12
+//! min = 2
+//! max = 40
+//! help = "Number of rods"
+//! logarithmic = false
+//!
+//! [[particle]]                   # a single particle
+//! name = "ball"
+//! position = [0, "1 + r", 0]     # numbers or expressions of the parameters
+//! velocity = [1, 0, 0]           # default 0
+//! mass = "mass"                  # kg, default 1
+//! radius = 0.2                   # m, default 0.1
+//! damping = 1                    # fraction of velocity kept per second, default 1
+//! fixed = false                  # immovable
+//!
+//! [[row]]                        # `count` particles at start + i * step,
+//! name = "chain"                 #   or at `position = [.. "i" ..]`
+//! count = "links + 1"
+//! start = [0, 5, 0]
+//! step = [0, "-length", 0]
+//! pin = [0]                      # immovable members; -1 is the last
+//! link = "rod"                   # link neighbours: rod, cable, spring, bungee
+//! closed = false                 # also link the last to the first (a ring)
+//! # length, k, restitution, tear: as for [[link]]
+//!
+//! [[grid]]                       # rows x cols at origin + j * step_col + i * step_row,
+//! name = "cloth"                 #   or at `position = [.. "i" .. "j" ..]`
+//! rows = 10
+//! cols = 10
+//! origin = [0, 3, 0]
+//! step_col = [0.2, 0, 0]
+//! step_row = [0, 0, 0.2]
+//! pin = [[0, 0], [0, -1]]        # [row, col] pairs
+//! link = "rod"                   # along rows and columns
+//! shear = true                   # and along diagonals
+//!
+//! [[link]]
+//! kind = "spring"                # rod, cable, spring, bungee, stiff_spring
+//! a = "ball"                     # a particle: its number, name, "row.3", "grid.2.5",
+//! b = "chain.-1"                 #   or a whole array (one link to each member)
+//! # anchor = [0, 5, 0]           # instead of b: a fixed point (support rod, cable, ...)
+//! length = 1.0                   # rest / rod / maximum length (m), default the start distance
+//! k = 50                         # spring constant (N/m) for springs
+//! restitution = 0                # a cable snapping taut
+//! damping_ratio = 0              # a stiff spring's
+//! tear = "tear"                  # tension (N) above which the link breaks
+//!
+//! [[drag]]                       # k1 |v| and k2 |v|² against the motion
+//! k1 = 0.1
+//! k2 = 0
+//! targets = ["ball"]             # default every particle
+//!
+//! [[buoyancy]]
+//! particle = "ball"
+//! surface = 0
+//! half_height = 0.2
+//! volume = 0.03
+//! density = 1000
+//!
+//! [ground]                       # the plane y = height
+//! height = 0
+//! restitution = 0.3
+//! friction = 0.5
+//!
+//! [[wall]]
+//! normal = [1, 0, 0]
+//! point = [-5, 0, 0]
+//!
+//! [collisions]                   # spheres collide with each other
+//! restitution = 0.5
+//! friction = 0.3
+//!
+//! [camera]                       # default: frame every particle
+//! target = [0, 2, 0]
+//! distance = 8
+//! yaw = 0                        # degrees
+//! pitch = 10                     # degrees, positive looks down
+//! ```
+//!
+//! Particles are numbered in the file's order within each kind: every `[[particle]]`,
+//! then every `[[row]]`, then every `[[grid]]` (row by row). Values are numbers or
+//! expressions in quotes (see [`expr`]): `+ - * / ^`, parentheses, parameter names,
+//! `pi`, `sqrt sin cos tan abs exp ln rad round`; in a row's values `i` is the member's index,
+//! in a grid's `i` is its row and `j` its column. Every file scene has a parameter `g`
+//! (9.81 m/s², 0 to 30) unless it declares its own; changing `g` acts at once, any other
+//! parameter rebuilds the scene with the solver kept. A scene makes at most
+//! 200,000 particles.
+//!
+//! Errors name the file, line and column of the offending value and what was expected,
+//! on one line: `chain.toml:12:9: unknown name 'lenght'; valid names here: links, ...`.
+//!
+//! # How a file scene joins the registry
+//!
+//! [`SceneInfo`] and [`SceneEntry`] hold `&'static` data and a plain `fn` to build a
+//! scene, which cannot carry the file it came from. Each load therefore leaks its parsed
+//! file and tables (a few kilobytes per load), and the scene's `create` finds its file
+//! again through the parameter table's address, which is unique to that load: reset,
+//! compare and the panel then work on file scenes exactly as on compiled ones.
+
+mod build;
+pub mod expr;
+mod format;
+
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, OnceLock};
+
+use glam::Vec3;
+
+pub use self::build::MAX_PARTICLES;
+use self::build::{Built, Handle, Located};
+use self::format::Document;
+use super::{
+    CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water,
+};
+use crate::physics::{LinkState, PhysicsError, ResolveReport, World};
+
+/// The scenes shipped in `assets/scenes/`, built into the binary so the Scene menu has
+/// them wherever it runs; a copy on disk beside the working directory is used instead
+/// when there is one, so that editing it reloads the scene.
+pub static SHIPPED: &[(&str, &str)] = &[
+    ("assets/scenes/chain.toml", include_str!("../../assets/scenes/chain.toml")),
+    ("assets/scenes/cloth.toml", include_str!("../../assets/scenes/cloth.toml")),
+    ("assets/scenes/platform.toml", include_str!("../../assets/scenes/platform.toml")),
+    ("assets/scenes/blob.toml", include_str!("../../assets/scenes/blob.toml")),
+];
+
+/// Largest scene file read (bytes): far more than any hand-written scene.
+const MAX_FILE_BYTES: u64 = 4 << 20;
+
+/// A scene file that could not be read or built: where and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FileError {
+    /// The file, as the user named it.
+    pub file: String,
+    /// Line and column (from 1) of the offending value, when there is one.
+    pub position: Option<(usize, usize)>,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl std::fmt::Display for FileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.position {
+            Some((line, column)) => write!(f, "{}:{line}:{column}: {}", self.file, self.message),
+            None => write!(f, "{}: {}", self.file, self.message),
+        }
+    }
+}
+
+impl std::error::Error for FileError {}
+
+/// A loaded scene file: its text, where it came from, and its parsed tables.
+pub struct Definition {
+    doc: &'static Document,
+    source: String,
+    shown: String,
+    path: Option<PathBuf>,
+    info: &'static SceneInfo,
+    entry: OnceLock<&'static SceneEntry>,
+}
+
+impl std::fmt::Debug for Definition {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Definition").field("name", &self.info.name).field("file", &self.shown).finish()
+    }
+}
+
+impl Definition {
+    /// The file's text, as loaded.
+    #[must_use]
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// The file on disk it was read from (`None` for a shipped scene built in).
+    #[must_use]
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    /// The registry entry of this load.
+    #[must_use]
+    pub fn entry(&self) -> &'static SceneEntry {
+        self.entry.get().expect("set when the file was loaded")
+    }
+
+    /// Builds the scene with these values; an error names the line and column of the
+    /// value that cannot be used with them.
+    pub fn create(&'static self, params: ParamValues) -> Result<Box<dyn Scene>, FileError> {
+        Ok(Box::new(FileScene::new(self, params)?))
+    }
+
+    fn build(&self, params: &ParamValues) -> Result<Built, FileError> {
+        build::build(self.doc, &self.source, params).map_err(|e| self.locate(&e))
+    }
+
+    fn locate(&self, error: &Located) -> FileError {
+        FileError {
+            file: self.shown.clone(),
+            position: Some(line_column(&self.source, error.offset)),
+            message: error.message.clone(),
+        }
+    }
+}
+
+/// Line and column (from 1, the column in characters) of a byte offset.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+/// Every load so far, found by its parameter table's address.
+static LOADED: Mutex<Vec<&'static Definition>> = Mutex::new(Vec::new());
+
+/// The file behind a registry entry, if it is a file scene.
+#[must_use]
+pub fn definition(entry: &SceneEntry) -> Option<&'static Definition> {
+    find_loaded(entry.info.params)
+}
+
+fn find_loaded(table: &[Param]) -> Option<&'static Definition> {
+    let loaded = LOADED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    loaded.iter().copied().find(|d| std::ptr::eq(d.info.params.as_ptr(), table.as_ptr()))
+}
+
+/// The `create` of every file scene's entry: finds the file by the table.
+fn create(params: ParamValues) -> Box<dyn Scene> {
+    let definition = find_loaded(params.table()).expect("a file scene's table belongs to a loaded file");
+    match FileScene::new(definition, params) {
+        Ok(scene) => Box::new(scene),
+        // Values reach here only once a build with them has worked (set_param and
+        // `--set` build first); should one still fail, the defaults were checked at load.
+        Err(error) => {
+            log::warn!("{error}; using the defaults");
+            let defaults = ParamValues::defaults(definition.info.params);
+            Box::new(FileScene::new(definition, defaults).expect("the defaults were built at load"))
+        }
+    }
+}
+
+/// Reads and loads a scene file from disk.
+pub fn load_path(path: &Path) -> Result<&'static SceneEntry, FileError> {
+    let shown = path.display().to_string();
+    let fail = |message: String| FileError { file: shown.clone(), position: None, message };
+    let size = std::fs::metadata(path).map_err(|e| fail(format!("cannot read it: {}", io_reason(&e))))?.len();
+    if size > MAX_FILE_BYTES {
+        return Err(fail(format!("{size} bytes is too large for a scene file (at most {MAX_FILE_BYTES})")));
+    }
+    let bytes = std::fs::read(path).map_err(|e| fail(format!("cannot read it: {}", io_reason(&e))))?;
+    let text = String::from_utf8(bytes).map_err(|_| fail("is not UTF-8 text".into()))?;
+    load_text(&text, &shown, Some(path.to_path_buf()))
+}
+
+/// An I/O error's reason without the OS's error number.
+fn io_reason(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        std::io::ErrorKind::IsADirectory => "it is a directory".into(),
+        _ => {
+            let text = error.to_string();
+            text.split(" (os error").next().unwrap_or(&text).to_string()
+        }
+    }
+}
+
+/// Loads a scene from its text; `shown` names it in messages, `path` is where it lives
+/// on disk, if anywhere.
+pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
+    let at = |offset: usize, message: String| FileError {
+        file: shown.to_string(),
+        position: Some(line_column(text, offset)),
+        message,
+    };
+    let doc: Document = toml::from_str(text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        let message = e.message().trim().replace('\n', "; ");
+        at(offset, message)
+    })?;
+    let doc: &'static Document = Box::leak(Box::new(doc));
+    let params = param_table(doc).map_err(|e| at(e.offset, e.message))?;
+    let scene = &doc.scene;
+    let name = scene.name.get_ref().trim();
+    if name.is_empty() {
+        return Err(at(scene.name.span().start, "the scene needs a name".into()));
+    }
+    let dt = match &scene.dt {
+        Some(dt) if !(1e-5..=0.1).contains(dt.get_ref()) => {
+            return Err(at(
+                dt.span().start,
+                format!("dt = {} is out of range; valid range: 1e-5 to 0.1 s", dt.get_ref()),
+            ));
+        }
+        Some(dt) => *dt.get_ref() as f32,
+        None => 1.0 / 240.0,
+    };
+    let steps = match &scene.steps {
+        Some(steps) if !(1..=10_000_000).contains(steps.get_ref()) => {
+            return Err(at(
+                steps.span().start,
+                format!("steps = {} is out of range; valid range: 1 to 10000000", steps.get_ref()),
+            ));
+        }
+        Some(steps) => *steps.get_ref() as u32,
+        None => 2400,
+    };
+    let has_g = params.iter().any(|p| p.name == "g");
+    let info: &'static SceneInfo = Box::leak(Box::new(SceneInfo {
+        name,
+        summary: scene.summary.as_str(),
+        dt,
+        default_steps: steps,
+        params: Box::leak(params.into_boxed_slice()),
+        presets: if has_g { GRAVITY_PRESETS } else { &[] },
+        actions: &[],
+        trails: scene.trails.unwrap_or(true),
+        color_by_speed: scene.color_by_speed.unwrap_or(false),
+    }));
+    let definition: &'static Definition = Box::leak(Box::new(Definition {
+        doc,
+        source: text.to_string(),
+        shown: shown.to_string(),
+        path,
+        info,
+        entry: OnceLock::new(),
+    }));
+    // Build once with the defaults: an error anywhere in the file shows now.
+    definition.build(&ParamValues::defaults(info.params))?;
+    let entry: &'static SceneEntry = Box::leak(Box::new(SceneEntry { info, create }));
+    // Set once, here, before anyone can look.
+    let _ = definition.entry.set(entry);
+    LOADED.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(definition);
+    Ok(entry)
+}
+
+/// The `[[param]]` tables as a parameter table, with `g` added unless declared.
+fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
+    const RESERVED: &[&str] =
+        &["i", "j", "pi", "sqrt", "sin", "cos", "tan", "abs", "exp", "ln", "rad", "round"];
+    let mut table: Vec<Param> = Vec::new();
+    for spanned in &doc.param {
+        let p = spanned.get_ref();
+        let name = p.name.get_ref().as_str();
+        let span = p.name.span();
+        let identifier = name.starts_with(|c: char| c.is_alphabetic() || c == '_')
+            && name.chars().all(|c| c.is_alphanumeric() || c == '_');
+        if !identifier {
+            return Err(Located::at(
+                &span,
+                format!("'{name}' is not a parameter name: use letters, digits and _"),
+            ));
+        }
+        if RESERVED.contains(&name) {
+            return Err(Located::at(
+                &span,
+                format!("'{name}' is reserved in expressions; pick another name"),
+            ));
+        }
+        if table.iter().any(|q| q.name == name) {
+            return Err(Located::at(&span, format!("the parameter '{name}' is declared twice")));
+        }
+        let (min, max, default) = (*p.min.get_ref(), *p.max.get_ref(), *p.default.get_ref());
+        let finite = |x: f64| x.is_finite() && (x as f32).is_finite();
+        if !(finite(min) && finite(max)) || min > max {
+            return Err(Located::at(&p.min.span(), format!("min = {min} and max = {max} are not a range")));
+        }
+        if !finite(default) || default < min || default > max {
+            return Err(Located::at(
+                &p.default.span(),
+                format!("default = {default} is out of range; valid range: {min} to {max}"),
+            ));
+        }
+        if p.logarithmic && min <= 0.0 {
+            return Err(Located::at(&p.min.span(), "a logarithmic parameter needs min > 0"));
+        }
+        table.push(Param {
+            name,
+            unit: p.unit.as_str(),
+            default: default as f32,
+            min: min as f32,
+            max: max as f32,
+            help: p.help.as_str(),
+            logarithmic: p.logarithmic,
+        });
+    }
+    if !table.iter().any(|p| p.name == "g") {
+        table.push(Param {
+            name: "g",
+            unit: "m/s²",
+            default: 9.81,
+            min: 0.0,
+            max: 30.0,
+            help: "Gravitational acceleration, downwards",
+            logarithmic: false,
+        });
+    }
+    Ok(table)
+}
+
+/// The shipped scenes, loaded once (from disk where the working directory has them).
+#[must_use]
+pub fn shipped() -> &'static [&'static SceneEntry] {
+    static ENTRIES: OnceLock<Vec<&'static SceneEntry>> = OnceLock::new();
+    ENTRIES.get_or_init(|| {
+        SHIPPED
+            .iter()
+            .filter_map(|(shown, text)| {
+                let on_disk = Path::new(shown);
+                let loaded =
+                    if on_disk.is_file() { load_path(on_disk) } else { load_text(text, shown, None) };
+                loaded.map_err(|e| log::warn!("particle-lab: {e}")).ok()
+            })
+            .collect()
+    })
+}
+
+/// The scene a command line asks for: exactly one of a name and a file.
+pub fn choose(name: Option<&str>, file: Option<&Path>) -> Result<&'static SceneEntry, String> {
+    match (name, file) {
+        (Some(name), None) => super::find(name),
+        (None, Some(path)) => load_path(path).map_err(|e| e.to_string()),
+        (Some(_), Some(_)) => Err("give either --scene NAME or --scene-file PATH, not both".into()),
+        (None, None) => Err("no scene given: name one with --scene NAME or --scene-file PATH".into()),
+    }
+}
+
+/// A running scene built from a file.
+struct FileScene {
+    definition: &'static Definition,
+    params: ParamValues,
+    built: Built,
+    /// Links torn so far.
+    torn: usize,
+    /// Reused buffer of link states, for tearing.
+    states: Vec<LinkState>,
+}
+
+impl FileScene {
+    fn new(definition: &'static Definition, params: ParamValues) -> Result<Self, FileError> {
+        let built = definition.build(&params)?;
+        Ok(Self { definition, params, built, torn: 0, states: Vec::new() })
+    }
+
+    /// Breaks every link pulled harder than its `tear` tension in the last step.
+    fn tear(&mut self) {
+        let links = &mut self.built.links;
+        if links.iter().all(|l| l.tear.is_none()) {
+            return;
+        }
+        let world = &mut self.built.world;
+        world.links_into(&mut self.states);
+        if self.states.len() != links.len() {
+            return;
+        }
+        let mut k = 0;
+        let mut states = self.states.iter();
+        links.retain(|record| {
+            let state = states.next();
+            let broken =
+                record.tear.zip(state).is_some_and(|(limit, s)| s.spec == record.spec && s.tension > limit);
+            if broken {
+                match record.handle {
+                    Handle::Force(id) => world.forces.remove(id),
+                    Handle::Contact(id) => world.remove_contact_generator(id),
+                };
+                k += 1;
+            }
+            !broken
+        });
+        self.torn += k;
+    }
+}
+
+impl Scene for FileScene {
+    fn info(&self) -> &'static SceneInfo {
+        self.definition.info
+    }
+
+    fn world(&self) -> &World {
+        &self.built.world
+    }
+
+    fn world_mut(&mut self) -> &mut World {
+        &mut self.built.world
+    }
+
+    fn params(&self) -> &ParamValues {
+        &self.params
+    }
+
+    fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
+        let mut params = self.params.clone();
+        params.set(name, value)?;
+        if name == "g" && !self.built.g_elsewhere {
+            // Gravity acts at once: no rebuild, the motion goes on.
+            let g = build::gravity(self.definition.doc, &self.definition.source, &params).map_err(|e| {
+                ParamError::Rejected { key: name.to_string(), reason: self.definition.locate(&e).to_string() }
+            })?;
+            self.built
+                .world
+                .set_acceleration_all(Vec3::new(0.0, -g, 0.0))
+                .expect("gravity was checked finite");
+            for (id, float) in &mut self.built.floats {
+                float.g = g.max(0.0);
+                // The same particle and settings with only g changed, which was checked.
+                let _ = self.built.world.forces.replace(*id, Box::new(float.clone()));
+            }
+            self.params = params;
+            return Ok(());
+        }
+        let solver = *self.built.world.solver();
+        let built = self
+            .definition
+            .build(&params)
+            .map_err(|e| ParamError::Rejected { key: name.to_string(), reason: e.to_string() })?;
+        self.built = built;
+        self.built.world.set_solver(solver).expect("the running world's settings were valid");
+        self.params = params;
+        self.torn = 0;
+        Ok(())
+    }
+
+    fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
+        let report = self.built.world.step(dt)?;
+        self.tear();
+        Ok(report)
+    }
+
+    /// The links still whole (a torn one's generator is gone from the world) and how
+    /// many tore.
+    fn save_state(&self) -> serde_json::Value {
+        let whole: Vec<Handle> = self.built.links.iter().map(|l| l.handle).collect();
+        serde_json::json!({ "torn": self.torn, "whole": whole })
+    }
+
+    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+        #[derive(serde::Deserialize)]
+        struct Saved {
+            torn: usize,
+            whole: Vec<Handle>,
+        }
+        let saved = <Saved as serde::Deserialize>::deserialize(state).map_err(|e| e.to_string())?;
+        self.built.links.retain(|link| saved.whole.contains(&link.handle));
+        if self.built.links.len() != saved.whole.len() {
+            return Err("a link the snapshot keeps is not one this scene file makes".into());
+        }
+        self.torn = saved.torn;
+        Ok(())
+    }
+
+    fn water(&self) -> Option<Water> {
+        self.built.water
+    }
+
+    fn camera(&self) -> CameraHint {
+        self.built.camera
+    }
+
+    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+        let p = &self.built.world.particles;
+        for &(id, name) in &self.built.labels {
+            if let Some(i) = p.index(id) {
+                out.push((p.positions()[i] + Vec3::Y * (p.radii()[i] + 0.15), name));
+            }
+        }
+    }
+
+    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+        let world = &self.built.world;
+        let mut out = vec![
+            ("file".into(), self.definition.shown.clone()),
+            ("particles, links".into(), format!("{}, {}", world.particles.len(), self.built.links.len())),
+        ];
+        if self.torn > 0 || self.built.links.iter().any(|l| l.tear.is_some()) {
+            out.push(("links torn".into(), self.torn.to_string()));
+        }
+        out
+    }
+
+    fn source(&self) -> Option<(&str, Option<&Path>)> {
+        Some((self.definition.source(), self.definition.path()))
+    }
+}

@@ -1,0 +1,415 @@
+//! The tables of a scene file as serde reads them, with the span of every value a later
+//! check may have to point at. Unknown keys are refused (`deny_unknown_fields`), so a
+//! misspelt key is reported where it is instead of being silently ignored.
+
+use std::fmt;
+
+use serde::Deserialize;
+use serde::de::{self, Deserializer, Visitor};
+use toml::Spanned;
+
+/// A number, or an expression of the parameters in quotes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Num {
+    /// A literal number.
+    Value(f64),
+    /// An expression, e.g. `"mass * g"`.
+    Text(String),
+}
+
+/// A particle: its number in the file's order, or a name (`"ball"`, a whole array
+/// `"chain"`, a member `"chain.3"`, `"chain.-1"` for the last, `"cloth.0.-1"`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Ref {
+    /// Number in the file's order.
+    Index(i64),
+    /// A name.
+    Name(String),
+}
+
+/// A value with its place in the file.
+pub type SNum = Spanned<Num>;
+/// Three values `[x, y, z]`, each a number or an expression.
+pub type SVec = Spanned<Vec<SNum>>;
+
+impl<'de> Deserialize<'de> for Num {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct NumVisitor;
+        impl Visitor<'_> for NumVisitor {
+            type Value = Num;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number or an expression in quotes (e.g. 2.5 or \"mass * g\")")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Num, E> {
+                Ok(Num::Value(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Num, E> {
+                Ok(Num::Value(v as f64))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Num, E> {
+                Ok(Num::Value(v))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Num, E> {
+                Ok(Num::Text(v.to_string()))
+            }
+        }
+        deserializer.deserialize_any(NumVisitor)
+    }
+}
+
+impl<'de> Deserialize<'de> for Ref {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct RefVisitor;
+        impl Visitor<'_> for RefVisitor {
+            type Value = Ref;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a particle: its number, or its name in quotes (e.g. 0 or \"chain.-1\")")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Ref, E> {
+                Ok(Ref::Index(v))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Ref, E> {
+                Ok(Ref::Index(i64::try_from(v).unwrap_or(i64::MAX)))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Ref, E> {
+                Ok(Ref::Name(v.to_string()))
+            }
+        }
+        deserializer.deserialize_any(RefVisitor)
+    }
+}
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Document {
+    /// `[scene]`: name, summary, time step.
+    pub scene: SceneTable,
+    /// `[[param]]`: the parameter table.
+    #[serde(default)]
+    pub param: Vec<Spanned<ParamTable>>,
+    /// `[[particle]]`: single particles.
+    #[serde(default)]
+    pub particle: Vec<Spanned<ParticleTable>>,
+    /// `[[row]]`: rows of particles, optionally linked in a chain or a ring.
+    #[serde(default)]
+    pub row: Vec<Spanned<RowTable>>,
+    /// `[[grid]]`: grids of particles, optionally linked to their neighbours.
+    #[serde(default)]
+    pub grid: Vec<Spanned<GridTable>>,
+    /// `[[link]]`: links between particles or to anchors.
+    #[serde(default)]
+    pub link: Vec<Spanned<LinkTable>>,
+    /// `[[drag]]`: drag force generators.
+    #[serde(default)]
+    pub drag: Vec<Spanned<DragTable>>,
+    /// `[[buoyancy]]`: buoyancy force generators.
+    #[serde(default)]
+    pub buoyancy: Vec<Spanned<BuoyancyTable>>,
+    /// `[ground]`: the plane y = height.
+    pub ground: Option<SurfaceTable>,
+    /// `[[wall]]`: other planes.
+    #[serde(default)]
+    pub wall: Vec<WallTable>,
+    /// `[collisions]`: sphere-sphere collisions between every particle with a radius.
+    pub collisions: Option<CollisionsTable>,
+    /// `[camera]`: where the camera starts.
+    pub camera: Option<CameraTable>,
+}
+
+/// `[scene]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneTable {
+    /// Name in the Scene menu.
+    pub name: Spanned<String>,
+    /// One line saying what it shows.
+    #[serde(default)]
+    pub summary: String,
+    /// Physics time step (s), default 1/240.
+    pub dt: Option<Spanned<f64>>,
+    /// Steps `simulate` runs by default.
+    pub steps: Option<Spanned<i64>>,
+    /// Whether trails start on (default true).
+    pub trails: Option<bool>,
+    /// Whether particles start coloured by speed (default false).
+    pub color_by_speed: Option<bool>,
+    /// Downward acceleration of every particle (m/s²), default `"g"`.
+    pub gravity: Option<SNum>,
+}
+
+/// `[[param]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParamTable {
+    /// Key for `--set` and the slider.
+    pub name: Spanned<String>,
+    /// Unit shown beside the value.
+    #[serde(default)]
+    pub unit: String,
+    /// Starting value.
+    pub default: Spanned<f64>,
+    /// Smallest value.
+    pub min: Spanned<f64>,
+    /// Largest value.
+    pub max: Spanned<f64>,
+    /// One line of meaning.
+    #[serde(default)]
+    pub help: String,
+    /// Slider on a logarithmic scale.
+    #[serde(default)]
+    pub logarithmic: bool,
+}
+
+/// `[[particle]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleTable {
+    /// Name, for links and labels.
+    pub name: Option<Spanned<String>>,
+    /// Position (m).
+    pub position: SVec,
+    /// Velocity (m/s), default 0.
+    pub velocity: Option<SVec>,
+    /// Mass (kg), default 1.
+    pub mass: Option<SNum>,
+    /// Radius (m), default 0.1.
+    pub radius: Option<SNum>,
+    /// Fraction of velocity kept per second, default 1.
+    pub damping: Option<SNum>,
+    /// Immovable.
+    #[serde(default)]
+    pub fixed: bool,
+}
+
+/// `[[row]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RowTable {
+    /// Name, for links and labels.
+    pub name: Option<Spanned<String>>,
+    /// Number of particles.
+    pub count: SNum,
+    /// Position of particle 0 (m).
+    pub start: Option<SVec>,
+    /// Offset from each particle to the next (m).
+    pub step: Option<SVec>,
+    /// Position of particle `i` (m), instead of start and step.
+    pub position: Option<SVec>,
+    /// Velocity (m/s), default 0.
+    pub velocity: Option<SVec>,
+    /// Mass of each (kg), default 1.
+    pub mass: Option<SNum>,
+    /// Radius of each (m), default 0.1.
+    pub radius: Option<SNum>,
+    /// Damping of each, default 1.
+    pub damping: Option<SNum>,
+    /// Every particle immovable.
+    #[serde(default)]
+    pub fixed: bool,
+    /// Indices made immovable (negative counts from the end).
+    #[serde(default)]
+    pub pin: Vec<SNum>,
+    /// Kind of link between neighbours, if any.
+    pub link: Option<Spanned<String>>,
+    /// Also link the last to the first (a ring).
+    #[serde(default)]
+    pub closed: bool,
+    /// Rest length, rod length or cable maximum (m); default the distance at the start.
+    pub length: Option<SNum>,
+    /// Spring constant (N/m).
+    pub k: Option<SNum>,
+    /// Restitution of a cable snapping taut.
+    pub restitution: Option<SNum>,
+    /// Damping ratio of a stiff spring.
+    pub damping_ratio: Option<SNum>,
+    /// Tension above which the link breaks (N).
+    pub tear: Option<SNum>,
+}
+
+/// `[[grid]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridTable {
+    /// Name, for links and labels.
+    pub name: Option<Spanned<String>>,
+    /// Number of rows (index `i`).
+    pub rows: SNum,
+    /// Number of columns (index `j`).
+    pub cols: SNum,
+    /// Position of particle (0, 0) (m).
+    pub origin: Option<SVec>,
+    /// Offset from one column to the next (m).
+    pub step_col: Option<SVec>,
+    /// Offset from one row to the next (m).
+    pub step_row: Option<SVec>,
+    /// Position of particle (i, j) (m), instead of origin and steps.
+    pub position: Option<SVec>,
+    /// Velocity (m/s), default 0.
+    pub velocity: Option<SVec>,
+    /// Mass of each (kg), default 1.
+    pub mass: Option<SNum>,
+    /// Radius of each (m), default 0.1.
+    pub radius: Option<SNum>,
+    /// Damping of each, default 1.
+    pub damping: Option<SNum>,
+    /// Every particle immovable.
+    #[serde(default)]
+    pub fixed: bool,
+    /// `[row, col]` pairs made immovable (negative counts from the end).
+    #[serde(default)]
+    pub pin: Vec<Spanned<Vec<SNum>>>,
+    /// Kind of link between neighbours along rows and columns, if any.
+    pub link: Option<Spanned<String>>,
+    /// Also link diagonal neighbours.
+    #[serde(default)]
+    pub shear: bool,
+    /// Rest length, rod length or cable maximum (m); default the distance at the start.
+    pub length: Option<SNum>,
+    /// Spring constant (N/m).
+    pub k: Option<SNum>,
+    /// Restitution of a cable snapping taut.
+    pub restitution: Option<SNum>,
+    /// Damping ratio of a stiff spring.
+    pub damping_ratio: Option<SNum>,
+    /// Tension above which the link breaks (N).
+    pub tear: Option<SNum>,
+}
+
+/// What every link of a group shares, borrowed from the table that declares them
+/// (serde's `flatten` would lose the values' spans, so each table lists the fields).
+#[derive(Clone, Copy, Debug)]
+pub struct LinkProps<'a> {
+    /// Rest length, rod length or cable maximum (m); default the distance at the start.
+    pub length: Option<&'a SNum>,
+    /// Spring constant (N/m).
+    pub k: Option<&'a SNum>,
+    /// Restitution of a cable snapping taut.
+    pub restitution: Option<&'a SNum>,
+    /// Damping ratio of a stiff spring.
+    pub damping_ratio: Option<&'a SNum>,
+    /// Tension above which the link breaks (N).
+    pub tear: Option<&'a SNum>,
+}
+
+macro_rules! link_props {
+    ($($table:ty),*) => {$(
+        impl $table {
+            /// The link properties this table declares.
+            #[must_use]
+            pub fn props(&self) -> LinkProps<'_> {
+                LinkProps {
+                    length: self.length.as_ref(),
+                    k: self.k.as_ref(),
+                    restitution: self.restitution.as_ref(),
+                    damping_ratio: self.damping_ratio.as_ref(),
+                    tear: self.tear.as_ref(),
+                }
+            }
+        }
+    )*};
+}
+
+link_props!(RowTable, GridTable, LinkTable);
+
+/// `[[link]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkTable {
+    /// rod, cable, spring, bungee or stiff_spring.
+    pub kind: Spanned<String>,
+    /// First end: one particle or a whole array.
+    pub a: Spanned<Ref>,
+    /// Second end, a particle or an array.
+    pub b: Option<Spanned<Ref>>,
+    /// Second end, a fixed point (m).
+    pub anchor: Option<SVec>,
+    /// Rest length, rod length or cable maximum (m); default the distance at the start.
+    pub length: Option<SNum>,
+    /// Spring constant (N/m).
+    pub k: Option<SNum>,
+    /// Restitution of a cable snapping taut.
+    pub restitution: Option<SNum>,
+    /// Damping ratio of a stiff spring.
+    pub damping_ratio: Option<SNum>,
+    /// Tension above which the link breaks (N).
+    pub tear: Option<SNum>,
+}
+
+/// `[[drag]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DragTable {
+    /// Linear coefficient (N·s/m).
+    pub k1: Option<SNum>,
+    /// Quadratic coefficient (N·s²/m²).
+    pub k2: Option<SNum>,
+    /// Particles it acts on; default every movable particle.
+    pub targets: Option<Vec<Spanned<Ref>>>,
+}
+
+/// `[[buoyancy]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuoyancyTable {
+    /// The floating particle, or an array of them.
+    pub particle: Spanned<Ref>,
+    /// Height of the liquid surface (m).
+    pub surface: SNum,
+    /// Half the body's height (m).
+    pub half_height: SNum,
+    /// Body volume (m³).
+    pub volume: SNum,
+    /// Liquid density (kg/m³), default 1000.
+    pub density: Option<SNum>,
+}
+
+/// `[ground]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceTable {
+    /// Height (m), default 0.
+    pub height: Option<SNum>,
+    /// Restitution, default 0.3.
+    pub restitution: Option<SNum>,
+    /// Friction, default 0.5.
+    pub friction: Option<SNum>,
+}
+
+/// `[[wall]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallTable {
+    /// Normal, towards the free side.
+    pub normal: SVec,
+    /// A point of the plane (m).
+    pub point: SVec,
+    /// Restitution, default 0.3.
+    pub restitution: Option<SNum>,
+    /// Friction, default 0.5.
+    pub friction: Option<SNum>,
+}
+
+/// `[collisions]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CollisionsTable {
+    /// Restitution between particles, default 0.5.
+    pub restitution: Option<SNum>,
+    /// Friction between particles, default 0.3.
+    pub friction: Option<SNum>,
+}
+
+/// `[camera]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraTable {
+    /// Point looked at (m).
+    pub target: Option<SVec>,
+    /// Distance from it (m).
+    pub distance: Option<SNum>,
+    /// Turn about the vertical (degrees); 0 looks along -z.
+    pub yaw: Option<SNum>,
+    /// Elevation (degrees), positive looks down.
+    pub pitch: Option<SNum>,
+}
