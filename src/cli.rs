@@ -320,11 +320,15 @@ pub fn parse() -> Cli {
 }
 
 /// Runs `scenes`.
+/// The scenes `scenes` lists: the compiled ones, then the shipped scene files.
+fn listed() -> impl Iterator<Item = &'static scenes::SceneEntry> {
+    SCENES.iter().chain(scenes::file::shipped().iter().copied())
+}
+
 pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
     match format {
         Format::Json => {
-            let list: Vec<SceneJson> = SCENES
-                .iter()
+            let list: Vec<SceneJson> = listed()
                 .map(|entry| {
                     let info = entry.info;
                     SceneJson {
@@ -353,7 +357,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
             writeln!(out)
         }
         Format::Text => {
-            for entry in SCENES {
+            for entry in listed() {
                 let info = entry.info;
                 writeln!(out, "{} — {}", info.name, info.summary)?;
                 writeln!(

@@ -20,14 +20,25 @@ fn scenes_lists_every_scene_in_text_and_json() {
     let text = run(&["scenes"]);
     assert!(text.status.success());
     let text = String::from_utf8_lossy(&text.stdout);
-    for name in ["projectile", "springForces", "bridge", "pile", "pendulum", "cradle"] {
+    for name in [
+        "projectile",
+        "springForces",
+        "bridge",
+        "pile",
+        "pendulum",
+        "cradle",
+        "chain",
+        "cloth",
+        "platform",
+        "blob",
+    ] {
         assert!(text.contains(name), "{name} missing from:\n{text}");
     }
     let json = run(&["scenes", "--format", "json"]);
     assert!(json.status.success());
     let list: Value = serde_json::from_slice(&json.stdout).unwrap();
     let list = list.as_array().unwrap();
-    assert_eq!(list.len(), 6);
+    assert_eq!(list.len(), 10, "six compiled scenes and four shipped files");
     let projectile = list.iter().find(|s| s["name"] == "projectile").unwrap();
     let g = projectile["params"].as_array().unwrap().iter().find(|p| p["name"] == "g").unwrap();
     assert_eq!(g["default"], 20.0);

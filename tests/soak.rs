@@ -1,4 +1,4 @@
-//! Soak: every scene for 100,000 steps, with a parameter moved to a random value within
+//! Soak: every scene (compiled, and the shipped files) for 100,000 steps, with a parameter moved to a random value within
 //! its slider's range every 50 steps, as a restless student would. No step may fail,
 //! panic or leave a number that is not finite.
 
@@ -107,9 +107,40 @@ fn cradle_soaks() {
 }
 
 #[test]
-fn every_compiled_scene_is_soaked() {
-    let soaked = ["projectile", "springForces", "bridge", "pile", "pendulum", "cradle"];
-    for entry in SCENES {
+fn the_chain_file_soaks() {
+    soak("chain", 7);
+}
+
+#[test]
+fn the_cloth_file_soaks() {
+    soak("cloth", 8);
+}
+
+#[test]
+fn the_platform_file_soaks() {
+    soak("platform", 9);
+}
+
+#[test]
+fn the_blob_file_soaks() {
+    soak("blob", 10);
+}
+
+#[test]
+fn every_compiled_scene_and_shipped_file_is_soaked() {
+    let soaked = [
+        "projectile",
+        "springForces",
+        "bridge",
+        "pile",
+        "pendulum",
+        "cradle",
+        "chain",
+        "cloth",
+        "platform",
+        "blob",
+    ];
+    for entry in SCENES.iter().chain(scenes::file::shipped().iter().copied()) {
         assert!(soaked.contains(&entry.info.name), "add a soak test for {}", entry.info.name);
     }
 }

@@ -164,6 +164,9 @@ impl ResolveReport {
     }
 }
 
+/// Most iterations [`ContactResolver::max_iterations`] accepts.
+pub const MAX_RESOLVER_ITERATIONS: usize = 1_000_000;
+
 /// Resolves contacts one at a time, the most urgent first: the largest closing velocity
 /// in the velocity phase, then the deepest penetration in the position phase.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -191,7 +194,9 @@ impl ContactResolver {
     /// Checks every setting; the error names the field and its valid range.
     pub fn validate(&self) -> Result<(), PhysicsError> {
         let iterations = self.max_iterations;
-        check(iterations >= 1, "resolver max_iterations", iterations, "a whole number >= 1")?;
+        // Bounded: each iteration scans every contact, and a step must end.
+        let ok = (1..=MAX_RESOLVER_ITERATIONS).contains(&iterations);
+        check(ok, "resolver max_iterations", iterations, "a whole number from 1 to 1000000")?;
         check(
             non_negative(self.velocity_epsilon),
             "resolver velocity_epsilon",

@@ -164,9 +164,11 @@ impl ForceRegistry {
     pub(crate) fn from_saved(saved: Vec<(ForceId, SavedForce)>, next: u32) -> Result<Self, PhysicsError> {
         let mut entries = Vec::with_capacity(saved.len());
         for (id, force) in saved {
-            if id.0 >= next || entries.iter().any(|(other, _)| *other == id) {
+            // Handles are handed out in increasing order and kept in it.
+            let increasing = entries.last().is_none_or(|(last, _): &(ForceId, _)| last.0 < id.0);
+            if id.0 >= next || !increasing {
                 return Err(PhysicsError::InvalidSetting(format!(
-                    "force id {} is repeated or not below next_force = {next}",
+                    "force id {} is out of order or not below next_force = {next}",
                     id.0
                 )));
             }

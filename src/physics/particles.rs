@@ -200,8 +200,15 @@ impl Particles {
         for i in 0..n {
             let id = self.ids[i].0;
             let fail = |what: &str| Err(PhysicsError::InvalidParticle(format!("particle {id}: {what}")));
-            if !(self.inverse_mass[i].is_finite() && self.inverse_mass[i] >= 0.0) {
-                return fail("inverse mass must be finite and >= 0");
+            let w = self.inverse_mass[i];
+            if !(w == 0.0 || (1.0 / MAX_MASS..=1.0 / MIN_MASS).contains(&w)) {
+                return fail("inverse mass must be 0 (immovable) or that of a mass in range");
+            }
+            if w == 0.0 && self.velocity[i] != Vec3::ZERO {
+                return fail("an immovable particle cannot have a velocity");
+            }
+            if self.damping_per_step[i] != damping_factor(self.damping[i], self.damping_dt) {
+                return fail("its damping per step does not follow from its damping");
             }
             if !(self.radius[i].is_finite() && self.radius[i] >= 0.0) {
                 return fail("radius must be finite and >= 0");
@@ -210,10 +217,14 @@ impl Particles {
                 return fail("damping must be between 0 and 1");
             }
             let sleep = &self.sleep[i];
-            if !(sleep.timer.is_finite() && sleep.rest.is_finite())
-                || (sleep.island != AWAKE && sleep.island as usize >= n)
-            {
+            let rest = sleep.rest.is_finite() || sleep.rest.is_nan();
+            if !(sleep.timer.is_finite() && rest) || (sleep.island != AWAKE && sleep.island as usize >= n) {
                 return fail("sleep state out of range");
+            }
+            // Asleep: movable, and at rest unless moved from outside since (a NaN rest).
+            if sleep.island != AWAKE && (w == 0.0 || (self.velocity[i] != Vec3::ZERO && !sleep.rest.is_nan()))
+            {
+                return fail("only a movable particle at rest can be asleep");
             }
         }
         if !(self.damping_dt.is_finite() && self.damping_dt >= 0.0 && self.dissipated.is_finite()) {
@@ -635,7 +646,9 @@ pub(crate) struct Sleep {
     pub timer: f32,
     /// [`AWAKE`], or the label of the sleeping island it belongs to.
     pub island: u32,
-    /// Where it fell asleep: moving it from outside wakes it.
+    /// Where it fell asleep: moving it from outside wakes it. NaN (written `null` in a
+    /// snapshot) once something outside moved it, so the next step wakes it.
+    #[serde(with = "nan_as_null")]
     pub rest: Vec3,
 }
 
@@ -648,4 +661,19 @@ impl Default for Sleep {
 #[inline]
 fn damping_factor(damping: f32, dt: f32) -> f32 {
     if dt == 0.0 { 1.0 } else { damping.powf(dt) }
+}
+
+/// A sleeping particle's rest position in a snapshot: JSON has no NaN, so the "moved
+/// from outside" mark is written as `null` and read back as NaN.
+mod nan_as_null {
+    use glam::Vec3;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(rest: &Vec3, serializer: S) -> Result<S::Ok, S::Error> {
+        if rest.is_nan() { None::<Vec3>.serialize(serializer) } else { Some(*rest).serialize(serializer) }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec3, D::Error> {
+        Ok(Option::<Vec3>::deserialize(deserializer)?.unwrap_or(Vec3::NAN))
+    }
 }

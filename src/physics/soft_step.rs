@@ -258,7 +258,11 @@ impl SoftStep {
 
     /// Takes back what [`SoftStep::memory`] gave, after checking that its ranges fit
     /// (a hand-edited snapshot must not make the next step index out of bounds).
-    pub(crate) fn restore(&mut self, memory: SoftMemory) -> Result<(), String> {
+    pub(crate) fn restore(&mut self, memory: SoftMemory, generators: usize) -> Result<(), String> {
+        // One group and one link impulse per generator at most: the step looks them up.
+        if memory.warm_groups.len() > generators || memory.warm_links.len() > generators {
+            return Err("more warm-start groups or link impulses than contact generators".into());
+        }
         for (id, range) in &memory.warm_groups {
             if range.start > range.end || range.end > memory.warm.len() {
                 return Err(format!(
@@ -269,6 +273,12 @@ impl SoftStep {
                     memory.warm.len()
                 ));
             }
+        }
+        let impulses =
+            memory.warm.iter().all(|w| w.normal_impulse.is_finite() && w.tangent_impulse.is_finite());
+        let links = memory.warm_links.iter().map(|l| l.1).chain(memory.last_tension.iter().copied());
+        if !(impulses && links.clone().all(f32::is_finite)) {
+            return Err("a warm-start impulse or a link's last tension is not finite".into());
         }
         self.warm = memory.warm;
         self.warm_groups = memory.warm_groups;

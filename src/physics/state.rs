@@ -133,15 +133,16 @@ impl WorldState {
                 ));
             }
         }
-        let mut seen = Vec::with_capacity(self.contact_generators.len());
+        let mut last = None;
         for (id, generator) in &self.contact_generators {
-            if id.0 >= self.next_contact_generator || seen.contains(&id.0) {
+            // Handles are handed out in increasing order and kept in it.
+            if id.0 >= self.next_contact_generator || last.is_some_and(|last| last >= id.0) {
                 return Err(format!(
-                    "contact generator id {} is repeated or not below next_contact_generator = {}",
+                    "contact generator id {} is out of order or not below next_contact_generator = {}",
                     id.0, self.next_contact_generator
                 ));
             }
-            seen.push(id.0);
+            last = Some(id.0);
             if let Some(spec) = generator.link() {
                 let b = match spec.b {
                     LinkEnd::Particle(b) => Some(b),
@@ -157,6 +158,18 @@ impl WorldState {
         }
         if !self.link_tension.iter().all(|t| t.is_finite()) {
             return Err("a link tension is not finite".into());
+        }
+        // Room to go on counting: a step count or handle near its type's end would wrap.
+        let room = 1u32 << 30;
+        if self.steps > 1 << 53
+            || self.next_force > u32::MAX - room
+            || self.next_contact_generator > u32::MAX - room
+        {
+            return Err("the step count or a handle counter is too large".into());
+        }
+        let sleeping = self.particles.sleep.iter().any(|s| s.island != super::particles::AWAKE);
+        if sleeping && (self.solver.kind == super::solver::SolverKind::Paper || !self.solver.sleep) {
+            return Err("particles are asleep although the solver does not let them sleep".into());
         }
         Ok(())
     }

@@ -84,7 +84,10 @@ impl ForceGenerator for StiffSpring {
             self.damping_ratio,
             NON_NEGATIVE,
         )?;
-        check(self.anchor.is_finite(), "stiff spring anchor", self.anchor, "a point of finite numbers")
+        check(self.anchor.is_finite(), "stiff spring anchor", self.anchor, "a point of finite numbers")?;
+        // What it carries between steps (read from a snapshot) must be finite too.
+        let carried = self.expected.is_none_or(|(p, v, w)| p.is_finite() && v.is_finite() && w.is_finite());
+        check(carried, "stiff spring state", self.anchor, "finite numbers")
     }
 
     fn apply(&mut self, particles: &mut Particles, dt: f32) {

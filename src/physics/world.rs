@@ -656,7 +656,8 @@ impl World {
             next_contact_generator: state.next_contact_generator,
             ..Self::default()
         };
-        world.soft.restore(state.soft).map_err(invalid)?;
+        let generators = world.contact_generators.len();
+        world.soft.restore(state.soft, generators).map_err(invalid)?;
         Ok(world)
     }
 

@@ -52,9 +52,14 @@ pub struct Snapshot {
     pub params: Vec<(String, f32)>,
     /// The physics time step the lab ran at (s).
     pub dt: f32,
-    /// [`World::state_hash`] of `world`, as 16 hex digits; optional when reading.
+    /// [`World::state_hash`] of `world`, as 16 hex digits (what `simulate` prints);
+    /// optional when reading.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hash: Option<String>,
+    /// A hash of every byte of `world` as written, as 16 hex digits: it covers what the
+    /// state hash leaves out (forces, settings, totals); optional when reading.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checksum: Option<String>,
     /// The world.
     pub world: WorldState,
     /// What the scene keeps beside its world ([`Scene::save_state`]).
@@ -72,6 +77,19 @@ pub struct SceneSource {
     pub text: String,
 }
 
+/// The checksum of a saved world: a hash of its compact JSON, byte by byte.
+fn checksum(world: &WorldState) -> String {
+    let bytes = serde_json::to_vec(world).expect("a world state is plain data with string keys");
+    let mut hasher = crate::physics::StateHasher::default();
+    for chunk in bytes.chunks(8) {
+        let mut word = [0u8; 8];
+        word[..chunk.len()].copy_from_slice(chunk);
+        hasher.u64(u64::from_le_bytes(word));
+    }
+    hasher.u64(bytes.len() as u64);
+    hash_text(hasher.finish())
+}
+
 /// A hash as snapshots and `simulate` print it.
 #[must_use]
 pub fn hash_text(hash: u64) -> String {
@@ -83,6 +101,7 @@ impl Snapshot {
     /// force generator of a kind the format does not know.
     pub fn of(scene: &dyn Scene, dt: f32) -> Result<Self, String> {
         let world = scene.world();
+        let state = world.state().map_err(|e| format!("cannot save this scene: {e}"))?;
         Ok(Self {
             format: FORMAT.into(),
             version: VERSION,
@@ -94,7 +113,8 @@ impl Snapshot {
             params: scene.params().iter().map(|(param, value)| (param.name.to_string(), value)).collect(),
             dt,
             hash: Some(hash_text(world.state_hash())),
-            world: world.state().map_err(|e| format!("cannot save this scene: {e}"))?,
+            checksum: Some(checksum(&state)),
+            world: state,
             scene_state: scene.save_state(),
         })
     }
@@ -108,19 +128,24 @@ impl Snapshot {
     /// Reads a snapshot from JSON text; the error is one line: where the text stops
     /// making sense, or which field is wrong.
     pub fn from_json(text: &str) -> Result<Self, String> {
-        // Format and version first: a newer file's unknown fields are not its problem.
-        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+        // Format and version first, from a small struct that skips every other field:
+        // a newer file's unknown fields are not its problem.
+        #[derive(Deserialize)]
+        struct Header {
+            format: Option<String>,
+            version: Option<u64>,
+        }
+        let header: Header = serde_json::from_str(text).map_err(|e| {
             if e.is_eof() {
                 format!("the file ends too early (cut short?): {e}")
             } else {
                 format!("not a snapshot (not valid JSON): {e}")
             }
         })?;
-        let format = value.get("format").and_then(serde_json::Value::as_str);
-        if format != Some(FORMAT) {
+        if header.format.as_deref() != Some(FORMAT) {
             return Err(format!("not a snapshot: its \"format\" field is not \"{FORMAT}\""));
         }
-        match value.get("version").and_then(serde_json::Value::as_u64) {
+        match header.version {
             Some(v) if v == u64::from(VERSION) => {}
             Some(v) if v > u64::from(VERSION) => {
                 return Err(format!(
@@ -134,7 +159,19 @@ impl Snapshot {
             }
             None => return Err("not a snapshot: it has no \"version\" number".into()),
         }
-        serde_json::from_value(value).map_err(|e| format!("damaged snapshot: {e}"))
+        // Straight from the text: each number is read once into its own type (through a
+        // JSON value an f32 would be rounded twice, and could come back one bit off).
+        let snapshot: Self = serde_json::from_str(text).map_err(|e| format!("damaged snapshot: {e}"))?;
+        if let Some(saved) = &snapshot.checksum {
+            let sum = checksum(&snapshot.world);
+            if *saved != sum {
+                return Err(format!(
+                    "the world does not match its checksum ({saved} saved, {sum} read): the file was changed \
+                     or damaged (delete the \"checksum\" and \"hash\" fields to load a file edited by hand)"
+                ));
+            }
+        }
+        Ok(snapshot)
     }
 
     /// Writes the snapshot to `path`, through a temporary file beside it, so a failed
@@ -204,6 +241,17 @@ impl Snapshot {
             Some(definition) => definition.create(values).map_err(|e| format!("scene_file: {e}"))?,
             None => (entry.create)(values),
         };
+        // The scene's own objects (the bob, the bridge's deck) must be the world's: the
+        // scene's rules act on them by id.
+        let built = &scene.world().particles;
+        for (i, id) in built.ids().iter().enumerate() {
+            let movable = built.inverse_masses()[i] > 0.0;
+            let loaded = world.particles.index(*id).map(|j| world.particles.inverse_masses()[j] > 0.0);
+            if loaded != Some(movable) {
+                let what = if movable { "movable" } else { "fixed" };
+                return Err(format!("world: the scene's particle {} ({what}) is missing or changed", id.0));
+            }
+        }
         *scene.world_mut() = world;
         scene.restore_state(&self.scene_state).map_err(|e| format!("scene_state: {e}"))?;
         Ok((entry, scene))
