@@ -20,6 +20,12 @@
 //!   aside to `settings.json.bad` with one warning line, and the window starts from the
 //!   defaults: a file is used whole or not at all. A toggle or parameter missing from
 //!   an otherwise valid file takes its default (a file from before it existed).
+//! - A scene opened from a file of the user's (`--scene-file`, File → Open) is saved by
+//!   its absolute path as well as its name, and that file is opened again at the next
+//!   launch. The file is the user's to move or edit: if it is gone or no longer loads,
+//!   one warning line says so and the window starts on [`DEFAULT_SCENE`] with the rest
+//!   of the settings; if the saved values no longer fit it, it opens with its defaults
+//!   and one warning line. The settings file is not set aside for either.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -64,6 +70,11 @@ pub struct Settings {
     pub version: u32,
     /// The last scene, by its registry name.
     pub scene: String,
+    /// The file the last scene was opened from (absolute), when it was a file of the
+    /// user's rather than a compiled or shipped scene, which the name finds. Absent from
+    /// files written before it existed and for named scenes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_file: Option<String>,
     /// Its parameter values by name; a parameter missing here takes its default.
     pub params: BTreeMap<String, f32>,
     /// Solver, substeps and integrator.
@@ -237,8 +248,9 @@ impl Default for PanelSettings {
 
 /// A settings file's values after validation: what [`Settings`] names, found.
 struct Resolved {
-    entry: &'static SceneEntry,
-    params: ParamValues,
+    /// The saved scene when it is found by name; `None` for a scene file, which is
+    /// opened (and its parameters checked) only when the window opens on it.
+    entry: Option<&'static SceneEntry>,
     solver: SolverSettings,
 }
 
@@ -251,6 +263,7 @@ impl Settings {
         Self {
             version: VERSION,
             scene: lab.entry.info.name.to_string(),
+            scene_file: scene_file_of(lab.entry),
             params: lab.scene.params().iter().map(|(param, value)| (param.name.to_string(), value)).collect(),
             solver: SolverChoice {
                 kind: solver.kind.name().to_string(),
@@ -307,11 +320,18 @@ impl Settings {
 
     /// Checks every value and finds what the names name.
     fn resolve(&self) -> Result<Resolved, String> {
-        let entry = scenes::find(&self.scene).map_err(|e| format!("scene: {e}"))?;
-        let mut params = ParamValues::defaults(entry.info.params);
-        for (name, value) in &self.params {
-            params.set(name, *value).map_err(|e| format!("params of {}: {e}", entry.info.name))?;
-        }
+        let entry = match &self.scene_file {
+            Some(path) if path.is_empty() => return Err("scene_file is empty".into()),
+            Some(_) => None,
+            None => {
+                let entry = scenes::find(&self.scene).map_err(|e| format!("scene: {e}"))?;
+                let mut params = ParamValues::defaults(entry.info.params);
+                for (name, value) in &self.params {
+                    params.set(name, *value).map_err(|e| format!("params of {}: {e}", entry.info.name))?;
+                }
+                Some(entry)
+            }
+        };
         let kind = SolverKind::parse(&self.solver.kind).map_err(|e| format!("solver.kind: {e}"))?;
         if !SUBSTEP_RANGE.contains(&self.solver.substeps) {
             return Err(format!(
@@ -346,7 +366,7 @@ impl Settings {
         let solver =
             SolverSettings { kind, substeps: self.solver.substeps, integrator, ..SolverSettings::default() };
         solver.validate().map_err(|e| format!("solver: {e}"))?;
-        Ok(Resolved { entry, params, solver })
+        Ok(Resolved { entry, solver })
     }
 
     /// One line saying what the settings hold, for the log.
@@ -366,8 +386,9 @@ impl Settings {
         } else {
             "camera framed".to_string()
         };
+        let file = self.scene_file.as_ref().map_or_else(String::new, |path| format!(" (file {path})"));
         format!(
-            "scene {} [{}], solver {solver}, integrator {}, rate {} Hz, time scale {}, view [{}], {camera}, \
+            "scene {}{file} [{}], solver {solver}, integrator {}, rate {} Hz, time scale {}, view [{}], {camera}, \
              window {}x{}, panel {}, help {}, compare {}",
             self.scene,
             params.join(" "),
@@ -382,6 +403,27 @@ impl Settings {
             if self.panel.help { "open" } else { "closed" },
             if self.panel.compare { "open" } else { "closed" },
         )
+    }
+}
+
+/// Where a scene opened from a file of the user's lives, absolute (so a launch from
+/// another directory finds it), to open it again by; `None` for a compiled or shipped
+/// scene, which its name finds.
+fn scene_file_of(entry: &SceneEntry) -> Option<String> {
+    if scenes::file::shipped().iter().any(|shipped| std::ptr::eq(*shipped, entry)) {
+        return None;
+    }
+    let path = scenes::file::definition(entry)?.path()?;
+    let path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    Some(path.to_string_lossy().into_owned())
+}
+
+/// Why a scene file did not load, without its name (the warning names it already).
+fn file_reason(error: &scenes::file::FileError) -> String {
+    let message = error.message.replace('\n', " ");
+    match error.position {
+        Some((line, column)) => format!("line {line}, column {column}: {message}"),
+        None => message,
     }
 }
 
@@ -647,10 +689,9 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         (None, None) => None,
         (scene, file) => Some(scenes::file::choose(scene, file)?),
     };
-    let typed_scene = typed_entry.map(|entry| entry.info.name);
     let place =
         store.path().map_or_else(|| "nowhere (no config directory)".to_string(), |p| p.display().to_string());
-    let (saved, origin, warning) = if launch.fresh {
+    let (saved, origin, mut warning) = if launch.fresh {
         (None, format!("--fresh: starting from the defaults; the settings at {place} are not read"), None)
     } else {
         match store.load() {
@@ -662,20 +703,55 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         }
     };
     let resolved = saved.as_ref().map(Settings::resolve).transpose()?;
-    let saved_scene = resolved.as_ref().map(|r| r.entry.info.name);
-    let scene = typed_scene.or(saved_scene).unwrap_or(DEFAULT_SCENE);
-    let same_scene = saved_scene == Some(scene);
+    // The saved scene: found by name, or its file opened again (unless the command line
+    // chose another scene or a snapshot, when the file is not read at all).
+    let saved_entry = match (&saved, &resolved) {
+        (Some(saved), Some(resolved)) => match &saved.scene_file {
+            None => resolved.entry,
+            Some(path) => match typed_entry {
+                Some(typed) => (scene_file_of(typed).as_ref() == Some(path)).then_some(typed),
+                None if launch.from.is_some() => None,
+                None => scenes::file::load_path(Path::new(path))
+                    .map_err(|error| {
+                        warning = Some(format!(
+                            "particle-lab: the scene file {path} saved in the settings cannot be opened ({}); \
+                             starting on {DEFAULT_SCENE}",
+                            file_reason(&error)
+                        ));
+                    })
+                    .ok(),
+            },
+        },
+        _ => None,
+    };
+    let entry = match typed_entry.or(saved_entry) {
+        Some(entry) => entry,
+        None => scenes::find(DEFAULT_SCENE)?,
+    };
+    let same_scene = saved_entry.is_some_and(|saved| std::ptr::eq(saved, entry));
     // The saved values first, then `--set` over them: the later assignment wins.
     let mut assignments: Vec<String> = Vec::new();
-    if let (true, Some(resolved)) = (same_scene, &resolved) {
-        assignments.extend(resolved.params.iter().map(|(param, value)| format!("{}={value}", param.name)));
+    if let (true, Some(saved)) = (same_scene, &saved) {
+        assignments.extend(saved.params.iter().map(|(name, value)| format!("{name}={value}")));
     }
     assignments.extend(launch.set.iter().cloned());
     let base = resolved.as_ref().map_or_else(SolverSettings::default, |r| r.solver);
     let solver = launch.solver_over(base);
-    let mut lab = match typed_entry {
-        Some(entry) => Lab::from_entry(entry, &assignments, solver)?,
-        None => Lab::with_solver(scene, &assignments, solver)?,
+    let mut lab = match Lab::from_entry(entry, &assignments, solver) {
+        Ok(lab) => lab,
+        // A scene file edited since: the saved values may no longer fit it. It opens
+        // with its own (and `--set` still has to fit).
+        Err(error) if same_scene && saved.as_ref().is_some_and(|s| s.scene_file.is_some()) => {
+            let lab = Lab::from_entry(entry, &launch.set, solver)?;
+            let path = saved.as_ref().and_then(|s| s.scene_file.as_deref()).unwrap_or_default();
+            warning = Some(format!(
+                "particle-lab: the values saved for the scene file {path} no longer fit it ({}); opening it \
+                 with its defaults",
+                error.replace('\n', " ")
+            ));
+            lab
+        }
+        Err(error) => return Err(error),
     };
     let mut window = DEFAULT_WINDOW;
     if let Some(saved) = &saved {

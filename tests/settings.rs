@@ -509,3 +509,217 @@ fn the_binary_tells_typed_flags_from_their_defaults() {
     assert!(line.contains("settings --fresh: starting from the defaults"), "{line}");
     assert!(line.contains("scene cradle [") && line.contains("solver soft (4 substeps)"), "{line}");
 }
+
+/// A copy of the shipped chain under another file and scene name, in `dir`: a scene
+/// file of the user's, which no scene name finds.
+fn user_scene_file(dir: &Path) -> PathBuf {
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/chain.toml"))
+            .unwrap();
+    assert!(text.contains("name = \"chain\"\n"));
+    let path = dir.join("my-hanging-chain.toml");
+    std::fs::write(&path, text.replacen("name = \"chain\"\n", "name = \"hanging\"\n", 1)).unwrap();
+    path
+}
+
+/// Settings saved from a window on the scene file in `scenes` with `links=8`, a moved
+/// camera and a hidden panel, written to the settings in `dir`.
+fn save_on_scene_file(dir: &Path, scene_file: &Path) -> Settings {
+    let launch = Launch { scene_file: Some(scene_file.to_path_buf()), ..Launch::default() };
+    let mut lab = open(&launch, &temp_dir("scene-file-first")).lab;
+    lab.set_param("links", 8.0);
+    lab.camera.distance = 6.5;
+    lab.camera_moved = true;
+    lab.panel_open = false;
+    lab.view.grid = false;
+    lab.time_scale = 0.25;
+    let saved = Settings::of(&lab, [900, 600]);
+    assert!(Store::in_dir(dir).save(&saved).unwrap());
+    saved
+}
+
+#[test]
+fn a_scene_file_is_saved_by_its_path_and_opened_again_with_its_values_and_watched() {
+    let scenes = temp_dir("scene-file-scenes");
+    let dir = temp_dir("scene-file");
+    let scene_file = user_scene_file(&scenes);
+    let saved = save_on_scene_file(&dir, &scene_file);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join(FILE_NAME)).unwrap()).unwrap();
+    assert_eq!(json["version"], 1, "an optional field: the format's version stays");
+    assert_eq!(json["scene"], "hanging");
+    assert_eq!(json["scene_file"], scene_file.to_str().unwrap());
+    assert_eq!(json["params"]["links"], 8.0);
+
+    let opened = open(&Launch::default(), &dir);
+    assert_eq!(opened.warning, None);
+    assert_eq!(Settings::of(&opened.lab, opened.window), saved, "everything comes back");
+    let mut lab = opened.lab;
+    assert_eq!(lab.entry.info.name, "hanging");
+    let definition = particle_lab::scenes::file::definition(lab.entry).expect("a file scene");
+    assert_eq!(definition.path(), Some(scene_file.as_path()), "the user's file, opened again");
+    assert_eq!(lab.scene.params().get("links"), 8.0);
+    assert_eq!(lab.scene.params().get("span"), 3.0);
+    assert_eq!(lab.camera.distance, 6.5, "the scene's camera comes back with it");
+    assert!(!lab.panel_open && !lab.view.grid && lab.time_scale == 0.25);
+    assert!(
+        opened.summary.contains(&format!("scene hanging (file {}) [", scene_file.display())),
+        "{}",
+        opened.summary
+    );
+
+    // The window watches it as it does for --scene-file: an edit reloads it.
+    lab.watch_scene_file();
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let edited = format!("{}# edited\n", definition.source());
+    std::fs::write(&scene_file, &edited).unwrap();
+    let start = std::time::Instant::now();
+    while particle_lab::scenes::file::definition(lab.entry).unwrap().source() != edited {
+        assert!(start.elapsed().as_secs() < 10, "the saved scene file is not watched");
+        lab.poll_scene_file();
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert_eq!(lab.scene.params().get("links"), 8.0, "the reload keeps the values");
+
+    // A relative --scene-file is saved absolute, so a launch from elsewhere finds it.
+    let relative = scene_file.strip_prefix(std::env::current_dir().unwrap()).unwrap();
+    let relative_dir = temp_dir("scene-file-relative");
+    save_on_scene_file(&relative_dir, relative);
+    let text = std::fs::read_to_string(relative_dir.join(FILE_NAME)).unwrap();
+    assert!(Settings::parse(&text).unwrap().scene_file == Some(scene_file.display().to_string()), "{text}");
+
+    // Typed, the same file is the saved scene (its values come back); another scene wins.
+    let launch = Launch { scene_file: Some(scene_file.clone()), ..Launch::default() };
+    assert_eq!(open(&launch, &dir).lab.scene.params().get("links"), 8.0);
+    let opened = open(&Launch { scene: Some("chain".into()), ..Launch::default() }, &dir);
+    assert_eq!(opened.warning, None);
+    assert!(particle_lab::scenes::file::definition(opened.lab.entry).unwrap().path() != Some(&scene_file));
+    assert_eq!(opened.lab.scene.params().get("links"), 20.0, "the shipped chain has its own values");
+}
+
+#[test]
+fn a_shipped_scene_file_is_saved_by_its_name_only() {
+    let dir = temp_dir("shipped-file");
+    let saved = Settings::of(&Lab::new("chain", &[]).unwrap(), [900, 600]);
+    assert_eq!((saved.scene.as_str(), &saved.scene_file), ("chain", &None));
+    Store::in_dir(&dir).save(&saved).unwrap();
+    assert!(!std::fs::read_to_string(dir.join(FILE_NAME)).unwrap().contains("scene_file"));
+    assert_eq!(Settings::of(&open(&Launch::default(), &dir).lab, [900, 600]), saved);
+}
+
+/// Opens on settings saved on a scene file after `break_it` did something to the
+/// file: one warning line naming it, the default scene, the rest of the settings, and
+/// the settings file left where it was, unchanged.
+fn assert_starts_on_the_default_scene(tag: &str, break_it: impl Fn(&Path), reason: &str) {
+    let scenes = temp_dir(&format!("{tag}-scenes"));
+    let dir = temp_dir(tag);
+    let scene_file = user_scene_file(&scenes);
+    save_on_scene_file(&dir, &scene_file);
+    let before = std::fs::read(dir.join(FILE_NAME)).unwrap();
+    break_it(&scene_file);
+
+    let opened = open(&Launch::default(), &dir);
+    assert_eq!(
+        opened.warning.as_deref(),
+        Some(
+            format!(
+                "particle-lab: the scene file {} saved in the settings cannot be opened ({reason}); starting on \
+                 projectile",
+                scene_file.display()
+            )
+            .as_str()
+        )
+    );
+    let lab = &opened.lab;
+    assert_eq!(lab.entry.info.name, "projectile");
+    assert_eq!(lab.scene.params(), Lab::new("projectile", &[]).unwrap().scene.params());
+    assert!(!lab.camera_moved, "the chain's camera is not put on the projectile");
+    assert!(!lab.panel_open && !lab.view.grid && lab.time_scale == 0.25, "the rest of the settings stay");
+    assert_eq!(opened.window, [900, 600]);
+    assert!(opened.summary.starts_with("settings restored from "), "{}", opened.summary);
+    assert_eq!(std::fs::read(dir.join(FILE_NAME)).unwrap(), before, "the settings file stays as it was");
+    assert!(!dir.join("settings.json.bad").exists(), "and is not set aside");
+    // With --from the snapshot names the scene: the saved file is not looked for.
+    let launch = Launch { from: Some("snapshot.json".into()), ..Launch::default() };
+    assert_eq!(open(&launch, &dir).warning, None);
+}
+
+#[test]
+fn a_saved_scene_file_that_is_gone_or_broken_starts_on_the_default_scene_keeping_the_rest() {
+    assert_starts_on_the_default_scene(
+        "gone",
+        |file| std::fs::remove_file(file).unwrap(),
+        "cannot read it: no such file",
+    );
+    assert_starts_on_the_default_scene(
+        "broken",
+        |file| std::fs::write(file, "[scene]\nname = 3\n").unwrap(),
+        "line 2, column 8: invalid type: integer `3`, expected a string",
+    );
+}
+
+#[test]
+fn saved_values_that_no_longer_fit_an_edited_scene_file_give_way_to_its_defaults() {
+    let scenes = temp_dir("unfit-scenes");
+    let dir = temp_dir("unfit");
+    let scene_file = user_scene_file(&scenes);
+    save_on_scene_file(&dir, &scene_file);
+    // The file's links now go up to 6 only: the saved 8 is out of range.
+    let text = std::fs::read_to_string(&scene_file).unwrap();
+    std::fs::write(
+        &scene_file,
+        text.replacen("max = 60\n", "max = 6\n", 1).replacen("default = 20\n", "default = 5\n", 1),
+    )
+    .unwrap();
+    let opened = open(&Launch::default(), &dir);
+    let warning = opened.warning.unwrap();
+    assert!(
+        warning.starts_with(&format!(
+            "particle-lab: the values saved for the scene file {} no longer fit it (",
+            scene_file.display()
+        )),
+        "{warning}"
+    );
+    assert!(warning.contains("'links' = 8 is out of range"), "{warning}");
+    assert!(warning.ends_with("); opening it with its defaults"), "{warning}");
+    assert_eq!(opened.lab.entry.info.name, "hanging");
+    assert_eq!(opened.lab.scene.params().get("links"), 5.0);
+    assert!(!dir.join("settings.json.bad").exists());
+    // --set still has to fit.
+    let error =
+        settings::open(&Launch { set: vec!["links=9".into()], ..Launch::default() }, Store::in_dir(&dir))
+            .err()
+            .unwrap();
+    assert!(error.contains("'links' = 9 is out of range"), "{error}");
+}
+
+#[test]
+fn the_binary_warns_once_about_a_saved_scene_file_that_is_gone_and_keeps_the_settings() {
+    let dir = temp_dir("binary-scene-file");
+    let config = dir.join("particle-lab");
+    std::fs::create_dir_all(&config).unwrap();
+    let scene_file = user_scene_file(&temp_dir("binary-scene-file-scenes"));
+    save_on_scene_file(&config, &scene_file);
+    std::fs::remove_file(&scene_file).unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .env("XDG_CONFIG_HOME", &dir)
+        .env("RUST_LOG", "warn")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("settings")).collect();
+    assert_eq!(
+        warnings,
+        [format!(
+            "particle-lab: the scene file {} saved in the settings cannot be opened (cannot read it: no such \
+             file); starting on projectile",
+            scene_file.display()
+        )],
+        "{stderr}"
+    );
+    assert!(config.join(FILE_NAME).exists() && !config.join("settings.json.bad").exists());
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
