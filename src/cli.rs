@@ -467,7 +467,15 @@ pub fn simulate(
     let mut line = Vec::with_capacity(4096);
     // Times as the step stands for them (0.0208333 s), not as f32 steps add up.
     let clock = clock::Step::of(plan.dt);
-    let (start_time, start_steps) = (scene.world().time(), scene.world().steps());
+    let (mut start_time, mut start_steps) = (scene.world().time(), scene.world().steps());
+    // A snapshot whose every step was this one counts its time from step 0, so its
+    // lines read as an unbroken run's do (3.3333333, not the f32 sum 3.333334).
+    if let Some(step) = clock {
+        let from_zero = step.seconds() * start_steps as f64;
+        if start_steps > 0 && (from_zero - start_time).abs() <= 1e-5 * start_time.max(1.0) {
+            (start_time, start_steps) = (0.0, 0);
+        }
+    }
     let mut progress = progress::Progress::new(plan.steps, "steps", progress::Progress::for_terminal(false));
     if plan.format == StateFormat::Csv {
         writeln!(out, "{CSV_HEADER}")?;
