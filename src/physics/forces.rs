@@ -428,10 +428,10 @@ impl ForceGenerator for Spring {
         let Some(b) = end_position(particles, self.b) else { return };
         let force = self.force(particles.position[ia], b);
         particles.force[ia] += force;
-        if let LinkEnd::Particle(id) = self.b {
-            if let Some(ib) = particles.index(id) {
-                particles.force[ib] -= force;
-            }
+        if let LinkEnd::Particle(id) = self.b
+            && let Some(ib) = particles.index(id)
+        {
+            particles.force[ib] -= force;
         }
     }
 

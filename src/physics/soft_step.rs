@@ -758,8 +758,8 @@ impl SoftStep {
             counts[color] += 1;
         }
         self.color_starts[0] = 0;
-        for c in 0..=COLORS {
-            self.color_starts[c + 1] = self.color_starts[c] + counts[c];
+        for (c, &count) in counts.iter().enumerate() {
+            self.color_starts[c + 1] = self.color_starts[c] + count;
         }
         let mut cursor = self.color_starts;
         self.contacts.clear();

@@ -219,7 +219,8 @@ mod tests {
 
     #[test]
     fn each_bad_field_is_named() {
-        let cases: [(&str, fn(&mut SolverSettings)); 7] = [
+        type Spoil = fn(&mut SolverSettings);
+        let cases: [(&str, Spoil); 7] = [
             ("sleep_speed", |s| s.sleep_speed = -0.1),
             ("sleep_time", |s| s.sleep_time = 0.0),
             ("substeps", |s| s.substeps = 0),

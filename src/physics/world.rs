@@ -558,18 +558,18 @@ impl World {
         out.clear();
         let p = &self.particles;
         for generator in self.forces.iter() {
-            if let Some(spec) = generator.link() {
-                if let Some((from, to, length)) = link_geometry(p, &spec) {
-                    out.push(LinkState { spec, from, to, length, tension: generator.tension(p) });
-                }
+            if let Some(spec) = generator.link()
+                && let Some((from, to, length)) = link_geometry(p, &spec)
+            {
+                out.push(LinkState { spec, from, to, length, tension: generator.tension(p) });
             }
         }
         for (source, (_, generator)) in self.contact_generators.iter().enumerate() {
-            if let Some(spec) = generator.link() {
-                if let Some((from, to, length)) = link_geometry(p, &spec) {
-                    let tension = self.link_tension.get(source).copied().unwrap_or(0.0);
-                    out.push(LinkState { spec, from, to, length, tension });
-                }
+            if let Some(spec) = generator.link()
+                && let Some((from, to, length)) = link_geometry(p, &spec)
+            {
+                let tension = self.link_tension.get(source).copied().unwrap_or(0.0);
+                out.push(LinkState { spec, from, to, length, tension });
             }
         }
     }
