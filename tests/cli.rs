@@ -487,17 +487,34 @@ struct VirtualDisplay {
 }
 
 impl VirtualDisplay {
+    /// Starts Xvfb and waits until its display answers; a server that does not within
+    /// 10 s (seen once on a busy CI machine) is started again, up to three times.
     fn start() -> Self {
         use std::io::BufRead;
-        let mut server = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .expect("Xvfb starts ('bash scripts/test.sh' installs it)");
-        let mut number = String::new();
-        std::io::BufReader::new(server.stdout.take().unwrap()).read_line(&mut number).unwrap();
-        Self { name: format!(":{}", number.trim()), server }
+        for _ in 0..3 {
+            let mut server = Command::new("Xvfb")
+                .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+                .stdout(std::process::Stdio::piped())
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .expect("Xvfb starts ('bash scripts/test.sh' installs it)");
+            let mut number = String::new();
+            std::io::BufReader::new(server.stdout.take().unwrap()).read_line(&mut number).unwrap();
+            let display = Self { name: format!(":{}", number.trim()), server };
+            let start = std::time::Instant::now();
+            while start.elapsed().as_secs() < 10 {
+                let probe = Command::new("xdotool")
+                    .env("DISPLAY", &display.name)
+                    .arg("getdisplaygeometry")
+                    .output()
+                    .is_ok_and(|o| o.status.success());
+                if probe {
+                    return display;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+        }
+        panic!("Xvfb did not answer, three times");
     }
 
     fn has_window(&self, title: &str) -> bool {

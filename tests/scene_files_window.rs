@@ -26,17 +26,33 @@ fn display(started: &mut Started) -> String {
         let found = Command::new("sh").args(["-c", &format!("command -v {tool}")]).output().unwrap();
         assert!(found.status.success(), "{tool} is missing; 'bash scripts/test.sh' installs it");
     }
-    let mut server = Command::new("Xvfb")
-        .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("Xvfb starts");
-    let mut number = String::new();
-    std::io::BufRead::read_line(&mut std::io::BufReader::new(server.stdout.take().unwrap()), &mut number)
-        .expect("Xvfb prints its display number");
-    started.0.push(server);
-    format!(":{}", number.trim())
+    // A server whose display does not answer within 10 s is started again (three tries).
+    for _ in 0..3 {
+        let mut server = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb starts");
+        let mut number = String::new();
+        std::io::BufRead::read_line(&mut std::io::BufReader::new(server.stdout.take().unwrap()), &mut number)
+            .expect("Xvfb prints its display number");
+        let name = format!(":{}", number.trim());
+        started.0.push(server);
+        let start = Instant::now();
+        while start.elapsed() < Duration::from_secs(10) {
+            let probe = Command::new("xdotool")
+                .env("DISPLAY", &name)
+                .arg("getdisplaygeometry")
+                .output()
+                .is_ok_and(|o| o.status.success());
+            if probe {
+                return name;
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+    panic!("Xvfb did not answer, three times");
 }
 
 fn wait_for_log(log: &Path, needle: &str) -> String {
