@@ -276,8 +276,13 @@ impl SoftStep {
         }
         let impulses =
             memory.warm.iter().all(|w| w.normal_impulse.is_finite() && w.tangent_impulse.is_finite());
-        let links = memory.warm_links.iter().map(|l| l.1).chain(memory.last_tension.iter().copied());
-        if !(impulses && links.clone().all(f32::is_finite)) {
+        let links = memory
+            .warm_links
+            .iter()
+            .map(|l| l.1)
+            .chain(memory.last_tension.iter().copied())
+            .all(f32::is_finite);
+        if !(impulses && links) {
             return Err("a warm-start impulse or a link's last tension is not finite".into());
         }
         self.warm = memory.warm;

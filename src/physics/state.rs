@@ -103,24 +103,6 @@ impl WorldState {
         self.solver
     }
 
-    /// Simulated time at the save (s).
-    #[must_use]
-    pub fn time(&self) -> f64 {
-        self.time
-    }
-
-    /// Steps taken before the save.
-    #[must_use]
-    pub fn steps(&self) -> u64 {
-        self.steps
-    }
-
-    /// Number of particles.
-    #[must_use]
-    pub fn particle_count(&self) -> usize {
-        self.particles.len()
-    }
-
     /// Checks that the generators name only live particles and that the handles are
     /// unique and below the next handle. The parts check their own values.
     pub(crate) fn check_references(&self) -> Result<(), String> {

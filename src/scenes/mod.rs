@@ -281,6 +281,12 @@ pub fn build_entry(entry: &'static SceneEntry, assignments: &[String]) -> Result
     for assignment in assignments {
         values.assign(assignment).map_err(|e| e.to_string())?;
     }
+    create_entry(entry, values)
+}
+
+/// Builds a scene with (already validated) values; a scene file that cannot be built
+/// with them says why (its entry's `create` would fall back to the defaults).
+pub fn create_entry(entry: &'static SceneEntry, values: ParamValues) -> Result<Box<dyn Scene>, String> {
     match file::definition(entry) {
         Some(definition) => definition.create(values).map_err(|e| e.to_string()),
         None => Ok((entry.create)(values)),

@@ -237,10 +237,7 @@ impl Snapshot {
                 ));
             }
         }
-        let mut scene = match super::file::definition(entry) {
-            Some(definition) => definition.create(values).map_err(|e| format!("scene_file: {e}"))?,
-            None => (entry.create)(values),
-        };
+        let mut scene = super::create_entry(entry, values).map_err(|e| format!("scene_file: {e}"))?;
         // The scene's own objects (the bob, the bridge's deck) must be the world's: the
         // scene's rules act on them by id.
         let built = &scene.world().particles;

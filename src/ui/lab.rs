@@ -1024,9 +1024,9 @@ impl Lab {
     /// A lab on the scene a snapshot holds, at the step it was saved, framed by the
     /// scene's camera hint.
     pub fn from_snapshot(snapshot: &Snapshot) -> Result<Self, String> {
-        let (entry, _) = snapshot.restore_with_entry()?;
+        let (entry, scene) = snapshot.restore_with_entry()?;
         let mut lab = Self::from_entry(entry, &[], snapshot.world.solver())?;
-        lab.load_snapshot(snapshot)?;
+        lab.install(entry, scene, snapshot.dt);
         lab.camera = OrbitCamera::from_hint(lab.scene.camera());
         Ok(lab)
     }
@@ -1041,15 +1041,20 @@ impl Lab {
     /// Compare copy stops (it would have to run from the scene's start to catch up).
     pub fn load_snapshot(&mut self, snapshot: &Snapshot) -> Result<(), String> {
         let (entry, scene) = snapshot.restore_with_entry()?;
+        self.install(entry, scene, snapshot.dt);
+        Ok(())
+    }
+
+    /// Makes a restored scene the running one, at time step `dt`.
+    fn install(&mut self, entry: &'static SceneEntry, scene: Box<dyn Scene>, dt: f32) {
         self.stop_compare();
         self.entry = entry;
         self.scene = scene;
         self.solver = *self.scene.world().solver();
-        self.set_dt(snapshot.dt);
+        self.set_dt(dt);
         self.apply_scene_view();
         self.restart();
         self.follow_crowd();
-        Ok(())
     }
 
     /// Writes a snapshot to `path`; the status line says where, or why not.
