@@ -9,6 +9,7 @@ pub mod app;
 pub mod cli;
 pub mod messages;
 pub mod physics;
+pub mod reading;
 pub mod render;
 pub mod scenes;
 pub mod settings;

@@ -44,9 +44,93 @@ pub fn no_display(error: &str) -> String {
     format!("cannot open a window: the display {named} does not answer ({}); {hint}", plain(error))
 }
 
+/// How many characters of a user's text a message quotes before it cuts.
+pub const QUOTE_CHARS: usize = 80;
+
+/// A user's text (a name, an expression, a path) made safe to put in a one-line
+/// message: control characters (`\n`, `\r`, `\t`, an ANSI escape's `\u{1b}`, …) are
+/// shown as escapes, and text past [`QUOTE_CHARS`] characters is cut with `…` and the
+/// count of what was left out, so a 20 KB expression does not fill the terminal.
+#[must_use]
+pub fn quote(text: &str) -> String {
+    let total = text.chars().count();
+    let mut shown = String::new();
+    for c in text.chars().take(QUOTE_CHARS) {
+        match c {
+            '\n' => shown.push_str("\\n"),
+            '\r' => shown.push_str("\\r"),
+            '\t' => shown.push_str("\\t"),
+            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}' | '\u{85}') => {
+                shown.push_str(&format!("\\u{{{:x}}}", c as u32));
+            }
+            c => shown.push(c),
+        }
+    }
+    if total > QUOTE_CHARS {
+        shown.push_str(&format!("… ({} more characters)", total - QUOTE_CHARS));
+    }
+    shown
+}
+
+/// A path for a one-line message: [`quote`]d, but cut at the front (the file's name
+/// is the part worth keeping).
+#[must_use]
+pub fn path(path: &std::path::Path) -> String {
+    let text = path.display().to_string();
+    let total = text.chars().count();
+    if total <= QUOTE_CHARS {
+        return quote(&text);
+    }
+    let tail: String = text.chars().skip(total - QUOTE_CHARS).collect();
+    format!("…{}", quote(&tail))
+}
+
+/// An I/O error's reason in words, without the OS's error number ("(os error 2)").
+#[must_use]
+pub fn io_reason(error: &std::io::Error) -> String {
+    use std::io::ErrorKind;
+    match error.kind() {
+        ErrorKind::NotFound => "no such file".into(),
+        ErrorKind::PermissionDenied => "permission denied".into(),
+        ErrorKind::IsADirectory => "it is a directory".into(),
+        ErrorKind::NotADirectory => "a part of the path is not a directory".into(),
+        _ => {
+            let text = error.to_string();
+            let text = text.split(" (os error").next().unwrap_or(&text);
+            quote(text)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quoted_text_stays_on_one_line() {
+        assert_eq!(quote("a\nb\rc\u{1b}[31m"), "a\\nb\\rc\\u{1b}[31m");
+        let long = "1+".repeat(10_000);
+        let shown = quote(&long);
+        assert!(shown.chars().count() < 120, "{shown}");
+        assert!(shown.ends_with("(19920 more characters)"), "{shown}");
+        assert_eq!(quote("plain"), "plain");
+    }
+
+    #[test]
+    fn long_paths_keep_their_file_name() {
+        let long = format!("/{}/scene.toml", "d/".repeat(100));
+        let shown = path(std::path::Path::new(&long));
+        assert!(shown.starts_with('…') && shown.ends_with("scene.toml"), "{shown}");
+        assert_eq!(path(std::path::Path::new("/tmp/a\nb.toml")), "/tmp/a\\nb.toml");
+    }
+
+    #[test]
+    fn io_reasons_have_no_os_numbers() {
+        let missing = std::fs::read("/nonexistent/particle-lab").unwrap_err();
+        assert_eq!(io_reason(&missing), "no such file");
+        let other = std::io::Error::from_raw_os_error(28);
+        assert!(!io_reason(&other).contains("os error"), "{}", io_reason(&other));
+    }
 
     #[test]
     fn winit_locations_are_cut() {

@@ -148,7 +148,9 @@ fn add_force_rejects_bad_generators() {
     let float =
         Buoyancy { target: a, surface: 0.0, half_height: 0.5, volume: 0.01, density: 1000.0, g: 9.81 };
     rejects(&["buoyancy density"], |w| w.add_force(Buoyancy { density: f32::NAN, ..float }));
-    rejects(&["buoyancy g"], |w| w.add_force(Buoyancy { g: 0.0, ..float }));
+    rejects(&["buoyancy g"], |w| w.add_force(Buoyancy { g: -1.0, ..float }));
+    // No gravity is a valid world (springForces with g = 0): the float is weightless and feels no buoyancy.
+    world().add_force(Buoyancy { g: 0.0, ..float }).expect("g = 0 is a world without weight");
     rejects(&["stiff spring k"], |w| w.add_force(StiffSpring::new(a, Vec3::ZERO, f32::NAN, 0.1)));
     rejects(&["stiff spring damping_ratio"], |w| {
         w.add_force(StiffSpring::new(a, Vec3::ZERO, 10.0, f32::INFINITY))

@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::links::{LinkEnd, LinkKind, LinkSpec, direction_or_zero, end_position};
 use super::particles::{ParticleId, Particles};
 use super::state::SavedForce;
-use super::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
+use super::{NON_NEGATIVE, PhysicsError, check, non_negative};
 
 /// Something that adds forces to particles every step. `Send` so that a world can be
 /// handed to another thread (a benchmark's pool, a background simulation).
@@ -515,7 +515,7 @@ impl ForceGenerator for Buoyancy {
         check(non_negative(self.half_height), "buoyancy half_height", self.half_height, NON_NEGATIVE)?;
         check(non_negative(self.volume), "buoyancy volume", self.volume, NON_NEGATIVE)?;
         check(non_negative(self.density), "buoyancy density", self.density, NON_NEGATIVE)?;
-        check(positive(self.g), "buoyancy g", self.g, POSITIVE)
+        check(non_negative(self.g), "buoyancy g", self.g, NON_NEGATIVE)
     }
 
     fn apply(&mut self, particles: &mut Particles, _dt: f32) {
