@@ -495,3 +495,33 @@ fn without_a_display_it_says_what_is_missing() {
     assert!(last.contains("no display") && last.contains("Xvfb"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// Issue 17, finding 1: springForces at g = 0 (in its range) panicked when the window
+/// opened on it, and a settings file holding it crashed every start after. Opened with
+/// `--set g=0`, it runs; quit, the saved g = 0 opens again and runs.
+#[test]
+fn the_window_runs_spring_forces_at_g_zero_and_opens_again_on_the_saved_value() {
+    let display = Display::start();
+    let config = test_dir("g-zero").join("config");
+    let _ = std::fs::remove_dir_all(&config);
+    for (round, args) in [&["--scene", "springForces", "--set", "g=0"][..], &[][..]].into_iter().enumerate() {
+        let mut app = App::start_with_config(&display, args, "g-zero", &config);
+        let window = app.window(&display);
+        app.expect_log("window open: scene springForces");
+        if round == 1 {
+            let restored = app.expect_log("settings restored");
+            assert!(restored.contains("g=0"), "the saved g = 0: {restored}");
+        }
+        display.xdotool(&["windowactivate", "--sync", &window]);
+        std::thread::sleep(Duration::from_millis(1500));
+        display.xdotool(&["key", "space"]);
+        let paused = app.expect_log("paused at step");
+        assert!(!paused.contains("step 0,"), "round {round}: the scene ran: {paused}");
+        display.xdotool(&["key", "ctrl+q"]);
+        let status = app.wait_exit();
+        let log = app.log();
+        assert!(status.success(), "round {round}: exit status {status}:\n{log}");
+        assert!(!log.contains("panicked"), "round {round}: {log}");
+    }
+    std::fs::remove_dir_all(test_dir("g-zero")).ok();
+}
