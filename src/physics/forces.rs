@@ -13,8 +13,34 @@ use super::{NON_NEGATIVE, PhysicsError, check, non_negative};
 /// Something that adds forces to particles every step. `Send` so that a world can be
 /// handed to another thread (a benchmark's pool, a background simulation).
 pub trait ForceGenerator: Send {
-    /// Adds this step's force to the particles' accumulators. `dt` is the step (s).
+    /// Adds this step's force to the particles' accumulators, for a step that moves
+    /// the particles with what this one evaluation gives (semi-implicit Euler): a
+    /// generator may choose the force that lands that step on its own exact solution
+    /// (drag does). `dt` is the step (s).
     fn apply(&mut self, particles: &mut Particles, dt: f32);
+
+    /// Adds the force as the physics defines it at the particles' current state, for
+    /// an integrator that evaluates forces at trial states and weighs them itself
+    /// (explicit Euler, Verlet, RK4). What it books as dissipated is the power at this
+    /// state times `dt`; the integrator weighs the evaluations' bookings as it weighs
+    /// their forces, so a step books its loss once. By default the same as `apply`.
+    fn apply_instantaneous(&mut self, particles: &mut Particles, dt: f32) {
+        self.apply(particles, dt);
+    }
+
+    /// For a generator that moves its particle over the step in closed form, whatever
+    /// the integrator (the stiff spring): the step from the particle's current state
+    /// under its other accelerations `other` (m/s², by dense index), held constant over
+    /// the step. Such a generator adds no force at an evaluation; the integrator takes
+    /// this step for its particle instead. `None` for every other generator.
+    fn closed_step(&self, _particles: &Particles, _other: &[Vec3], _h: f32) -> Option<ClosedStep> {
+        None
+    }
+
+    /// Whether [`ForceGenerator::closed_step`] moves a particle.
+    fn moves_in_closed_form(&self) -> bool {
+        false
+    }
 
     /// Checks every setting; the error names the field and its valid range. The
     /// registry calls it before accepting the generator.
@@ -65,6 +91,29 @@ pub trait ForceGenerator: Send {
     fn saved(&self) -> Option<SavedForce> {
         None
     }
+}
+
+/// One particle's step taken in closed form ([`ForceGenerator::closed_step`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosedStep {
+    /// The particle (dense index).
+    pub index: usize,
+    /// The velocity that carries it from its start to its end position over the step
+    /// (m/s): the step's average velocity.
+    pub moving: Vec3,
+    /// Its exact velocity at the end of the step, before damping (m/s).
+    pub end: Vec3,
+    /// Energy the generator's own damping took over the step (J).
+    pub dissipated: f64,
+}
+
+/// Which of a generator's two forms an evaluation asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Evaluation {
+    /// [`ForceGenerator::apply`]: the one evaluation of a semi-implicit Euler step.
+    Step,
+    /// [`ForceGenerator::apply_instantaneous`]: one of an integrator's trial states.
+    Instantaneous,
 }
 
 /// Handle to a registered force generator.
@@ -137,6 +186,38 @@ impl ForceRegistry {
         for (_, generator) in &mut self.entries {
             generator.apply(particles, dt);
         }
+    }
+
+    /// Applies every generator but those that move their particle in closed form, in
+    /// the form `evaluation` asks for: what an integrator that takes closed-form steps
+    /// evaluates ([`super::integrator`]).
+    pub(crate) fn apply_for(&mut self, particles: &mut Particles, dt: f32, evaluation: Evaluation) {
+        for (_, generator) in self.entries.iter_mut().filter(|(_, g)| !g.moves_in_closed_form()) {
+            match evaluation {
+                Evaluation::Step => generator.apply(particles, dt),
+                Evaluation::Instantaneous => generator.apply_instantaneous(particles, dt),
+            }
+        }
+    }
+
+    /// Whether a generator moves its particle in closed form: such a world is stepped
+    /// by [`super::integrator::Integration`] whatever the integrator.
+    #[must_use]
+    pub fn has_closed_form(&self) -> bool {
+        self.entries.iter().any(|(_, g)| g.moves_in_closed_form())
+    }
+
+    /// The closed-form steps of the generators that take them, from the particles'
+    /// current state, into `out` (cleared first).
+    pub(crate) fn closed_steps(
+        &self,
+        particles: &Particles,
+        other: &[Vec3],
+        h: f32,
+        out: &mut Vec<ClosedStep>,
+    ) {
+        out.clear();
+        out.extend(self.entries.iter().filter_map(|(_, g)| g.closed_step(particles, other, h)));
     }
 
     /// Iterates over the generators.
@@ -323,6 +404,19 @@ impl ForceGenerator for Drag {
             particles.force[i] += drag;
             // Its share of the step's change of kinetic energy, F·(v + v')/2 dt, is lost.
             particles.dissipated -= f64::from(drag.dot(v + landed) * 0.5 * dt);
+        }
+    }
+
+    /// The force `-v (k1 + k2 |v|)` at the current velocity, with its power booked.
+    fn apply_instantaneous(&mut self, particles: &mut Particles, dt: f32) {
+        for &id in &self.targets {
+            let Some(i) = particles.index(id) else { continue };
+            let v = particles.velocity[i];
+            let drag = self.force(v);
+            particles.force[i] += drag;
+            if particles.inverse_mass[i] > 0.0 {
+                particles.dissipated -= f64::from(drag.dot(v)) * f64::from(dt);
+            }
         }
     }
 

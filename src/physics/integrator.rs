@@ -20,14 +20,24 @@
 //! `a` is `(constant acceleration + F/m)` from the force generators at the start of the
 //! step, `a'` the same at the moved positions. Verlet evaluates the generators twice a
 //! step and RK4 four times, at trial states; damping multiplies the end velocity by
-//! `damping^h` in every case. Two generators are written for semi-implicit Euler and
-//! are exact only with it: drag (which solves its own velocity update) and the stiff
-//! spring (which lands that integrator on its closed form); with the others they act
-//! as the force they compute at each evaluation.
+//! `damping^h` in every case.
+//!
+//! **The energy ledger is booked once a step.** A generator that takes energy out
+//! (drag) books, at each evaluation, the power at that state times `h`; the step books
+//! the evaluations' bookings weighed as the integrator weighs their accelerations
+//! (RK4 `1/6, 1/3, 1/3, 1/6`, Verlet `1/2, 1/2`): the integrator's own quadrature of
+//! the lost power, so that its error in the budget is its error in the motion. Drag's
+//! semi-implicit form (the force that lands that step on drag's exact solution, with
+//! the loss that goes with it) is used only by semi-implicit Euler, which evaluates
+//! once; the others get the force at the state they evaluate.
+//!
+//! **Closed-form generators** (the stiff spring) add no force at an evaluation: the
+//! integrator takes their exact step for their particle instead, with the other
+//! accelerations of the first evaluation held constant over the step.
 
 use glam::Vec3;
 
-use super::forces::ForceRegistry;
+use super::forces::{ClosedStep, Evaluation, ForceRegistry};
 use super::particles::{AWAKE, Particles};
 
 /// The integrators a world can use.
@@ -99,6 +109,8 @@ pub(crate) struct Integration {
     a2: Vec<Vec3>,
     a3: Vec<Vec3>,
     a4: Vec<Vec3>,
+    /// This step's closed-form steps.
+    closed: Vec<ClosedStep>,
 }
 
 impl Integration {
@@ -126,15 +138,24 @@ impl Integration {
             buffer.resize(n, Vec3::ZERO);
         }
         let (moves, x, v) = (&self.moves, &self.start_position, &self.start_velocity);
-        evaluate(particles, forces, h, &mut self.a1);
+        let evaluation = match integrator {
+            Integrator::SemiImplicitEuler => Evaluation::Step,
+            _ => Evaluation::Instantaneous,
+        };
+        // What the evaluations book as dissipated, each on its own, weighed below.
+        let booked_before = particles.dissipated;
+        let mut booked = [0.0_f64; 4];
+        booked[0] = evaluate(particles, forces, h, evaluation, &mut self.a1);
+        forces.closed_steps(particles, &self.a1, h, &mut self.closed);
         let a1 = &self.a1;
-        match integrator {
+        let weights: &[f64] = match integrator {
             Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
                 for i in (0..n).filter(|&i| moves[i]) {
                     self.end[i] = v[i] + a1[i] * h;
                     let explicit = integrator == Integrator::ExplicitEuler;
                     self.moving[i] = if explicit { v[i] } else { self.end[i] };
                 }
+                &[1.0]
             }
             Integrator::Verlet => {
                 for i in (0..n).filter(|&i| moves[i]) {
@@ -143,30 +164,39 @@ impl Integration {
                 // Forces again where the half-kicked velocity carries the particles.
                 let moving = &self.moving;
                 set_state(particles, moves, |i| (x[i] + moving[i] * h, moving[i]));
-                evaluate(particles, forces, h, &mut self.a2);
+                booked[1] = evaluate(particles, forces, h, evaluation, &mut self.a2);
                 for i in (0..n).filter(|&i| moves[i]) {
                     self.end[i] = self.moving[i] + self.a2[i] * (0.5 * h);
                 }
+                &[0.5, 0.5]
             }
             Integrator::Rk4 => {
                 // k1 = (v, a1) at the start; k2 at the midpoint along k1; k3 at the
                 // midpoint along k2; k4 at the end along k3.
                 let half = 0.5 * h;
                 set_state(particles, moves, |i| (x[i] + v[i] * half, v[i] + a1[i] * half));
-                evaluate(particles, forces, h, &mut self.a2);
+                booked[1] = evaluate(particles, forces, h, evaluation, &mut self.a2);
                 let a2 = &self.a2;
                 set_state(particles, moves, |i| (x[i] + (v[i] + a1[i] * half) * half, v[i] + a2[i] * half));
-                evaluate(particles, forces, h, &mut self.a3);
+                booked[2] = evaluate(particles, forces, h, evaluation, &mut self.a3);
                 let a3 = &self.a3;
                 set_state(particles, moves, |i| (x[i] + (v[i] + a2[i] * half) * h, v[i] + a3[i] * h));
-                evaluate(particles, forces, h, &mut self.a4);
+                booked[3] = evaluate(particles, forces, h, evaluation, &mut self.a4);
                 let a4 = &self.a4;
                 for i in (0..n).filter(|&i| moves[i]) {
                     let (k2, k3, k4) = (v[i] + a1[i] * half, v[i] + a2[i] * half, v[i] + a3[i] * h);
                     self.moving[i] = (v[i] + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
                     self.end[i] = v[i] + (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]) * (h / 6.0);
                 }
+                &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0]
             }
+        };
+        particles.dissipated = booked_before + weights.iter().zip(&booked).map(|(w, d)| w * d).sum::<f64>();
+        // The closed-form steps replace whatever the integrator made of their particles.
+        for step in self.closed.iter().filter(|s| self.moves[s.index]) {
+            self.moving[step.index] = step.moving;
+            self.end[step.index] = step.end;
+            particles.dissipated += step.dissipated;
         }
         for i in (0..n).filter(|&i| moves[i]) {
             let (d, undamped) = (particles.damping_per_step(i), self.end[i]);
@@ -198,13 +228,25 @@ fn set_state(particles: &mut Particles, moves: &[bool], state: impl Fn(usize) ->
     }
 }
 
-/// Applies the force generators to the particles' current state and writes each
-/// particle's acceleration `a + F/m` (zero for immovable ones).
-fn evaluate(particles: &mut Particles, forces: &mut ForceRegistry, h: f32, out: &mut [Vec3]) {
+/// Applies the force generators to the particles' current state in the form
+/// `evaluation` asks for and writes each particle's acceleration `a + F/m` (zero for
+/// immovable ones); returns what the generators booked as dissipated, which it takes
+/// back out of the particles' tally for the caller to weigh.
+fn evaluate(
+    particles: &mut Particles,
+    forces: &mut ForceRegistry,
+    h: f32,
+    evaluation: Evaluation,
+    out: &mut [Vec3],
+) -> f64 {
+    let before = particles.dissipated;
     particles.clear_forces();
-    forces.apply(particles, h);
+    forces.apply_for(particles, h, evaluation);
+    let booked = particles.dissipated - before;
+    particles.dissipated = before;
     let inputs = particles.acceleration.iter().zip(&particles.force).zip(&particles.inverse_mass);
     for (slot, ((&a, &f), &w)) in out.iter_mut().zip(inputs) {
         *slot = if w > 0.0 { a + f * w } else { Vec3::ZERO };
     }
+    booked
 }

@@ -22,7 +22,7 @@ pub mod world;
 pub use broad_phase::BroadPhase;
 pub use collisions::{ContactGenerator, GroundPlane, Plane, SphereCollisions};
 pub use contacts::{Contact, ContactResolver, ResolveReport};
-pub use forces::{Buoyancy, Drag, ForceGenerator, ForceId, ForceRegistry, Gravity, Spring};
+pub use forces::{Buoyancy, ClosedStep, Drag, ForceGenerator, ForceId, ForceRegistry, Gravity, Spring};
 pub use integrator::Integrator;
 pub use links::{Constraint, LinkEnd, LinkKind, LinkSpec, LinkState, direction_or_zero};
 pub use particles::{ParticleDesc, ParticleId, Particles};

@@ -7,16 +7,19 @@
 //! over the step, and the generator applies exactly the force that makes the
 //! integrator land on that solution.
 //!
-//! The integrator's stored velocity is then the step's average velocity, not the exact
-//! end velocity; feeding the average back in is only marginally stable, so the
-//! generator remembers the exact velocity and uses it when nothing else has moved the
-//! particle since. A consequence: the particle's reported velocity (and so the world's
-//! kinetic energy) is the step's average, which at ω·dt near 1 or more differs visibly
-//! from the instantaneous velocity; positions follow the closed form exactly.
+//! The step is the generator's, whatever the integrator: it adds no force at the
+//! integrator's evaluations, and the integrator takes its closed-form step for the
+//! particle instead ([`ForceGenerator::closed_step`]): the particle moves along the
+//! exact solution with its average velocity over the step and ends it with the exact
+//! velocity. So its energy is kept (undamped) or booked (damped, the exact loss of the
+//! oscillator) under every integrator. An earlier form chose the force that landed
+//! semi-implicit Euler on the closed form and remembered the exact velocity between
+//! steps; under Verlet and RK4, which evaluate at trial states, that memory was
+//! overwritten at each evaluation and the spring lost most of its energy unbooked.
 
 use glam::{DVec3, Vec3};
 
-use super::forces::ForceGenerator;
+use super::forces::{ClosedStep, ForceGenerator};
 use super::links::{LinkEnd, LinkKind, LinkSpec};
 use super::particles::{ParticleId, Particles};
 use super::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
@@ -34,15 +37,13 @@ pub struct StiffSpring {
     pub k: f32,
     /// Damping ratio ζ (dimensionless): 0 undamped, 1 critically damped.
     pub damping_ratio: f32,
-    /// Position and stored velocity we expect to find next step, with the exact velocity.
-    expected: Option<(Vec3, Vec3, Vec3)>,
 }
 
 impl StiffSpring {
     /// A stiff spring from `target` to `anchor`.
     #[must_use]
     pub fn new(target: ParticleId, anchor: Vec3, k: f32, damping_ratio: f32) -> Self {
-        Self { target, anchor, k, damping_ratio, expected: None }
+        Self { target, anchor, k, damping_ratio }
     }
 }
 
@@ -84,51 +85,43 @@ impl ForceGenerator for StiffSpring {
             self.damping_ratio,
             NON_NEGATIVE,
         )?;
-        check(self.anchor.is_finite(), "stiff spring anchor", self.anchor, "a point of finite numbers")?;
-        // What it carries between steps (read from a snapshot) must be finite too.
-        let carried = self.expected.is_none_or(|(p, v, w)| p.is_finite() && v.is_finite() && w.is_finite());
-        check(carried, "stiff spring state", self.anchor, "finite numbers")
+        check(self.anchor.is_finite(), "stiff spring anchor", self.anchor, "a point of finite numbers")
     }
 
-    fn apply(&mut self, particles: &mut Particles, dt: f32) {
-        let Some(i) = particles.index(self.target) else { return };
-        let inverse_mass = particles.inverse_mass[i];
-        if inverse_mass <= 0.0 || !(self.k > 0.0 && self.k.is_finite()) || dt <= 0.0 {
-            return;
+    /// The spring and its damper as forces, `-k x - c v`, for a caller that applies the
+    /// generators itself; a world's step takes [`ForceGenerator::closed_step`] instead.
+    fn apply(&mut self, particles: &mut Particles, _dt: f32) {
+        if let Some(i) = particles.index(self.target)
+            && let Some(force) = self.force_on(particles, i)
+        {
+            particles.force[i] += force;
         }
-        let position = particles.position[i];
-        let stored_velocity = particles.velocity[i];
-        let velocity = match self.expected {
-            Some((p, v, exact)) if p == position && v == stored_velocity => exact,
-            _ => stored_velocity,
-        };
+    }
+
+    fn moves_in_closed_form(&self) -> bool {
+        true
+    }
+
+    fn closed_step(&self, particles: &Particles, other: &[Vec3], h: f32) -> Option<ClosedStep> {
+        let i = particles.index(self.target)?;
+        let inverse_mass = particles.inverse_mass[i];
+        if inverse_mass <= 0.0 || !(self.k > 0.0 && self.k.is_finite()) || h <= 0.0 {
+            return None;
+        }
         let mass = 1.0 / f64::from(inverse_mass);
         let omega = (f64::from(self.k) / mass).sqrt();
         let zeta = f64::from(self.damping_ratio.max(0.0));
         // Other accelerations, held constant over the step, shift the rest point.
-        let other = (particles.acceleration[i] + particles.force[i] * inverse_mass).as_dvec3();
-        let rest = self.anchor.as_dvec3() + other / (omega * omega);
-        let h = f64::from(dt);
-        let y0 = position.as_dvec3() - rest;
-        let (y1, v1) = damped_oscillator(y0, velocity.as_dvec3(), omega, zeta, h);
-        if zeta > 0.0 {
-            // The oscillator's energy the damping took this step (exact; 0 when undamped).
-            let energy =
-                |y: DVec3, v: DVec3| 0.5 * mass * (v.length_squared() + omega * omega * y.length_squared());
-            particles.dissipated += energy(y0, velocity.as_dvec3()) - energy(y1, v1);
-        }
-        let target = rest + y1;
-        // The integrator does v' = (v + a h) d, p' = p + v' h, with d the damping factor.
-        let damp = f64::from(particles.damping_per_step(i)).max(1e-6);
-        let needed_velocity = (target - position.as_dvec3()) / h;
-        let needed_acceleration = (needed_velocity / damp - stored_velocity.as_dvec3()) / h;
-        let spring_acceleration = needed_acceleration - other;
-        particles.force[i] += (spring_acceleration * mass).as_vec3();
-        // Predict the integrator's f32 result exactly, to recognise it next step.
-        let v_f32 = (stored_velocity + (particles.acceleration[i] + particles.force[i] * inverse_mass) * dt)
-            * particles.damping_per_step(i);
-        let p_f32 = position + v_f32 * dt;
-        self.expected = Some((p_f32, v_f32, (v1 * damp).as_vec3()));
+        let rest = self.anchor.as_dvec3() + other[i].as_dvec3() / (omega * omega);
+        let (position, velocity) = (particles.position[i].as_dvec3(), particles.velocity[i].as_dvec3());
+        let y0 = position - rest;
+        let (y1, v1) = damped_oscillator(y0, velocity, omega, zeta, f64::from(h));
+        // The oscillator's energy the damping took this step (exact; 0 when undamped).
+        let energy =
+            |y: DVec3, v: DVec3| 0.5 * mass * (v.length_squared() + omega * omega * y.length_squared());
+        let dissipated = if zeta > 0.0 { energy(y0, velocity) - energy(y1, v1) } else { 0.0 };
+        let moving = ((rest + y1 - position) / f64::from(h)).as_vec3();
+        Some(ClosedStep { index: i, moving, end: v1.as_vec3(), dissipated })
     }
 
     fn involves(&self, id: ParticleId) -> bool {

@@ -305,7 +305,9 @@ impl World {
         // Before the generators: the stiff spring reads this step's damping factor.
         self.particles.prepare_damping(dt);
         let integrator = self.solver.integrator;
-        if integrator == Integrator::SemiImplicitEuler {
+        // Closed-form generators need the integrator's separate moving and end velocities.
+        let fast = integrator == Integrator::SemiImplicitEuler && !self.forces.has_closed_form();
+        if fast {
             self.particles.clear_forces();
             self.forces.apply(&mut self.particles, dt);
             self.particles.integrate(dt);
@@ -321,7 +323,7 @@ impl World {
             self.integration.finish(&mut self.particles);
         }
 
-        if self.particles.any_damping() && integrator == Integrator::SemiImplicitEuler {
+        if self.particles.any_damping() && fast {
             self.particles.count_damping_loss();
         }
 
