@@ -455,7 +455,7 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
 }
 
 /// Header of `simulate --format csv`.
-pub const CSV_HEADER: &str = "step,t,id,x,y,z,vx,vy,vz,r,m,kinetic,potential,dissipated,work,error";
+pub const CSV_HEADER: &str = "step,t,id,x,y,z,vx,vy,vz,r,m,kinetic,potential,dissipated,work,removed,error";
 
 /// Runs `simulate`, writing one JSON object (or CSV rows) per printed step.
 pub fn simulate(
@@ -554,7 +554,9 @@ struct EnergyJson {
     dissipated: f32,
     /// Put in from outside the steps since step 0, cumulative (J).
     work: f32,
-    /// kinetic + potential + dissipated - work, minus its value at step 0: the
+    /// Carried out by particles removed since step 0, cumulative (J).
+    removed: f32,
+    /// kinetic + potential + dissipated + removed - work, minus its value at step 0: the
     /// integrator's error (J).
     error: f32,
 }
@@ -590,7 +592,7 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
         let mass = if p.inverse_masses()[i] > 0.0 { p.mass(i).to_string() } else { String::new() };
         writeln!(
             out,
-            "{step},{t},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{}",
+            "{step},{t},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{},{}",
             p.ids()[i].0,
             x.x,
             x.y,
@@ -603,6 +605,7 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
             e.potential,
             e.dissipated,
             e.work,
+            e.removed,
             e.error
         )?;
     }
@@ -664,6 +667,7 @@ fn write_state(
             potential: energy.potential,
             dissipated: energy.dissipated,
             work: energy.work,
+            removed: energy.removed,
             error: energy.error,
         },
     };

@@ -125,3 +125,68 @@ fn the_stiff_spring_keeps_its_energy_under_every_integrator_undamped_and_books_i
         }
     }
 }
+
+/// Each particle's kinetic and gravitational energy (J) by id, from its state:
+/// `½ m v² − m a·p` (the particles' constant acceleration is gravity here).
+fn energies_by_id(world: &World) -> std::collections::HashMap<u32, f64> {
+    let p = &world.particles;
+    (0..p.len())
+        .filter(|&i| p.inverse_masses()[i] > 0.0)
+        .map(|i| {
+            let m = f64::from(p.mass(i));
+            let (v, x, a) =
+                (p.velocities()[i].as_dvec3(), p.positions()[i].as_dvec3(), p.accelerations()[i].as_dvec3());
+            (p.ids()[i].0, 0.5 * m * v.length_squared() - m * a.dot(x))
+        })
+        .collect()
+}
+
+/// Issue 18, item 3: the projectile's rounds come (fired between steps: work put in)
+/// and go (removed when they land: energy carried out). The budget's total stays level
+/// through both, the removed line is what each round had when it went, and nothing
+/// reads −0 once the sky is empty.
+#[test]
+fn rounds_that_come_and_go_keep_the_budget_closed_with_a_removed_line() {
+    use particle_lab::scenes::{self, SceneAction};
+    let entry = scenes::find("projectile").unwrap();
+    let mut scene = scenes::build_entry(entry, &[]).unwrap();
+    let dt = entry.info.dt;
+    let budget = |e: &Energy| f64::from(e.kinetic + e.potential + e.dissipated + e.removed - e.work);
+    let start = budget(&scene.world().energy());
+    let (mut removed, mut fired_energy) = (0.0_f64, 0.0_f64);
+    // Semi-implicit Euler loses m g² h² / 2 per substep from a body in free fall (see
+    // tests/energy.rs): the error the budget must show, and nothing more.
+    let (m, g, h) = (200.0_f64, 20.0_f64, f64::from(dt) / 4.0);
+    let mut integrator_loss = 0.0;
+    for step in 0..2400 {
+        if step == 100 || step == 250 || step == 900 {
+            let before = energies_by_id(scene.world());
+            assert!(scene.act(SceneAction::Fire));
+            let after = energies_by_id(scene.world());
+            fired_energy +=
+                after.iter().filter(|(id, _)| !before.contains_key(id)).map(|(_, e)| e).sum::<f64>();
+        }
+        let before = energies_by_id(scene.world());
+        integrator_loss += before.len() as f64 * 4.0 * 0.5 * m * g * g * h * h;
+        scene.step(dt).unwrap();
+        let after = energies_by_id(scene.world());
+        // What the rounds that went carried, from their last state seen (their last
+        // step's damping and integrator error are far below the tolerance).
+        removed += before.iter().filter(|(id, _)| !after.contains_key(id)).map(|(_, e)| e).sum::<f64>();
+        let e = scene.world().energy();
+        let case = format!("step {step}: {e:?}, start {start}");
+        let drift = budget(&e) - start;
+        assert!((drift + integrator_loss).abs() <= 0.02 * integrator_loss + 1.0, "the budget moved: {case}");
+        assert!((drift - f64::from(e.error)).abs() <= 0.05, "the error is the budget's drift: {case}");
+        assert!((f64::from(e.removed) - removed).abs() <= 0.001 * removed.max(1.0), "{case}; seen {removed}");
+        assert!((f64::from(e.work) - fired_energy).abs() <= 0.001 * fired_energy.max(1.0), "{case}");
+    }
+    let e = scene.world().energy();
+    assert_eq!(scene.world().particles.len(), 0, "every round landed and went");
+    assert!(removed > 100_000.0, "four rounds of 200 kg at 25 m/s went: {removed} J");
+    for (name, value) in
+        [("kinetic", e.kinetic), ("potential", e.potential), ("gravitational", e.gravitational)]
+    {
+        assert!(value == 0.0 && value.is_sign_positive(), "{name} reads {value:?} in an empty world");
+    }
+}

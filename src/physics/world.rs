@@ -22,9 +22,9 @@ pub struct ContactGeneratorId(pub u32);
 
 /// The energy budget of a world (J).
 ///
-/// `kinetic + potential + dissipated - work` would stay at its value before the first
-/// step if the integrator were exact; `error` is how far it is from that, which is the
-/// integrator's (and the solver's numerical) error, shown as such.
+/// `kinetic + potential + dissipated + removed - work` would stay at its value before
+/// the first step if the integrator were exact; `error` is how far it is from that,
+/// which is the integrator's (and the solver's numerical) error, shown as such.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energy {
     /// `Σ ½ m v²` over movable particles.
@@ -42,7 +42,13 @@ pub struct Energy {
     /// Put in from outside the step since the first step, cumulative: anything that
     /// changed the energy between steps (dragging with the mouse, changing g or a mass).
     pub work: f32,
-    /// `kinetic + potential + dissipated - work` minus its value before the first step.
+    /// Carried out of the world by particles removed since the first step, cumulative:
+    /// the kinetic and potential energy each had (with the springs that went with it)
+    /// when it was removed. A round of the projectile that lands and goes takes its
+    /// energy with it; it is neither lost nor an error.
+    pub removed: f32,
+    /// `kinetic + potential + dissipated + removed - work` minus its value before the
+    /// first step.
     pub error: f32,
 }
 
@@ -55,6 +61,9 @@ pub(crate) struct Ledger {
     last: f64,
     dissipated: f64,
     work: f64,
+    /// See [`Energy::removed`].
+    #[serde(default)]
+    removed: f64,
 }
 
 /// Wall time of the stages of the last step (ms), for the panel and the benchmarks.
@@ -154,9 +163,9 @@ impl World {
         self.forces.remove_involving(id);
         self.contact_generators.retain(|(_, g)| !g.involves(id));
         if let Some(before) = before {
-            // The energy leaves with the particle: neither work nor loss.
+            // The energy leaves with the particle: neither work nor loss, its own line.
             let change = self.mechanical_energy() - before;
-            self.ledger.start = self.ledger.start.map(|start| start + change);
+            self.ledger.removed -= change;
             self.ledger.last += change;
         }
         // Contact indices refer to the old dense order; drop them until the next step.
@@ -484,13 +493,16 @@ impl World {
         let potential = gravitational + stored;
         let ledger = &self.ledger;
         let start = ledger.start.unwrap_or(kinetic + potential);
+        let error = kinetic + potential + ledger.dissipated + ledger.removed - ledger.work - start;
+        // `+ 0.0` turns a negative zero (an empty sum) into zero: no figure reads "-0".
         Energy {
-            kinetic: kinetic as f32,
-            potential: potential as f32,
-            gravitational: gravitational as f32,
-            dissipated: ledger.dissipated as f32,
-            work: ledger.work as f32,
-            error: (kinetic + potential + ledger.dissipated - ledger.work - start) as f32,
+            kinetic: kinetic as f32 + 0.0,
+            potential: potential as f32 + 0.0,
+            gravitational: gravitational as f32 + 0.0,
+            dissipated: ledger.dissipated as f32 + 0.0,
+            work: ledger.work as f32 + 0.0,
+            removed: ledger.removed as f32 + 0.0,
+            error: error as f32 + 0.0,
         }
     }
 
@@ -563,14 +575,15 @@ impl World {
             if let Some(spec) = generator.link()
                 && let Some((from, to, length)) = link_geometry(p, &spec)
             {
-                out.push(LinkState { spec, from, to, length, tension: generator.tension(p) });
+                // `+ 0.0`: a slack link's tension is 0, not "-0".
+                out.push(LinkState { spec, from, to, length, tension: generator.tension(p) + 0.0 });
             }
         }
         for (source, (_, generator)) in self.contact_generators.iter().enumerate() {
             if let Some(spec) = generator.link()
                 && let Some((from, to, length)) = link_geometry(p, &spec)
             {
-                let tension = self.link_tension.get(source).copied().unwrap_or(0.0);
+                let tension = self.link_tension.get(source).copied().unwrap_or(0.0) + 0.0;
                 out.push(LinkState { spec, from, to, length, tension });
             }
         }

@@ -116,6 +116,8 @@ pub struct EnergySample {
     pub dissipated: f32,
     /// Put in from outside since the start, cumulative (J).
     pub work: f32,
+    /// Carried out by removed particles since the start, cumulative (J).
+    pub removed: f32,
     /// The budget's remainder: the integrator's error (J).
     pub error: f32,
     /// Distance from the scene's exact answer (m), NaN where it has none.
@@ -135,6 +137,7 @@ impl EnergySample {
             gravitational: energy.gravitational,
             dissipated: energy.dissipated,
             work: energy.work,
+            removed: energy.removed,
             error: energy.error,
             exact_error: scene.exact_error().unwrap_or(f32::NAN),
         }
@@ -935,17 +938,17 @@ impl Lab {
     }
 
     /// Writes the energy history (every sample kept, not only the plotted window) as
-    /// CSV to `path`: `t,kinetic,potential,total,dissipated,work,error`, in J.
+    /// CSV to `path`: `t,kinetic,potential,total,dissipated,work,removed,error`, in J.
     pub fn export_energy_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
         use std::io::Write;
         let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-        writeln!(out, "t,kinetic,potential,total,dissipated,work,error")?;
+        writeln!(out, "t,kinetic,potential,total,dissipated,work,removed,error")?;
         for s in &self.energy {
             let total = s.kinetic + s.potential;
             writeln!(
                 out,
-                "{},{},{},{total},{},{},{}",
-                s.t, s.kinetic, s.potential, s.dissipated, s.work, s.error
+                "{},{},{},{total},{},{},{},{}",
+                s.t, s.kinetic, s.potential, s.dissipated, s.work, s.removed, s.error
             )?;
         }
         out.flush()

@@ -441,11 +441,12 @@ fn side_panel(ui: &mut egui::Ui, lab: &mut Lab) {
             row("contacts", world.contact_count().to_string());
             row("deepest overlap", format!("{:.2} mm", report.max_penetration * 1000.0));
             row("resolver iterations", report.iterations().to_string());
-            row("kinetic energy", format!("{:.2} J", energy.kinetic));
-            row("potential energy", format!("{:.2} J", energy.potential));
-            row("dissipated", format!("{:.2} J", energy.dissipated));
-            row("work put in", format!("{:.2} J", energy.work));
-            row("integrator error", format!("{:+.3} J", energy.error));
+            row("kinetic energy", format!("{} J", fixed(energy.kinetic, 2)));
+            row("potential energy", format!("{} J", fixed(energy.potential, 2)));
+            row("dissipated", format!("{} J", fixed(energy.dissipated, 2)));
+            row("work put in", format!("{} J", fixed(energy.work, 2)));
+            row("removed with particles", format!("{} J", fixed(energy.removed, 2)));
+            row("integrator error", format!("{} J", signed(energy.error, 3)));
         });
     }
 }
@@ -811,10 +812,11 @@ const PLOT_SECONDS: f64 = 10.0;
 /// remainder (total + dissipated - work, less its start: zero but for the integrator's
 /// error). The legend is a row above the curves; the scale fits what is shown.
 fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
-    let series: [EnergySeries; 4] = [
+    let series: [EnergySeries; 5] = [
         ("kinetic", KINETIC_COLOR, |s| s.kinetic),
         ("potential", GRAVITY_COLOR, |s| s.potential),
         ("total", TOTAL_COLOR, |s| s.kinetic + s.potential),
+        ("removed", REMOVED_COLOR, |s| s.removed),
         // What the budget leaves over: total + dissipated - work, less its start.
         ("integrator error", Color32::from_rgb(110, 210, 120), |s| s.error),
     ];
@@ -930,13 +932,15 @@ fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
             ("gravity", GRAVITY_COLOR, e.gravitational),
             ("elastic", ELASTIC_COLOR, e.potential - e.gravitational),
             ("dissipated", DISSIPATED_COLOR, e.dissipated),
-            ("total − work", TOTAL_COLOR, e.kinetic + e.potential + e.dissipated - e.work),
+            ("removed", REMOVED_COLOR, e.removed),
+            ("budget", TOTAL_COLOR, e.kinetic + e.potential + e.dissipated + e.removed - e.work),
         ],
     };
     ui.horizontal(|ui| {
         ui.label(egui::RichText::new("Energy bars").strong()).on_hover_text(
-            "Gravitational energy is measured from y = 0; elastic includes buoyancy's. The last bar \
-             stays level when the budget balances.",
+            "Gravitational energy is measured from y = 0; elastic includes buoyancy's. \
+             'removed' is what particles carried out when they left the scene. The budget bar, \
+             total + dissipated + removed − work put in, stays level when the budget balances.",
         );
         if lab.selected.is_some() {
             ui.selectable_value(&mut lab.bars_for_selected, false, "scene");
@@ -963,8 +967,11 @@ fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
     for (k, (name, color, value)) in bars.iter().enumerate() {
         let x = rect.left() + slot * (k as f32 + 0.5);
         let (y0, y1) = (zero.min(y_of(*value)), zero.max(y_of(*value)));
-        let bar = Rect::from_x_y_ranges(x - slot * 0.3..=x + slot * 0.3, y0..=y1.max(y0 + 1.0));
-        painter.rect_filled(bar, 1.0, *color);
+        // 0 J is no bar (not a one-pixel stub a reader takes for a small energy).
+        if y1 - y0 >= 0.5 {
+            let bar = Rect::from_x_y_ranges(x - slot * 0.3..=x + slot * 0.3, y0..=y1);
+            painter.rect_filled(bar, 1.0, *color);
+        }
         painter.text(
             egui::pos2(x, y0 - 1.0),
             egui::Align2::CENTER_BOTTOM,
@@ -992,11 +999,36 @@ const ELASTIC_COLOR: Color32 = Color32::from_rgb(200, 110, 230);
 const DISSIPATED_COLOR: Color32 = Color32::from_rgb(220, 80, 70);
 /// See [`KINETIC_COLOR`].
 const TOTAL_COLOR: Color32 = Color32::from_rgb(220, 220, 220);
+/// See [`KINETIC_COLOR`].
+const REMOVED_COLOR: Color32 = Color32::from_rgb(150, 150, 110);
 
 /// An energy for the plot's scale: one decimal, or scientific notation once it is so
 /// large (a spring exploding) that the digits would run off the plot.
 fn joules(e: f32) -> String {
-    if e.abs() < 1e5 { format!("{e:.1} J") } else { format!("{e:.2e} J") }
+    if e.abs() >= 1e5 {
+        format!("{e:.2e} J")
+    } else if e.abs() >= 0.95 || e == 0.0 {
+        format!("{} J", fixed(e, 1))
+    } else {
+        // A light particle's energies are a fraction of a joule: in mJ, not "0.0 J".
+        format!("{} mJ", fixed(e * 1000.0, 1))
+    }
+}
+
+/// `value` with `decimals` decimals, and never "-0.0": a value that rounds to zero
+/// is shown as zero.
+fn fixed(value: f32, decimals: usize) -> String {
+    let text = format!("{value:.decimals$}");
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => text,
+    }
+}
+
+/// [`fixed`] with its sign always shown, "+" for zero.
+fn signed(value: f32, decimals: usize) -> String {
+    let text = fixed(value, decimals);
+    if text.starts_with('-') { text } else { format!("+{text}") }
 }
 
 fn help(ui: &mut egui::Ui) {
