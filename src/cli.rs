@@ -4,10 +4,12 @@
 use std::io::{self, Write};
 
 use clap::{Parser, Subcommand, ValueEnum};
+use glam::Vec3;
 use serde::Serialize;
 
+use crate::physics::inspect::{self, ConstraintMeter};
 use crate::physics::{
-    Integrator, LinkEnd, LinkState, SolverKind, SolverSettings, World, solver::SUBSTEP_RANGE,
+    Integrator, LinkEnd, LinkState, ParticleId, SolverKind, SolverSettings, World, solver::SUBSTEP_RANGE,
 };
 use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{self, SCENES, Scene};
@@ -287,6 +289,11 @@ pub struct SimulateArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = StateFormat::Json)]
     pub format: StateFormat,
+    /// Add to each particle of the JSON its net force "f" (N) and the forces that make
+    /// it, by name ("forces": weight, each force generator, damping, and what contacts
+    /// and links did over the last step), as the window's inspector shows them
+    #[arg(long)]
+    pub forces: bool,
 }
 
 /// Most steps `simulate` accepts in one run.
@@ -421,6 +428,8 @@ pub struct RunPlan {
     pub format: StateFormat,
     /// Where to write a snapshot of the last state, if anywhere.
     pub save: Option<std::path::PathBuf>,
+    /// Print each particle's forces (`--forces`).
+    pub forces: bool,
 }
 
 /// Builds the scene and checks the numbers of a `simulate` run.
@@ -451,7 +460,10 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
         return Err("--every 0 is out of range; valid range: 1 or more".into());
     }
     let save = args.save.clone();
-    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format, save }))
+    if args.forces && args.format == StateFormat::Csv {
+        return Err("--forces adds fields to the JSON; it cannot be used with --format csv".into());
+    }
+    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format, save, forces: args.forces }))
 }
 
 /// Header of `simulate --format csv`.
@@ -482,10 +494,20 @@ pub fn simulate(
     }
     // Step numbers go on from a snapshot's.
     let first = scene.world().steps();
+    // With --forces: what contacts and links did to each particle over the last step.
+    let (mut meter, mut constraint) = (ConstraintMeter::default(), Vec::new());
     for step in 0..=plan.steps {
         if step > 0 {
+            if plan.forces {
+                let world = scene.world();
+                meter.before_step(world, world.particles.ids().iter().copied());
+            }
             if let Err(error) = scene.step(plan.dt) {
                 return Ok(Err(error.to_string()));
+            }
+            if plan.forces {
+                constraint.clear();
+                constraint.extend(meter.after_step(scene.world(), plan.dt));
             }
             progress.set(step);
             if !scene.world().is_finite() {
@@ -503,7 +525,8 @@ pub fn simulate(
             });
             match plan.format {
                 StateFormat::Json => {
-                    write_state(&mut line, first + step, t, scene.world(), &mut links)?;
+                    let forces = plan.forces.then_some(constraint.as_slice());
+                    write_state(&mut line, first + step, t, scene.world(), &mut links, forces)?;
                     line.push(b'\n');
                 }
                 StateFormat::Csv => write_csv_rows(&mut line, first + step, t, scene.world())?,
@@ -532,6 +555,12 @@ struct ParticleJson {
     r: f32,
     /// Mass (kg); `null` for an immovable particle.
     m: Option<f32>,
+    /// With `--forces`: the net force (N), the sum of `forces`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    f: Option<[f32; 3]>,
+    /// With `--forces`: each force by name (N); a second of the same name gets " 2".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    forces: Option<serde_json::Map<String, serde_json::Value>>,
 }
 
 #[derive(Serialize)]
@@ -612,22 +641,48 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
     Ok(())
 }
 
-/// The state as one JSON object; `t` is the time printed (s).
+/// The state as one JSON object; `t` is the time printed (s). With `forces` (what
+/// contacts and links did over the last step, by particle), each particle gets its
+/// forces and their sum.
 fn write_state(
     out: &mut Vec<u8>,
     step: u64,
     t: f64,
     world: &World,
     links: &mut Vec<LinkState>,
+    forces: Option<&[(ParticleId, Vec3)]>,
 ) -> io::Result<()> {
     let p = &world.particles;
+    let measured: Option<std::collections::HashMap<ParticleId, Vec3>> =
+        forces.map(|list| list.iter().copied().collect());
     let mut particles: Vec<ParticleJson> = (0..p.len())
-        .map(|i| ParticleJson {
-            id: p.ids()[i].0,
-            p: p.position[i].to_array(),
-            v: p.velocity[i].to_array(),
-            r: p.radius[i],
-            m: (p.inverse_mass[i] > 0.0).then(|| p.mass(i)),
+        .map(|i| {
+            let id = p.ids()[i];
+            let listed =
+                measured.as_ref().map(|measured| inspect::forces_on(world, id, measured.get(&id).copied()));
+            let f = listed.as_ref().map(|list| list.iter().map(|(_, f)| *f).sum::<Vec3>().to_array());
+            let forces = listed.map(|list| {
+                let mut named = serde_json::Map::new();
+                for (name, force) in list {
+                    let mut key = name.to_string();
+                    let mut n = 1;
+                    while named.contains_key(&key) {
+                        n += 1;
+                        key = format!("{name} {n}");
+                    }
+                    named.insert(key, serde_json::json!(force.to_array()));
+                }
+                named
+            });
+            ParticleJson {
+                id: id.0,
+                p: p.position[i].to_array(),
+                v: p.velocity[i].to_array(),
+                r: p.radius[i],
+                m: (p.inverse_mass[i] > 0.0).then(|| p.mass(i)),
+                f,
+                forces,
+            }
         })
         .collect();
     particles.sort_by_key(|particle| particle.id);
@@ -688,7 +743,7 @@ mod tests {
         world.add_particle(desc).unwrap();
         world.add_particle(ParticleDesc { immovable: true, position: Vec3::X, ..desc }).unwrap();
         let mut line = Vec::new();
-        write_state(&mut line, 0, 0.0, &world, &mut Vec::new()).unwrap();
+        write_state(&mut line, 0, 0.0, &world, &mut Vec::new(), None).unwrap();
         let state: serde_json::Value = serde_json::from_slice(&line).unwrap();
         let particles = state["particles"].as_array().unwrap();
         assert_eq!(particles[0]["m"].as_f64(), Some(2.5));

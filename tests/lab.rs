@@ -200,17 +200,39 @@ fn a_crowd_turns_msaa_off_and_a_smaller_scene_turns_it_back_on() {
 }
 
 #[test]
-fn the_inspector_measures_the_net_force_on_the_selected_particle() {
-    // A round in free flight, no damping: the net force over a step is its weight.
-    let mut lab = Lab::new("projectile", &["damping=1".into(), "mass=2".into()]).unwrap();
+fn the_inspector_shows_the_forces_of_the_state_the_moment_a_particle_is_selected() {
+    use particle_lab::ui::lab::CONSTRAINT_FORCE;
+    // Issue 18, item 4: paused with a 200 kg round in flight selected, the inspector
+    // showed a weight of 4,000 N and a net force of zero until a step was taken, and
+    // "contacts and links" of (0.1, -0.1, 0) N on a round that touched nothing.
+    let mut lab = Lab::new("projectile", &["damping=1".into()]).unwrap();
+    lab.paused = true;
     let id = lab.scene.world().particles.ids()[0];
     lab.select(Some(id));
-    lab.paused = true;
-    lab.run_steps(1);
-    let expected = glam::Vec3::new(0.0, -2.0 * 20.0, 0.0);
-    assert!((lab.net_force - expected).length() < 1e-2, "{} N", lab.net_force);
-    // On the ground of the pile, a resting sphere's net force is nothing: its weight is
-    // held by contacts.
+    let weight = glam::Vec3::new(0.0, -200.0 * 20.0, 0.0);
+    assert_eq!(lab.net_force(id), weight, "m g before any step");
+    for _ in 0..30 {
+        lab.run_steps(1);
+        assert!(
+            lab.free_body(id).iter().all(|(name, _)| *name != CONSTRAINT_FORCE),
+            "{:?}",
+            lab.free_body(id)
+        );
+        assert_eq!(lab.net_force(id), weight, "nothing but its weight acts in flight");
+    }
+    // With damping, the net force is weight plus m ln(d) v from the velocity now.
+    let mut lab = Lab::new("projectile", &["damping=0.9".into(), "mass=2".into()]).unwrap();
+    let id = lab.scene.world().particles.ids()[0];
+    lab.select(Some(id));
+    lab.run_steps(10);
+    let world = lab.scene.world();
+    let i = world.particles.index(id).unwrap();
+    let v = world.particles.velocities()[i];
+    let expected = glam::Vec3::new(0.0, -40.0, 0.0) + v * (2.0 * 0.9_f32.ln());
+    assert!((lab.net_force(id) - expected).length() < 1e-4, "{} N, expected {expected} N", lab.net_force(id));
+
+    // On the ground of the pile, a resting sphere's weight is held by its contact: the
+    // row appears, labelled as the last step's, and the net force is nothing.
     let mut lab = Lab::new("pile", &["count=1".into()]).unwrap();
     let id = lab.scene.world().particles.ids()[0];
     lab.select(Some(id));
@@ -218,10 +240,27 @@ fn the_inspector_measures_the_net_force_on_the_selected_particle() {
     for _ in 0..120 {
         lab.run_steps(1);
     }
-    assert!(lab.net_force.length() < 0.05, "resting: {} N", lab.net_force);
-    // Clearing the selection forgets the force.
+    let forces = lab.free_body(id);
+    let contact = forces.iter().find(|(name, _)| *name == CONSTRAINT_FORCE).expect("the ground holds it");
+    assert!((contact.1 - glam::Vec3::new(0.0, 9.81, 0.0)).length() < 0.05, "{forces:?}");
+    assert!(lab.net_force(id).length() < 0.05, "resting: {} N", lab.net_force(id));
+    // Clearing the selection forgets the measured contact force.
     lab.select(None);
-    assert_eq!(lab.net_force, glam::Vec3::ZERO);
+    assert_eq!(lab.constraint_force, None);
+    // Awake (sleeping off), the row is the contact's impulse over the last step, which
+    // holds the weight: measured, not inferred from rest.
+    let awake = particle_lab::physics::SolverSettings { sleep: false, ..Default::default() };
+    let mut lab = Lab::with_solver("pile", &["count=1".into()], awake).unwrap();
+    let id = lab.scene.world().particles.ids()[0];
+    lab.select(Some(id));
+    lab.paused = true;
+    for _ in 0..240 {
+        lab.run_steps(1);
+    }
+    assert!(!lab.scene.world().particles.is_asleep(0));
+    let forces = lab.free_body(id);
+    let contact = forces.iter().find(|(name, _)| *name == CONSTRAINT_FORCE).expect("the ground holds it");
+    assert!((contact.1 - glam::Vec3::new(0.0, 9.81, 0.0)).length() < 0.05, "{forces:?}");
 }
 
 #[test]

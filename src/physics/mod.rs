@@ -10,6 +10,7 @@ pub mod collisions;
 pub mod contacts;
 pub mod exact;
 pub mod forces;
+pub mod inspect;
 pub mod integrator;
 pub mod links;
 pub mod particles;

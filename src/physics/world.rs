@@ -473,6 +473,48 @@ impl World {
         self.forces.iter().filter_map(|g| Some((g.name(), g.force_on(&self.particles, i)?))).collect()
     }
 
+    /// The forces on a particle computed from its current state, one by one (N): its
+    /// weight (mass times its own constant acceleration), each force generator's (by
+    /// name, as [`World::forces_on`]) and damping's. Damping keeps a fraction `d` of the
+    /// velocity per second, `v(t) = v d^t`: the force `m ln(d) v`. Contacts and links
+    /// are not here: they have no force in a state, only an impulse over a step (see
+    /// [`ConstraintMeter`](super::inspect::ConstraintMeter)). Empty for an immovable or
+    /// unknown particle.
+    #[must_use]
+    pub fn free_body(&self, id: ParticleId) -> Vec<(&'static str, Vec3)> {
+        let particles = &self.particles;
+        let Some(i) = particles.index(id) else { return Vec::new() };
+        if particles.inverse_mass[i] == 0.0 {
+            return Vec::new();
+        }
+        let mass = particles.mass(i);
+        let mut forces = vec![("weight", particles.acceleration[i] * mass)];
+        forces.extend(self.forces_on(id));
+        let v = particles.velocity[i];
+        forces.push(("damping", v * (mass * particles.damping(i).max(1e-6).ln())));
+        forces
+    }
+
+    /// Whether a contact pushed the particle or a rod or cable held it in the last
+    /// step: whether the inspector has a "contacts and links" force to show for it.
+    #[must_use]
+    pub fn constrained(&self, id: ParticleId) -> bool {
+        let Some(i) = self.particles.index(id) else { return false };
+        if self.contact_generators.iter().any(|(_, g)| g.link().is_some() && g.involves(id)) {
+            return true;
+        }
+        match self.solver.kind {
+            SolverKind::Soft => self.soft.contacts().iter().any(|c| {
+                let touches = c.a as usize == i || (c.b != super::soft_step::NONE && c.b as usize == i);
+                touches && c.normal_impulse > 0.0
+            }),
+            SolverKind::Paper => self
+                .contacts
+                .iter()
+                .any(|c| (c.a == i || c.b == Some(i)) && (c.impulse != 0.0 || c.penetration > 0.0)),
+        }
+    }
+
     /// Contacts the paper's resolver handled in the last step (empty with the soft
     /// solver; see [`World::contact_count`]).
     #[must_use]

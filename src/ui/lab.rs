@@ -6,6 +6,8 @@ use std::time::{Duration, Instant};
 
 use glam::{Vec2, Vec3};
 
+pub use crate::physics::inspect::CONSTRAINT_FORCE;
+use crate::physics::inspect::{self, ConstraintMeter};
 use crate::physics::{ParticleId, SolverKind, SolverSettings};
 use crate::render::frame::VECTOR_PARTICLE_LIMIT;
 use crate::render::{OrbitCamera, Trails, ViewOptions};
@@ -228,11 +230,11 @@ pub struct Lab {
     pub tape: bool,
     /// The tape's ends placed so far (0 to 2), in metres.
     pub tape_points: Vec<Vec3>,
-    /// The selected particle's net force over the last step (N), from its change of
-    /// velocity: forces, contacts and links together.
-    pub net_force: Vec3,
-    /// [`Self::net_force`] was measured over a step since the selection was made.
-    pub net_force_measured: bool,
+    /// What contacts and links did to the selected particle over the last step (N),
+    /// once a step has been measured since it was selected.
+    pub constraint_force: Option<Vec3>,
+    /// Measures [`Self::constraint_force`] across a step.
+    constraint_meter: ConstraintMeter,
     /// Requests for the window.
     pub requests: Requests,
     /// The open scene file, watched for changes (hot reload).
@@ -301,8 +303,8 @@ impl Lab {
             hovered: None,
             grab: None,
             selected: None,
-            net_force: Vec3::ZERO,
-            net_force_measured: false,
+            constraint_force: None,
+            constraint_meter: ConstraintMeter::default(),
             view_aspect: FRAMING_ASPECT,
             camera_moved: false,
             tape: false,
@@ -668,7 +670,9 @@ impl Lab {
             let step_started = Instant::now();
             ran += 1;
             self.hold_grabbed(dt);
-            let before = self.selected_state();
+            if let Some(id) = self.selected {
+                self.constraint_meter.before_step(self.scene.world(), [id]);
+            }
             if let Err(error) = self.scene.step(dt) {
                 self.status = error.to_string();
                 self.paused = true;
@@ -682,9 +686,9 @@ impl Lab {
                 self.paused = true;
                 break;
             }
-            if let (Some((v0, _)), Some((v1, m))) = (before, self.selected_state()) {
-                self.net_force = (v1 - v0) * (m / dt);
-                self.net_force_measured = true;
+            if self.selected.is_some() {
+                self.constraint_force =
+                    self.constraint_meter.after_step(self.scene.world(), dt).next().map(|(_, f)| f);
             }
             last_step = step_started.elapsed();
         }
@@ -728,13 +732,6 @@ impl Lab {
         }
     }
 
-    /// The selected particle's velocity and mass, if it is there and movable.
-    fn selected_state(&self) -> Option<(Vec3, f32)> {
-        let particles = &self.scene.world().particles;
-        let i = particles.index(self.selected?)?;
-        (particles.inverse_masses()[i] > 0.0).then(|| (particles.velocities()[i], particles.mass(i)))
-    }
-
     /// Places an end of the tape where `pixel` points: the centre of the particle
     /// there, else where the ray meets the ground (y = 0), else the plane through the
     /// camera's target facing it. A third click starts a new tape.
@@ -768,29 +765,26 @@ impl Lab {
         }
     }
 
-    /// The forces on a particle now, one by one (N): its weight (mass times its own
-    /// constant acceleration), each force generator's, damping's, and for the selected
-    /// particle what contacts and links added over the last step (the net force less
-    /// the others). Empty for an immovable or unknown particle.
+    /// The forces on a particle now, one by one (N): from the current state, its
+    /// weight, each force generator's and damping's ([`World::free_body`]); and, for the
+    /// selected particle while a contact or link acts on it, what they did over the
+    /// last step ([`Self::constraint_force`]), or for one asleep (at rest) what they hold.
+    /// Empty for an immovable or unknown particle.
     #[must_use]
     pub fn free_body(&self, id: ParticleId) -> Vec<(&'static str, Vec3)> {
         let world = self.scene.world();
-        let particles = &world.particles;
-        let Some(i) = particles.index(id) else { return Vec::new() };
-        if particles.inverse_masses()[i] == 0.0 {
-            return Vec::new();
+        if self.selected == Some(id) {
+            inspect::forces_on(world, id, self.constraint_force)
+        } else {
+            world.free_body(id)
         }
-        let mass = particles.mass(i);
-        let mut forces = vec![("weight", particles.accelerations()[i] * mass)];
-        forces.extend(world.forces_on(id));
-        // Damping keeps a fraction d of the velocity per second: a force m ln(d) v.
-        let v = particles.velocities()[i];
-        forces.push(("damping", v * (mass * particles.damping(i).max(1e-6).ln())));
-        if self.selected == Some(id) && self.net_force_measured {
-            let rest: Vec3 = forces.iter().map(|(_, f)| *f).sum();
-            forces.push(("contacts and links", self.net_force - rest));
-        }
-        forces
+    }
+
+    /// The net force on a particle (N): the sum of [`Self::free_body`]. Computed from
+    /// the state, so it is right the moment a particle is selected, paused or not.
+    #[must_use]
+    pub fn net_force(&self, id: ParticleId) -> Vec3 {
+        self.free_body(id).iter().map(|(_, f)| *f).sum()
     }
 
     /// The particles that get arrows: the selected one, or with "all vectors" on every
@@ -850,8 +844,7 @@ impl Lab {
     pub fn select(&mut self, id: Option<ParticleId>) {
         if self.selected != id {
             self.selected = id;
-            self.net_force = Vec3::ZERO;
-            self.net_force_measured = false;
+            self.constraint_force = None;
         }
     }
 

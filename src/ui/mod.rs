@@ -728,7 +728,7 @@ fn inspector(ui: &mut egui::Ui, lab: &mut Lab) {
     let (p, v) = (particles.positions()[i], particles.velocities()[i]);
     let movable = particles.inverse_masses()[i] > 0.0;
     let mass = particles.mass(i);
-    let net = if movable { lab.net_force } else { Vec3::ZERO };
+    let net = if movable { lab.net_force(id) } else { Vec3::ZERO };
     let vector = |x: Vec3, unit: &str| format!("({:.1}, {:.1}, {:.1}) {unit}", x.x, x.y, x.z);
     ui.horizontal(|ui| {
         ui.label(egui::RichText::new(format!("Particle {}", id.0)).strong());
@@ -756,7 +756,7 @@ fn inspector(ui: &mut egui::Ui, lab: &mut Lab) {
             ui.end_row();
         }
         if movable {
-            ui.colored_label(swatch(paint::force_color("net force")), "net force (last step)");
+            ui.colored_label(swatch(paint::force_color("net force")), "net force");
             ui.monospace(vector(net, "N"));
             ui.end_row();
             ui.colored_label(swatch(paint::ACCELERATION_COLOR), "acceleration");
@@ -772,9 +772,10 @@ fn inspector(ui: &mut egui::Ui, lab: &mut Lab) {
     ui.add(
         egui::Label::new(
             egui::RichText::new(format!(
-                "Arrows: velocity (green) 1 m per {:.0} m/s; {scale}. Weight is mass times the \
-                 particle's own gravity; contacts and links are what the last step's change of \
-                 velocity needs beyond the other forces.",
+                "Arrows: velocity (green) 1 m per {:.0} m/s; {scale}. Forces are computed \
+                 from the state now; weight is mass times the particle's own gravity. Contacts \
+                 and links have no force in a state: their row, shown while one acts, is what \
+                 the last step's change of momentum needed beyond the other forces.",
                 1.0 / VELOCITY_ARROW,
             ))
             .small(),

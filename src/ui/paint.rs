@@ -160,14 +160,14 @@ fn vectors(lab: &Lab, frame: &mut FrameData) {
         let p = particles.positions()[i];
         arrow(p, particles.velocities()[i] * super::VELOCITY_ARROW, VELOCITY_COLOR);
         if lab.selected == Some(id) && !lab.view.forces {
-            arrow(p, lab.net_force / particles.mass(i) * super::ACCELERATION_ARROW, ACCELERATION_COLOR);
+            arrow(p, lab.net_force(id) / particles.mass(i) * super::ACCELERATION_ARROW, ACCELERATION_COLOR);
         }
         if lab.view.forces {
             for (name, force) in lab.free_body(id) {
                 arrow(p, force / force_scale, force_color(name));
             }
-            if lab.selected == Some(id) && lab.net_force_measured {
-                arrow(p, lab.net_force / force_scale, force_color("net force"));
+            if lab.selected == Some(id) {
+                arrow(p, lab.net_force(id) / force_scale, force_color("net force"));
             }
         }
     }
@@ -220,7 +220,7 @@ pub fn force_color(name: &str) -> [f32; 3] {
         "buoyancy" => [0.2, 0.85, 0.9],
         "drag" => [0.75, 0.75, 0.75],
         "damping" => [0.55, 0.45, 0.4],
-        "contacts and links" => [0.95, 0.85, 0.2],
+        super::lab::CONSTRAINT_FORCE => [0.95, 0.85, 0.2],
         "net force" => [1.0, 1.0, 1.0],
         _ => [0.85, 0.6, 0.75],
     }
