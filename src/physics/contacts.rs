@@ -154,6 +154,11 @@ pub struct ResolveReport {
     pub contacts: usize,
     /// Particles asleep after the step (soft solver).
     pub asleep: usize,
+    /// True when spheres overlapped so much that the broad phase made only its budget
+    /// of pairs ([`super::broad_phase::pair_budget`]: 32 per sphere) and left the rest
+    /// out: the step went on with those contacts alone, and the UI or command line
+    /// should say so.
+    pub pair_budget_hit: bool,
 }
 
 impl ResolveReport {

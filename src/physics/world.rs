@@ -294,6 +294,7 @@ impl World {
             max_penetration: report.max_penetration,
             contacts: report.contacts,
             asleep: report.asleep,
+            pair_budget_hit: report.pair_budget_hit,
         }
     }
 
@@ -327,6 +328,7 @@ impl World {
 
         let collide = Instant::now();
         let before = self.mechanical_energy();
+        self.scratch.pair_budget_hit = false;
         self.generate_paper_contacts(false);
         let solve = Instant::now();
         let mut report = self.resolver.resolve(&mut self.contacts, &mut self.particles, dt);
@@ -341,6 +343,7 @@ impl World {
             }
         }
         report.contacts = self.contacts.len();
+        report.pair_budget_hit = self.scratch.pair_budget_hit;
         self.paper_motion.clear();
         let moves = self.particles.position.iter().zip(&self.paper_start);
         self.paper_motion.extend(moves.map(|(&now, &start)| now - start));
