@@ -7,7 +7,7 @@
 use glam::Vec3;
 
 use super::broad_phase::BroadPhase;
-use super::contacts::Contact;
+use super::contacts::{Contact, ResolverScratch};
 use super::links::{Constraint, LinkSpec, direction_or_zero};
 use super::particles::{ParticleId, Particles};
 use super::{NON_NEGATIVE, PhysicsError, UNIT, check, non_negative};
@@ -132,6 +132,8 @@ pub struct Scratch {
     /// each other: see [`super::broad_phase::pair_budget`]); the world clears it at
     /// the start of a step and reports it.
     pub pair_budget_hit: bool,
+    /// The paper resolver's buffers.
+    pub resolver: ResolverScratch,
 }
 
 /// Something that looks at the particles each step and makes contacts.

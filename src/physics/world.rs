@@ -331,11 +331,15 @@ impl World {
         self.scratch.pair_budget_hit = false;
         self.generate_paper_contacts(false);
         let solve = Instant::now();
-        let mut report = self.resolver.resolve(&mut self.contacts, &mut self.particles, dt);
+        let mut report =
+            self.resolver.resolve(&mut self.contacts, &mut self.particles, dt, &mut self.scratch.resolver);
         for _ in 0..self.position_passes {
             self.generate_paper_contacts(true);
-            let (iterations, left) =
-                self.resolver.resolve_positions(&mut self.pass_contacts, &mut self.particles);
+            let (iterations, left) = self.resolver.resolve_positions(
+                &mut self.pass_contacts,
+                &mut self.particles,
+                &mut self.scratch.resolver,
+            );
             report.position_iterations += iterations;
             report.max_penetration = left;
             if iterations == 0 {
