@@ -19,6 +19,21 @@
 //! count: the work is split into chunks of particles whose size depends only on the
 //! input, and the chunks' results are joined in order. That order is what the solver
 //! colours contacts by, so 1 thread and N threads give the same bits.
+//!
+//! **The pair budget.** Spheres that do not overlap make few pairs: a sphere touches
+//! at most about a dozen spheres as large as itself, so even with speculative margins
+//! a pile makes fewer than 10 pairs per sphere. Spheres piled onto one point make a
+//! pair of every two: 10,000 of them made 50 million pairs, and their contacts asked
+//! for 2 to 3 GB. So one search makes at most [`pair_budget`] pairs:
+//! [`PAIRS_PER_SPHERE`] (32) per sphere with a usable reach, and never fewer than
+//! [`MIN_PAIR_BUDGET`] (65,536). Past it, the pairs kept are the first ones in the
+//! usual order (those of the lowest-numbered first particles), exactly the list
+//! without a budget cut short, and [`BroadPhase::budget_hit`] says so, for the world's
+//! report. The search stops there too, so its time stays linear: a query of a sphere
+//! in a crowded cell still visits every sphere of the cell, but only until the budget
+//! runs out, and in a crowded cell that is after a few queries. Memory is then at most
+//! the budget's pairs (each becomes a contact of about 160 bytes in the soft solver):
+//! about 5 KB per sphere at worst.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -33,6 +48,24 @@ const CHUNK: usize = 2048;
 /// Particles below which the search runs on the calling thread (threads cost more than
 /// they save).
 const PARALLEL_FROM: usize = 4096;
+
+/// Pairs one search makes at most, per sphere with a usable reach (see the module's
+/// doc: ordinary piles make fewer than 10).
+pub const PAIRS_PER_SPHERE: usize = 32;
+
+/// The pair budget is never below this (about 10 MB of contacts), so small worlds
+/// are never cut short however they overlap.
+pub const MIN_PAIR_BUDGET: usize = 65_536;
+
+/// Chunks searched together (in parallel) before the budget left is counted again. A
+/// constant, not the thread count, so the pairs kept do not depend on the threads.
+const BATCH: usize = 16;
+
+/// Most pairs one search makes among `spheres` spheres with a usable reach.
+#[must_use]
+pub fn pair_budget(spheres: usize) -> usize {
+    spheres.saturating_mul(PAIRS_PER_SPHERE).max(MIN_PAIR_BUDGET)
+}
 
 /// Grid coordinates are clamped to this many cells either side of the origin so that
 /// they pack into 21 bits each; far-away spheres share a border cell, which costs time
@@ -67,6 +100,10 @@ pub struct BroadPhase {
     chunk_pairs: Vec<Vec<(u32, u32)>>,
     /// Candidate partners of one particle, per chunk.
     chunk_scratch: Vec<Vec<u32>>,
+    /// Spheres with a usable reach in the last build.
+    spheres: usize,
+    /// Whether the last search left out pairs because of the budget.
+    budget_hit: bool,
 }
 
 impl BroadPhase {
@@ -78,7 +115,8 @@ impl BroadPhase {
 
     /// Writes into `out` (cleared first) every pair `(a, b)`, `a < b`, whose centres are
     /// closer than `reach[a] + reach[b]`, sorted by `a` then `b`. A particle with a reach
-    /// of 0 or less (or not finite) takes part in no pair.
+    /// of 0 or less (or not finite) takes part in no pair. At most [`pair_budget`] pairs
+    /// are written: past it, the list is cut short and [`BroadPhase::budget_hit`] is true.
     ///
     /// # Panics
     /// If `positions` and `reach` differ in length.
@@ -89,7 +127,8 @@ impl BroadPhase {
     /// Like [`BroadPhase::find_pairs`], but particles with `asleep[i]` true only take
     /// part as the second of a pair: pairs of two sleeping particles are skipped, a
     /// pair of two awake ones comes as `(a, b)` with `a < b`, and a pair of an awake and
-    /// a sleeping one comes as `(awake, asleep)`. Sorted by first, then second.
+    /// a sleeping one comes as `(awake, asleep)`. Sorted by first, then second, and
+    /// cut short at the same budget.
     ///
     /// # Panics
     /// If the slices differ in length.
@@ -103,6 +142,7 @@ impl BroadPhase {
         assert_eq!(positions.len(), reach.len(), "one reach per position");
         assert!(asleep.is_none_or(|a| a.len() == positions.len()), "one flag per position");
         out.clear();
+        self.budget_hit = false;
         let n = positions.len();
         self.build(positions, reach);
         if n == 0 {
@@ -126,21 +166,42 @@ impl BroadPhase {
             reach,
             asleep,
         };
-        let (pairs, scratch) = (&mut self.chunk_pairs[..chunks], &mut self.chunk_scratch[..chunks]);
-        if n >= PARALLEL_FROM {
-            pairs.par_iter_mut().zip(scratch.par_iter_mut()).enumerate().for_each(
-                |(chunk, (pairs, scratch))| {
-                    grid.search_chunk(chunk, pairs, scratch);
-                },
-            );
-        } else {
-            for (chunk, (pairs, scratch)) in pairs.iter_mut().zip(scratch.iter_mut()).enumerate() {
-                grid.search_chunk(chunk, pairs, scratch);
+        // Batch by batch, each chunk allowed what is left of the budget when its batch
+        // starts: what a chunk finds depends on the input alone, never on the threads.
+        let mut left = pair_budget(self.spheres);
+        for first in (0..chunks).step_by(BATCH) {
+            let batch = first..(first + BATCH).min(chunks);
+            let pairs = &mut self.chunk_pairs[batch.clone()];
+            let scratch = &mut self.chunk_scratch[batch.clone()];
+            if n >= PARALLEL_FROM {
+                pairs.par_iter_mut().zip(scratch.par_iter_mut()).zip(batch.clone()).for_each(
+                    |((pairs, scratch), chunk)| {
+                        grid.search_chunk(chunk, left, pairs, scratch);
+                    },
+                );
+            } else {
+                for ((pairs, scratch), chunk) in pairs.iter_mut().zip(scratch.iter_mut()).zip(batch.clone()) {
+                    grid.search_chunk(chunk, left, pairs, scratch);
+                }
+            }
+            for pairs in &self.chunk_pairs[batch] {
+                let kept = pairs.len().min(left);
+                out.extend_from_slice(&pairs[..kept]);
+                left -= kept;
+                self.budget_hit |= kept < pairs.len();
+            }
+            if self.budget_hit {
+                return;
             }
         }
-        for pairs in &self.chunk_pairs[..chunks] {
-            out.extend_from_slice(pairs);
-        }
+    }
+
+    /// Whether the last search found more pairs than [`pair_budget`] allows and left
+    /// the rest out (spheres piled onto each other). Never true for spheres that only
+    /// touch.
+    #[must_use]
+    pub fn budget_hit(&self) -> bool {
+        self.budget_hit
     }
 
     /// Sizes the cells and sorts particles into buckets.
@@ -155,6 +216,7 @@ impl BroadPhase {
                 largest = largest.max(r);
             }
         }
+        self.spheres = count;
         let mean = if count > 0 { (sum / count as f64) as f32 } else { 0.0 };
         let limit = mean * OVERSIZED_FACTOR;
         // The cell edge is the largest diameter that is not oversized.
@@ -258,8 +320,10 @@ struct GridView<'a> {
 }
 
 impl GridView<'_> {
-    /// Finds the pairs whose first particle lies in chunk `chunk`.
-    fn search_chunk(&self, chunk: usize, pairs: &mut Vec<(u32, u32)>, partners: &mut Vec<u32>) {
+    /// Finds the pairs whose first particle lies in chunk `chunk`, in order, stopping
+    /// after the first particle whose pairs take the count past `cap`: then more than
+    /// `cap` pairs are left in `pairs`, so the caller knows the budget was hit.
+    fn search_chunk(&self, chunk: usize, cap: usize, pairs: &mut Vec<(u32, u32)>, partners: &mut Vec<u32>) {
         pairs.clear();
         let n = self.positions.len();
         let bits = (self.starts.len() - 1).trailing_zeros();
@@ -332,6 +396,9 @@ impl GridView<'_> {
             // Cells clamped at the coordinate limit can be visited twice.
             partners.dedup();
             pairs.extend(partners.iter().map(|&b| (a as u32, b)));
+            if pairs.len() > cap {
+                return;
+            }
         }
     }
 }

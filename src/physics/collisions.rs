@@ -7,7 +7,7 @@
 use glam::Vec3;
 
 use super::broad_phase::BroadPhase;
-use super::contacts::Contact;
+use super::contacts::{Contact, ResolverScratch};
 use super::links::{Constraint, LinkSpec, direction_or_zero};
 use super::particles::{ParticleId, Particles};
 use super::{NON_NEGATIVE, PhysicsError, UNIT, check, non_negative};
@@ -106,6 +106,7 @@ impl SphereCollisions {
         scratch.reach.clear();
         scratch.reach.extend_from_slice(&particles.radius);
         broad_phase.find_pairs(&particles.position, &scratch.reach, &mut scratch.pairs);
+        scratch.pair_budget_hit |= broad_phase.budget_hit();
         for &(a, b) in &scratch.pairs {
             let (a, b) = (a as usize, b as usize);
             if particles.inverse_mass[a] + particles.inverse_mass[b] <= 0.0 {
@@ -127,6 +128,12 @@ pub struct Scratch {
     pub reach: Vec<f32>,
     /// Pairs from the broad phase.
     pub pairs: Vec<(u32, u32)>,
+    /// Set when a search of the broad phase hit its pair budget (spheres piled onto
+    /// each other: see [`super::broad_phase::pair_budget`]); the world clears it at
+    /// the start of a step and reports it.
+    pub pair_budget_hit: bool,
+    /// The paper resolver's buffers.
+    pub resolver: ResolverScratch,
 }
 
 /// Something that looks at the particles each step and makes contacts.

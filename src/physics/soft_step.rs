@@ -153,6 +153,8 @@ pub struct SoftStep {
     /// Last step's link impulses by generator index (cleared by [`SoftStep::forget`]
     /// whenever indices shift).
     warm_links: Vec<(u32, f32)>,
+    /// `warm_links` looked up by generator index (scratch).
+    warm_link_by_generator: Vec<Option<f32>>,
     /// Links skipped this step because their particles sleep (by generator index).
     sleeping_links: Vec<u32>,
     /// Each link's tension as last reported (N), by generator index.
@@ -187,6 +189,8 @@ pub struct SoftReport {
     pub max_penetration: f32,
     /// Particles asleep after the step.
     pub asleep: usize,
+    /// The broad phase hit its pair budget (see [`super::broad_phase::pair_budget`]).
+    pub pair_budget_hit: bool,
 }
 
 /// Velocities shared by the tasks solving one colour.
@@ -344,7 +348,7 @@ impl SoftStep {
             wake(particles, &mut self.to_wake);
         }
         let collided = Instant::now();
-        self.warm_start_from_last_step();
+        self.warm_start_from_last_step(generators.len());
         self.color(particles);
 
         let contact_hertz = settings.contact_hertz.min(0.25 / h);
@@ -419,7 +423,8 @@ impl SoftStep {
         profile.solve_ms = ms(solved - collided);
         profile.total_ms = ms(solved - started);
         let asleep = if settings.sleep { particles.asleep_count() } else { 0 };
-        SoftReport { contacts: self.contacts.len(), max_penetration, asleep }
+        let pair_budget_hit = scratch.pair_budget_hit;
+        SoftReport { contacts: self.contacts.len(), max_penetration, asleep, pair_budget_hit }
     }
 
     /// Wakes the islands of sleeping particles that were moved or pushed from outside
@@ -570,6 +575,7 @@ impl SoftStep {
         let any_awake_sphere =
             particles.radius.iter().zip(&self.asleep).any(|(&r, &asleep)| r > 0.0 && !asleep);
         profile.broad_phase_ms = 0.0;
+        scratch.pair_budget_hit = false;
         let started = Instant::now();
         for (source, (id, generator)) in generators.iter().enumerate() {
             let start = self.fresh.len();
@@ -593,6 +599,7 @@ impl SoftStep {
                         asleep,
                         &mut scratch.pairs,
                     );
+                    scratch.pair_budget_hit |= broad_phase.budget_hit();
                     profile.broad_phase_ms += ms(broad.elapsed());
                     self.collide_spheres(spheres, particles, &scratch.pairs);
                 }
@@ -703,8 +710,9 @@ impl SoftStep {
         });
     }
 
-    /// Copies last step's impulses into this step's matching contacts and links.
-    fn warm_start_from_last_step(&mut self) {
+    /// Copies last step's impulses into this step's matching contacts and links;
+    /// `generators` is how many contact generators the world has.
+    fn warm_start_from_last_step(&mut self, generators: usize) {
         for (id, range) in &self.fresh_groups {
             let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else { continue };
             let (old_keys, new_keys) = (&self.warm[old.clone()], &self.fresh_keys[range.clone()]);
@@ -724,10 +732,21 @@ impl SoftStep {
                 }
             }
         }
+        // Last step's impulses by generator index, so each link finds its own at once
+        // (searching the list per link made a chain of 200,000 rods cost 7 s a step).
+        // Filled from the back so that, as a search from the front would, the first
+        // entry for a generator wins (a restored snapshot may hold one twice).
+        let by_generator = &mut self.warm_link_by_generator;
+        by_generator.clear();
+        by_generator.resize(generators, None);
+        for &(generator, impulse) in self.warm_links.iter().rev() {
+            if let Some(slot) = by_generator.get_mut(generator as usize) {
+                *slot = Some(impulse);
+            }
+        }
         for link in &mut self.links {
-            let id = link.generator;
-            if let Some(&(_, impulse)) = self.warm_links.iter().find(|(g, _)| *g == id) {
-                link.impulse = impulse;
+            if let Some(Some(impulse)) = by_generator.get(link.generator as usize) {
+                link.impulse = *impulse;
             }
         }
     }

@@ -303,6 +303,7 @@ impl World {
             max_penetration: report.max_penetration,
             contacts: report.contacts,
             asleep: report.asleep,
+            pair_budget_hit: report.pair_budget_hit,
         }
     }
 
@@ -338,13 +339,18 @@ impl World {
 
         let collide = Instant::now();
         let before = self.mechanical_energy();
+        self.scratch.pair_budget_hit = false;
         self.generate_paper_contacts(false);
         let solve = Instant::now();
-        let mut report = self.resolver.resolve(&mut self.contacts, &mut self.particles, dt);
+        let mut report =
+            self.resolver.resolve(&mut self.contacts, &mut self.particles, dt, &mut self.scratch.resolver);
         for _ in 0..self.position_passes {
             self.generate_paper_contacts(true);
-            let (iterations, left) =
-                self.resolver.resolve_positions(&mut self.pass_contacts, &mut self.particles);
+            let (iterations, left) = self.resolver.resolve_positions(
+                &mut self.pass_contacts,
+                &mut self.particles,
+                &mut self.scratch.resolver,
+            );
             report.position_iterations += iterations;
             report.max_penetration = left;
             if iterations == 0 {
@@ -352,6 +358,7 @@ impl World {
             }
         }
         report.contacts = self.contacts.len();
+        report.pair_budget_hit = self.scratch.pair_budget_hit;
         self.paper_motion.clear();
         let moves = self.particles.position.iter().zip(&self.paper_start);
         self.paper_motion.extend(moves.map(|(&now, &start)| now - start));
