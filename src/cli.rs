@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 use serde::Serialize;
 
+use crate::physics::broad_phase::BUDGET_HIT_MESSAGE;
 use crate::physics::inspect::{self, ConstraintMeter};
 use crate::physics::{
     Integrator, LinkEnd, LinkState, ParticleId, SolverKind, SolverSettings, World, solver::SUBSTEP_RANGE,
@@ -496,14 +497,21 @@ pub fn simulate(
     let first = scene.world().steps();
     // With --forces: what contacts and links did to each particle over the last step.
     let (mut meter, mut constraint) = (ConstraintMeter::default(), Vec::new());
+    // The pair budget's warning is said once a run, at the first step that hits it.
+    let mut budget_told = false;
     for step in 0..=plan.steps {
         if step > 0 {
             if plan.forces {
                 let world = scene.world();
                 meter.before_step(world, world.particles.ids().iter().copied());
             }
-            if let Err(error) = scene.step(plan.dt) {
-                return Ok(Err(error.to_string()));
+            match scene.step(plan.dt) {
+                Ok(report) if report.pair_budget_hit && !budget_told => {
+                    budget_told = true;
+                    eprintln!("particle-lab: warning: at step {}, {BUDGET_HIT_MESSAGE}", first + step);
+                }
+                Ok(_) => {}
+                Err(error) => return Ok(Err(error.to_string())),
             }
             if plan.forces {
                 constraint.clear();

@@ -57,6 +57,11 @@ pub const PAIRS_PER_SPHERE: usize = 32;
 /// are never cut short however they overlap.
 pub const MIN_PAIR_BUDGET: usize = 65_536;
 
+/// What a user is told when a step hit the pair budget (the window's status line,
+/// `simulate`'s stderr).
+pub const BUDGET_HIT_MESSAGE: &str = "so many spheres overlap that the broad phase stopped at its budget of 32 \
+     pairs a sphere: contacts past it were left out this step (spheres piled onto one point?)";
+
 /// Chunks searched together (in parallel) before the budget left is counted again. A
 /// constant, not the thread count, so the pairs kept do not depend on the threads.
 const BATCH: usize = 16;

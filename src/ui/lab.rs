@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 
 use glam::{Vec2, Vec3};
 
+use crate::physics::broad_phase::BUDGET_HIT_MESSAGE;
 pub use crate::physics::inspect::CONSTRAINT_FORCE;
 use crate::physics::inspect::{self, ConstraintMeter};
 use crate::physics::{ParticleId, SolverKind, SolverSettings};
@@ -673,10 +674,17 @@ impl Lab {
             if let Some(id) = self.selected {
                 self.constraint_meter.before_step(self.scene.world(), [id]);
             }
-            if let Err(error) = self.scene.step(dt) {
-                self.status = error.to_string();
-                self.paused = true;
-                break;
+            match self.scene.step(dt) {
+                Ok(report) if report.pair_budget_hit && !self.status.contains(BUDGET_HIT_MESSAGE) => {
+                    self.status = format!("Step {}: {BUDGET_HIT_MESSAGE}", self.scene.world().steps());
+                    log::warn!("{}", self.status);
+                }
+                Ok(_) => {}
+                Err(error) => {
+                    self.status = error.to_string();
+                    self.paused = true;
+                    break;
+                }
             }
             if !self.scene.world().is_finite() {
                 self.status = "The simulation blew up (a value stopped being finite): paused. \
