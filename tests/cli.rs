@@ -765,3 +765,29 @@ fn an_interrupted_recording_leaves_no_partial_file_at_out() {
         );
     }
 }
+
+/// Issue 17, finding 7: whatever part of the program refuses a typed value, the line
+/// that says so stays one line: a newline or an escape typed into a name is shown as
+/// an escape, not echoed raw.
+#[test]
+fn typed_control_characters_never_break_the_one_line_rule() {
+    let dir = scratch("control-characters");
+    let out = dir.join("x.png");
+    let out = out.to_str().unwrap();
+    let cases: [&[&str]; 6] = [
+        &["simulate", "--scene", "pend\nulum"],
+        &["simulate", "--scene", "pendulum", "--solver", "so\nft"],
+        &["simulate", "--scene", "pendulum", "--integrator", "rk\r4\u{1b}[2J"],
+        &["render", "--scene", "pendulum", "--view", "fo\nrces", "--out", out],
+        &["render", "--scene", "pendulum", "--compare", "ra\nte=3", "--out", out],
+        &["render", "--scene", "pendulum", "--out", "x\ny.jpg"],
+    ];
+    for args in cases {
+        let output = run(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: one line: {stderr:?}");
+        assert!(!stderr.contains(['\r', '\u{1b}']), "{args:?}: {stderr:?}");
+        assert!(stderr.contains("\\n") || stderr.contains("\\r"), "{args:?}: shown as an escape: {stderr:?}");
+    }
+}

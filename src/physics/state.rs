@@ -148,7 +148,7 @@ impl WorldState {
                 self.last_dt, self.steps
             ));
         }
-        if let Some(timer) = self.particles.sleep.iter().map(|s| s.timer).find(|t| !(*t >= 0.0)) {
+        if let Some(timer) = self.particles.sleep.iter().map(|s| s.timer).find(|t| *t < 0.0) {
             return Err(format!("a sleep timer of {timer} s is below zero"));
         }
         let generators = &self.contact_generators;
