@@ -21,27 +21,6 @@ pub mod usage;
 /// Exit code for input the user can fix.
 pub const USAGE_ERROR: i32 = 2;
 
-/// A message as the binary prints it, on one line whatever it quotes: a control
-/// character that reached it raw (a newline or an escape typed into a name that some
-/// part echoed) is shown as an escape, as [`crate::messages::quote`] shows it, and
-/// nothing is cut.
-#[must_use]
-pub fn one_line(message: &str) -> String {
-    let mut line = String::with_capacity(message.len());
-    for c in message.chars() {
-        match c {
-            '\n' => line.push_str("\\n"),
-            '\r' => line.push_str("\\r"),
-            '\t' => line.push_str("\\t"),
-            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => {
-                line.push_str(&format!("\\u{{{:x}}}", c as u32));
-            }
-            c => line.push(c),
-        }
-    }
-    line
-}
-
 /// particle-lab: a real-time particle physics lab.
 #[derive(Debug, Parser)]
 #[command(name = "particle-lab", version, about, long_about = None)]
@@ -700,13 +679,6 @@ mod tests {
 
     use super::*;
     use crate::physics::ParticleDesc;
-
-    #[test]
-    fn messages_are_printed_on_one_line() {
-        assert_eq!(one_line("unknown scene 'a\nb\r\u{1b}[2J'"), "unknown scene 'a\\nb\\r\\u{1b}[2J'");
-        let long = "x".repeat(500);
-        assert_eq!(one_line(&long), long, "nothing is cut");
-    }
 
     #[test]
     fn particles_carry_radius_and_mass_and_immovable_ones_null() {

@@ -420,14 +420,9 @@ fn scene_file_of(entry: &SceneEntry) -> Option<String> {
     Some(path.to_string_lossy().into_owned())
 }
 
-/// `text` on one line: a control character (a newline, an escape) becomes a space.
-fn one_line(text: &str) -> String {
-    text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect()
-}
-
 /// Why a scene file did not load, without its name (the warning names it already).
 fn file_reason(error: &scenes::file::FileError) -> String {
-    let message = one_line(&error.message);
+    let message = crate::messages::one_line(&error.message);
     match error.position {
         Some((line, column)) => format!("line {line}, column {column}: {message}"),
         None => message,
@@ -610,7 +605,7 @@ impl Store {
                     Ok(()) => format!("moved it to {}", crate::messages::path(&aside)),
                     Err(error) => format!("could not move it aside ({})", crate::messages::io_reason(&error)),
                 };
-                let reason = one_line(&reason);
+                let reason = crate::messages::one_line(&reason);
                 Loaded::Unusable {
                     warning: format!(
                         "particle-lab: the settings file {shown} is unusable ({reason}); {whereto} and started from \
@@ -766,7 +761,7 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
                 "particle-lab: the values saved for the scene file {} no longer fit it ({}); opening it \
                  with its defaults",
                 crate::messages::path(Path::new(path)),
-                one_line(&error)
+                crate::messages::one_line(&error)
             ));
             lab
         }

@@ -166,6 +166,10 @@ impl Snapshot {
     /// Reads a snapshot from JSON text; the error is one line: where the text stops
     /// making sense, or which field is wrong.
     pub fn from_json(text: &str) -> Result<Self, String> {
+        Self::parse(text).map_err(|e| messages::one_line(&e))
+    }
+
+    fn parse(text: &str) -> Result<Self, String> {
         // Format and version first, from a small struct that skips every other field:
         // a newer file's unknown fields are not its problem.
         #[derive(Deserialize)]
@@ -251,6 +255,11 @@ impl Snapshot {
     /// [`Snapshot::restore`], with the registry entry of the scene (for a scene file,
     /// the entry its embedded text made).
     pub fn restore_with_entry(&self) -> Result<(&'static SceneEntry, Box<dyn Scene>), String> {
+        // The parts' errors can quote the file's text (a name, a kind): one line.
+        self.restore_checked().map_err(|e| messages::one_line(&e))
+    }
+
+    fn restore_checked(&self) -> Result<(&'static SceneEntry, Box<dyn Scene>), String> {
         let entry = match &self.scene_file {
             Some(file) => {
                 let shown = file.path.as_deref().map_or_else(
@@ -276,7 +285,7 @@ impl Snapshot {
         };
         let mut values = ParamValues::defaults(entry.info.params);
         for (name, value) in &self.params {
-            values.set(name, *value).map_err(|e| format!("parameter {e}"))?;
+            values.set(name, *value).map_err(|e| format!("params: {e}"))?;
         }
         if !(self.dt > 0.0 && self.dt <= crate::physics::world::MAX_TIME_STEP) {
             return Err(format!(
