@@ -791,3 +791,38 @@ fn typed_control_characters_never_break_the_one_line_rule() {
         assert!(stderr.contains("\\n") || stderr.contains("\\r"), "{args:?}: shown as an escape: {stderr:?}");
     }
 }
+
+/// Issue 17, finding 7: a directory where settings.json should be gave the window two
+/// lines, one on reading it and one when the autosave could not write over it. Now it
+/// is set aside like any unusable file: one line, and the settings are saved.
+#[test]
+fn a_directory_in_place_of_the_settings_file_gives_the_window_one_line() {
+    let display = VirtualDisplay::start();
+    let dir = scratch("settings-directory");
+    let config = dir.join("config");
+    std::fs::create_dir_all(config.join("particle-lab").join("settings.json")).unwrap();
+    let log = dir.join("stderr.txt");
+    let mut app = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .env("DISPLAY", &display.name)
+        .env("XDG_CONFIG_HOME", &config)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("RUST_LOG")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !display.has_window("^particle-lab$") {
+        assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(&log).unwrap());
+        assert!(start.elapsed().as_secs() < 60, "no window");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    // The autosave runs every 2 s: past two of them.
+    std::thread::sleep(std::time::Duration::from_secs(5));
+    app.kill().unwrap();
+    app.wait().unwrap();
+    let stderr = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "one line:\n{stderr}");
+    assert!(stderr.contains("the settings file") && stderr.contains("it is a directory"), "{stderr}");
+    assert!(config.join("particle-lab").join("settings.json").is_file(), "the settings were saved");
+}
