@@ -480,6 +480,27 @@ mod tests {
     }
 
     #[test]
+    fn a_partial_file_is_renamed_when_kept_and_removed_when_dropped() {
+        use std::io::Write;
+        let dir = std::env::temp_dir().join(format!("particle-lab-partial-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("run.gif");
+        let (partial, mut file) = Partial::create(&out).unwrap();
+        file.write_all(b"half a recording").unwrap();
+        drop(file);
+        assert!(dir.join("run.gif.part").exists() && !out.exists(), "written beside --out");
+        drop(partial);
+        assert!(!dir.join("run.gif.part").exists() && !out.exists(), "a failed recording leaves nothing");
+        let (partial, mut file) = Partial::create(&out).unwrap();
+        file.write_all(b"a whole one").unwrap();
+        drop(file);
+        partial.keep().unwrap();
+        assert_eq!(std::fs::read(&out).unwrap(), b"a whole one");
+        assert!(!dir.join("run.gif.part").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
     fn apng_delays_are_exact_fractions_when_they_fit() {
         assert_eq!(apng_delay((1, 30)), (1, 30));
         assert_eq!(apng_delay((1, 100_000)), (1, 1000));
