@@ -184,7 +184,8 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     let mut lab = match &args.from {
         Some(path) => {
             let snapshot = Snapshot::load(path).map_err(|e| (2, e))?;
-            crate::ui::Lab::from_snapshot(&snapshot).map_err(|e| (2, format!("{}: {e}", path.display())))?
+            crate::ui::Lab::from_snapshot(&snapshot)
+                .map_err(|e| (2, format!("{}: {e}", crate::messages::path(path))))?
         }
         None => {
             let solver = args.solver.settings().map_err(|e| (2, e))?;
@@ -226,15 +227,17 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     record::step(&mut lab, args.steps, &mut progress, 0);
     drop(progress);
     let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
-    crate::render::offscreen::write_png(&args.out, args.size, &pixels).map_err(|e| (1, e))?;
-    Ok(format!(
-        "wrote {} ({}x{}, {} after {} steps)",
-        args.out.display(),
-        args.size[0],
-        args.size[1],
-        lab.scene.info().name,
-        args.steps
-    ))
+    record::write_png(&args.out, args.size, &pixels).map_err(|e| (1, e))?;
+    let (out, name) = (crate::messages::path(&args.out), lab.scene.info().name);
+    // A run that blew up (or whose step failed) fails, as `simulate` does; the frame
+    // shows where it stopped.
+    if lab.paused {
+        return Err((
+            1,
+            format!("wrote {out}, but {name} stopped at step {}: {}", lab.scene.world().steps(), lab.status),
+        ));
+    }
+    Ok(format!("wrote {out} ({}x{}, {name} after {} steps)", args.size[0], args.size[1], args.steps))
 }
 
 /// Output format of `scenes`.
@@ -431,6 +434,9 @@ pub struct RunPlan {
     pub save: Option<std::path::PathBuf>,
     /// Print each particle's forces (`--forces`).
     pub forces: bool,
+    /// The time step the steps before this run were taken at, for a run from a
+    /// snapshot (s): its printed times go on from the world's own.
+    pub saved_dt: Option<f32>,
 }
 
 /// Builds the scene and checks the numbers of a `simulate` run.
@@ -438,7 +444,8 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
     let (scene, saved_dt) = match &args.from {
         Some(path) => {
             let snapshot = Snapshot::load(path)?;
-            (snapshot.restore().map_err(|e| format!("{}: {e}", path.display()))?, Some(snapshot.dt))
+            let scene = snapshot.restore().map_err(|e| format!("{}: {e}", crate::messages::path(path)))?;
+            (scene, Some(snapshot.dt))
         }
         None => {
             let solver = args.solver.settings()?;
@@ -464,7 +471,8 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
     if args.forces && args.format == StateFormat::Csv {
         return Err("--forces adds fields to the JSON; it cannot be used with --format csv".into());
     }
-    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format, save, forces: args.forces }))
+    let forces = args.forces;
+    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format, save, forces, saved_dt }))
 }
 
 /// Header of `simulate --format csv`.
@@ -480,15 +488,11 @@ pub fn simulate(
     let mut line = Vec::with_capacity(4096);
     // Times as the step stands for them (0.0208333 s), not as f32 steps add up.
     let clock = clock::Step::of(plan.dt);
-    let (mut start_time, mut start_steps) = (scene.world().time(), scene.world().steps());
-    // A snapshot whose every step was this one counts its time from step 0, so its
-    // lines read as an unbroken run's do (3.3333333, not the f32 sum 3.333334).
-    if let Some(step) = clock {
-        let from_zero = step.seconds() * start_steps as f64;
-        if start_steps > 0 && (from_zero - start_time).abs() <= 1e-5 * start_time.max(1.0) {
-            (start_time, start_steps) = (0.0, 0);
-        }
-    }
+    let start_steps = scene.world().steps();
+    // A snapshot whose every step was one rate counts its time from step 0, so its
+    // lines read as an unbroken run's do (3.3333333, not the f32 sum 3.333334), at
+    // that rate or going on at another.
+    let origin = clock::Origin::of(plan.saved_dt.unwrap_or(plan.dt), scene.world().time(), start_steps);
     let mut progress = progress::Progress::new(plan.steps, "steps", progress::Progress::for_terminal(false));
     if plan.format == StateFormat::Csv {
         writeln!(out, "{CSV_HEADER}")?;
@@ -529,7 +533,7 @@ pub fn simulate(
         if step == 0 || step == plan.steps || step % plan.every == 0 {
             line.clear();
             let t = clock.map_or(clock::to_f32_digits(scene.world().time()), |clock| {
-                clock.time_after(start_time, scene.world().steps() - start_steps)
+                clock.time_from(origin, scene.world().steps() - start_steps)
             });
             match plan.format {
                 StateFormat::Json => {

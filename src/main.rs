@@ -31,7 +31,7 @@ fn main() -> ExitCode {
                 ExitCode::SUCCESS
             }
             Err((code, message)) => {
-                eprintln!("particle-lab: {message}");
+                eprintln!("particle-lab: {}", particle_lab::messages::one_line(&message));
                 ExitCode::from(code)
             }
         },
@@ -39,7 +39,7 @@ fn main() -> ExitCode {
             Ok(()) => ExitCode::SUCCESS,
             Err(AppError::Usage(message)) => usage_error(&message),
             Err(AppError::Fatal(message)) => {
-                eprintln!("particle-lab: {message}");
+                eprintln!("particle-lab: {}", particle_lab::messages::one_line(&message));
                 ExitCode::from(1)
             }
         },
@@ -47,7 +47,7 @@ fn main() -> ExitCode {
 }
 
 fn usage_error(message: &str) -> ExitCode {
-    eprintln!("particle-lab: {message}");
+    eprintln!("particle-lab: {}", particle_lab::messages::one_line(message));
     ExitCode::from(USAGE_ERROR as u8)
 }
 
@@ -56,7 +56,7 @@ fn finish(result: io::Result<Result<(), String>>) -> ExitCode {
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(message)) => {
-            eprintln!("particle-lab: {message}");
+            eprintln!("particle-lab: {}", particle_lab::messages::one_line(&message));
             ExitCode::from(1)
         }
         Err(error) if error.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,

@@ -56,20 +56,37 @@ pub fn quote(text: &str) -> String {
     let total = text.chars().count();
     let mut shown = String::new();
     for c in text.chars().take(QUOTE_CHARS) {
-        match c {
-            '\n' => shown.push_str("\\n"),
-            '\r' => shown.push_str("\\r"),
-            '\t' => shown.push_str("\\t"),
-            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}' | '\u{85}') => {
-                shown.push_str(&format!("\\u{{{:x}}}", c as u32));
-            }
-            c => shown.push(c),
-        }
+        push_escaped(&mut shown, c);
     }
     if total > QUOTE_CHARS {
         shown.push_str(&format!("… ({} more characters)", total - QUOTE_CHARS));
     }
     shown
+}
+
+/// A whole message made one line, whatever it quotes: a control character that reached
+/// it raw (a newline or an escape in a name some part echoed) is shown as an escape, as
+/// [`quote`] shows it; nothing is cut.
+#[must_use]
+pub fn one_line(message: &str) -> String {
+    let mut line = String::with_capacity(message.len());
+    for c in message.chars() {
+        push_escaped(&mut line, c);
+    }
+    line
+}
+
+/// `c`, or its escape if it is a control or line-breaking character.
+fn push_escaped(out: &mut String, c: char) {
+    match c {
+        '\n' => out.push_str("\\n"),
+        '\r' => out.push_str("\\r"),
+        '\t' => out.push_str("\\t"),
+        c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}' | '\u{85}') => {
+            out.push_str(&format!("\\u{{{:x}}}", c as u32));
+        }
+        c => out.push(c),
+    }
 }
 
 /// A path for a one-line message: [`quote`]d, but cut at the front (the file's name
@@ -114,6 +131,13 @@ mod tests {
         assert!(shown.chars().count() < 120, "{shown}");
         assert!(shown.ends_with("(19920 more characters)"), "{shown}");
         assert_eq!(quote("plain"), "plain");
+    }
+
+    #[test]
+    fn a_whole_message_is_made_one_line_without_a_cut() {
+        assert_eq!(one_line("unknown scene 'a\nb\r\u{1b}[2J'"), "unknown scene 'a\\nb\\r\\u{1b}[2J'");
+        let long = "x".repeat(500);
+        assert_eq!(one_line(&long), long);
     }
 
     #[test]

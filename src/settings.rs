@@ -54,6 +54,8 @@ pub const DEFAULT_WINDOW: [u32; 2] = [1280, 720];
 pub const MIN_WINDOW: [u32; 2] = [320, 240];
 /// Largest window side accepted from the file (logical pixels).
 pub const MAX_WINDOW_SIDE: u32 = 16_384;
+/// Largest settings file read (bytes): a real one is about 1 KB.
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
 /// How often the window checks whether the settings changed and writes them if so.
 pub const AUTOSAVE_INTERVAL: Duration = Duration::from_secs(2);
 /// Largest camera distance or coordinate accepted from the file (m): far beyond any
@@ -420,7 +422,7 @@ fn scene_file_of(entry: &SceneEntry) -> Option<String> {
 
 /// Why a scene file did not load, without its name (the warning names it already).
 fn file_reason(error: &scenes::file::FileError) -> String {
-    let message = error.message.replace('\n', " ");
+    let message = crate::messages::one_line(&error.message);
     match error.position {
         Some((line, column)) => format!("line {line}, column {column}: {message}"),
         None => message,
@@ -569,24 +571,29 @@ impl Store {
         path.with_file_name(name)
     }
 
-    /// Reads the file. One that cannot be used is moved aside (replacing an older one
-    /// there) and the warning says so; nothing here panics or exits.
+    /// Reads the file, at most [`MAX_FILE_BYTES`] of it, refusing a directory, device
+    /// or FIFO without opening it (so nothing blocks or reads on forever). One that
+    /// cannot be used is moved aside (replacing an older one there; a link is moved, not
+    /// what it points to) and the warning says so; nothing here panics or exits.
     pub fn load(&mut self) -> Loaded {
+        use crate::reading::{self, ReadError};
         let Some(path) = &self.path else { return Loaded::Missing };
-        let bytes = match std::fs::read(path) {
-            Ok(bytes) => bytes,
-            Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Loaded::Missing,
-            Err(error) => {
+        let shown = crate::messages::path(path);
+        let parsed = match reading::read_limited(path, MAX_FILE_BYTES) {
+            Ok(bytes) => std::str::from_utf8(&bytes)
+                .map_err(|e| format!("not UTF-8 text: {e}"))
+                .and_then(Settings::parse),
+            Err(ReadError::Missing) => return Loaded::Missing,
+            // The OS refused (permission): the file may be fine; it is left where it is.
+            Err(ReadError::Io(reason)) => {
                 return Loaded::Unusable {
                     warning: format!(
-                        "particle-lab: cannot read the settings file {}: {error}; starting from the defaults",
-                        path.display()
+                        "particle-lab: cannot read the settings file {shown}: {reason}; starting from the defaults"
                     ),
                 };
             }
+            Err(error @ (ReadError::NotAFile(_) | ReadError::TooLarge { .. })) => Err(error.to_string()),
         };
-        let parsed =
-            std::str::from_utf8(&bytes).map_err(|e| format!("not UTF-8 text: {e}")).and_then(Settings::parse);
         match parsed {
             Ok(settings) => {
                 self.written = Some(settings.clone());
@@ -595,15 +602,14 @@ impl Store {
             Err(reason) => {
                 let aside = Self::aside_path(path);
                 let whereto = match std::fs::rename(path, &aside) {
-                    Ok(()) => format!("moved it to {}", aside.display()),
-                    Err(error) => format!("could not move it aside ({error})"),
+                    Ok(()) => format!("moved it to {}", crate::messages::path(&aside)),
+                    Err(error) => format!("could not move it aside ({})", crate::messages::io_reason(&error)),
                 };
-                let reason = reason.replace('\n', " ");
+                let reason = crate::messages::one_line(&reason);
                 Loaded::Unusable {
                     warning: format!(
-                        "particle-lab: the settings file {} is unusable ({reason}); {whereto} and started from \
-                         the defaults",
-                        path.display()
+                        "particle-lab: the settings file {shown} is unusable ({reason}); {whereto} and started from \
+                         the defaults"
                     ),
                 }
             }
@@ -628,7 +634,13 @@ impl Store {
             std::fs::write(&temporary, settings.to_text())?;
             std::fs::rename(&temporary, path)
         };
-        write().map_err(|e| format!("cannot save the settings to {}: {e}", path.display()))?;
+        write().map_err(|e| {
+            format!(
+                "cannot save the settings to {}: {}",
+                crate::messages::path(path),
+                crate::messages::io_reason(&e)
+            )
+        })?;
         self.written = Some(settings.clone());
         Ok(true)
     }
@@ -690,7 +702,7 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         (scene, file) => Some(scenes::file::choose(scene, file)?),
     };
     let place =
-        store.path().map_or_else(|| "nowhere (no config directory)".to_string(), |p| p.display().to_string());
+        store.path().map_or_else(|| "nowhere (no config directory)".to_string(), crate::messages::path);
     let (saved, origin, mut warning) = if launch.fresh {
         (None, format!("--fresh: starting from the defaults; the settings at {place} are not read"), None)
     } else {
@@ -714,8 +726,9 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
                 None => scenes::file::load_path(Path::new(path))
                     .map_err(|error| {
                         warning = Some(format!(
-                            "particle-lab: the scene file {path} saved in the settings cannot be opened ({}); \
+                            "particle-lab: the scene file {} saved in the settings cannot be opened ({}); \
                              starting on {DEFAULT_SCENE}",
+                            crate::messages::path(Path::new(path)),
                             file_reason(&error)
                         ));
                     })
@@ -745,9 +758,10 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
             let lab = Lab::from_entry(entry, &launch.set, solver)?;
             let path = saved.as_ref().and_then(|s| s.scene_file.as_deref()).unwrap_or_default();
             warning = Some(format!(
-                "particle-lab: the values saved for the scene file {path} no longer fit it ({}); opening it \
+                "particle-lab: the values saved for the scene file {} no longer fit it ({}); opening it \
                  with its defaults",
-                error.replace('\n', " ")
+                crate::messages::path(Path::new(path)),
+                crate::messages::one_line(&error)
             ));
             lab
         }

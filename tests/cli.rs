@@ -622,3 +622,212 @@ fn a_long_render_shows_progress_on_a_terminal_and_clears_it() {
     let last = screen.rsplit('\r').find(|part| !part.trim().is_empty()).unwrap_or("");
     assert!(last.trim_start_matches("\u{1b}[2K").starts_with("wrote "), "{last:?}");
 }
+
+/// The `t` of every line `simulate` printed, and of every CSV row.
+fn times(output: &Output, csv: bool) -> Vec<f64> {
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let text = String::from_utf8_lossy(&output.stdout);
+    if csv {
+        text.lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect()
+    } else {
+        json_lines(output).iter().map(|l| l["t"].as_f64().unwrap()).collect()
+    }
+}
+
+/// Issue 17, finding 8: continued at another rate, `simulate --from` prints the
+/// world's own time, in JSON and CSV alike (it printed 0.2, 0.3 for a world at 0.154,
+/// 0.254 with `--dt 0.1`, and 0, 1, 2 with `--dt 1`).
+#[test]
+fn simulate_from_at_another_rate_prints_the_worlds_own_time() {
+    let dir = scratch("other-rate");
+    let start = dir.join("start.json");
+    let start = start.to_str().unwrap();
+    // The pendulum keeps its particles (a round at 1 s steps leaves the scene and the CSV).
+    let saved = run(&["simulate", "--scene", "pendulum", "--steps", "37", "--every", "100", "--save", start]);
+    assert!(saved.status.success(), "{}", String::from_utf8_lossy(&saved.stderr));
+    let world_time = |path: &str| {
+        let snapshot: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        snapshot["world"]["time"].as_f64().unwrap()
+    };
+    let t0 = world_time(start);
+    assert!((t0 - 37.0 / 240.0).abs() < 1e-6, "{t0}");
+    for dt in ["0.1", "1"] {
+        let end = dir.join(format!("end-{dt}.json"));
+        let end = end.to_str().unwrap();
+        let args = ["simulate", "--from", start, "--dt", dt, "--steps", "2", "--save", end];
+        let json = times(&run(&args), false);
+        let t_end = world_time(end);
+        let step: f64 = dt.parse().unwrap();
+        assert_eq!(json.len(), 3, "{json:?}");
+        for (i, t) in json.iter().enumerate() {
+            let world = t0 + step * i as f64;
+            assert!((t - world).abs() < 1e-6, "--dt {dt}: line {i} says t = {t}; the world is at {world}");
+        }
+        assert!(
+            (json[2] - t_end).abs() < 1e-6,
+            "--dt {dt}: the last t {} is not the world's {t_end}",
+            json[2]
+        );
+        let csv = times(&run(&[&args[..7], &["--format", "csv"]].concat()), true);
+        let mut rows: Vec<f64> = csv.clone();
+        rows.dedup();
+        assert_eq!(rows, json, "--dt {dt}: CSV and JSON print the same times");
+    }
+    // At the rate it was saved at, the lines still read as an unbroken run's.
+    let same = run(&["simulate", "--from", start, "--steps", "3"]);
+    let text = String::from_utf8_lossy(&same.stdout);
+    let printed: Vec<&str> =
+        text.lines().map(|l| l.split("\"t\":").nth(1).unwrap().split(',').next().unwrap()).collect();
+    assert_eq!(printed, ["0.1541667", "0.1583333", "0.1625", "0.1666667"]);
+}
+
+/// Issue 17, finding 10: a world that blows up makes `render` exit 1, as `simulate`
+/// does, with the frame still written to show where it stopped.
+#[test]
+fn render_exits_1_when_the_world_blows_up_as_simulate_does() {
+    let dir = scratch("render-blow-up");
+    // ω·dt = sqrt(500/0.1) * 0.1 ≈ 7: the explicit springs explode within 200 steps.
+    let hot = dir.join("hot.json");
+    let hot = hot.to_str().unwrap();
+    let saved = run(&[
+        "simulate",
+        "--scene",
+        "springForces",
+        "--set",
+        "k=500",
+        "--set",
+        "mass=0.1",
+        "--dt",
+        "0.1",
+        "--steps",
+        "1",
+        "--save",
+        hot,
+    ]);
+    assert!(saved.status.success(), "{}", String::from_utf8_lossy(&saved.stderr));
+    let out = dir.join("blow.png");
+    let result =
+        run(&["render", "--from", hot, "--steps", "200", "--size", "64x48", "--out", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "stderr: {stderr}");
+    assert!(stderr.contains("blew up") && stderr.contains("stopped at step"), "{stderr}");
+    assert!(out.exists(), "the frame is written");
+}
+
+/// Issue 17, finding 10: a recording stopped part way leaves nothing at `--out`; it is
+/// written beside it and renamed there when complete.
+#[test]
+fn an_interrupted_recording_leaves_no_partial_file_at_out() {
+    for extension in ["gif", "apng"] {
+        let dir = scratch(&format!("interrupted-{extension}"));
+        let out = dir.join(format!("run.{extension}"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+            .args(["render", "--scene", "bridge", "--size", "320x240", "--steps", "0", "--frames", "10000"])
+            .args(["--every", "8", "--out", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        // Until the recording has started writing, then stop it as Ctrl-C would.
+        let started = std::time::Instant::now();
+        let written = |dir: &std::path::Path| {
+            std::fs::read_dir(dir).unwrap().any(|e| e.unwrap().metadata().unwrap().len() > 1000)
+        };
+        while !written(&dir) && started.elapsed().as_secs() < 60 {
+            assert!(child.try_wait().unwrap().is_none(), "{extension}: the recording ended early");
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        assert!(written(&dir), "{extension}: nothing written in 60 s");
+        child.kill().unwrap();
+        child.wait().unwrap();
+        assert!(!out.exists(), "{extension}: a partial recording was left at --out");
+        // Finished, the same recording is at --out and nothing is left beside it.
+        let result = run(&[
+            "render",
+            "--scene",
+            "bridge",
+            "--size",
+            "80x48",
+            "--steps",
+            "0",
+            "--frames",
+            "3",
+            "--every",
+            "8",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+        let names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(names.contains(&format!("run.{extension}")), "{names:?}");
+        assert_eq!(
+            names,
+            [format!("run.{extension}")],
+            "the killed run's temporary file was replaced and renamed"
+        );
+    }
+}
+
+/// Issue 17, finding 7: whatever part of the program refuses a typed value, the line
+/// that says so stays one line: a newline or an escape typed into a name is shown as
+/// an escape, not echoed raw.
+#[test]
+fn typed_control_characters_never_break_the_one_line_rule() {
+    let dir = scratch("control-characters");
+    let out = dir.join("x.png");
+    let out = out.to_str().unwrap();
+    let cases: [&[&str]; 6] = [
+        &["simulate", "--scene", "pend\nulum"],
+        &["simulate", "--scene", "pendulum", "--solver", "so\nft"],
+        &["simulate", "--scene", "pendulum", "--integrator", "rk\r4\u{1b}[2J"],
+        &["render", "--scene", "pendulum", "--view", "fo\nrces", "--out", out],
+        &["render", "--scene", "pendulum", "--compare", "ra\nte=3", "--out", out],
+        &["render", "--scene", "pendulum", "--out", "x\ny.jpg"],
+    ];
+    for args in cases {
+        let output = run(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: one line: {stderr:?}");
+        assert!(!stderr.contains(['\r', '\u{1b}']), "{args:?}: {stderr:?}");
+        assert!(stderr.contains("\\n") || stderr.contains("\\r"), "{args:?}: shown as an escape: {stderr:?}");
+    }
+}
+
+/// Issue 17, finding 7: a directory where settings.json should be gave the window two
+/// lines, one on reading it and one when the autosave could not write over it. Now it
+/// is set aside like any unusable file: one line, and the settings are saved.
+#[test]
+fn a_directory_in_place_of_the_settings_file_gives_the_window_one_line() {
+    let display = VirtualDisplay::start();
+    let dir = scratch("settings-directory");
+    let config = dir.join("config");
+    std::fs::create_dir_all(config.join("particle-lab").join("settings.json")).unwrap();
+    let log = dir.join("stderr.txt");
+    let mut app = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .env("DISPLAY", &display.name)
+        .env("XDG_CONFIG_HOME", &config)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("RUST_LOG")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while !display.has_window("^particle-lab$") {
+        assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(&log).unwrap());
+        assert!(start.elapsed().as_secs() < 60, "no window");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    // The autosave runs every 2 s: past two of them.
+    std::thread::sleep(std::time::Duration::from_secs(5));
+    app.kill().unwrap();
+    app.wait().unwrap();
+    let stderr = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "one line:\n{stderr}");
+    assert!(stderr.contains("the settings file") && stderr.contains("it is a directory"), "{stderr}");
+    assert!(config.join("particle-lab").join("settings.json").is_file(), "the settings were saved");
+}

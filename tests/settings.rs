@@ -360,12 +360,15 @@ fn a_settings_file_that_cannot_be_written_is_an_error_message_not_a_panic() {
     let error = store.save(&defaults()).unwrap_err();
     assert!(error.starts_with("cannot save the settings to "), "{error}");
     assert!(error.contains("particle-lab/settings.json"), "{error}");
-    // A directory where the file should be: unreadable, reported, not moved.
+    // A directory where the file should be: unusable, reported, moved aside (so the
+    // save on exit does not fail with a second line).
     let dir = temp_dir("directory");
     std::fs::create_dir(dir.join(FILE_NAME)).unwrap();
     let opened = open(&Launch::default(), &dir);
     let warning = opened.warning.unwrap();
-    assert!(warning.starts_with("particle-lab: cannot read the settings file "), "{warning}");
+    assert!(warning.starts_with("particle-lab: the settings file "), "{warning}");
+    assert!(warning.contains("is unusable (it is a directory, not a regular file)"), "{warning}");
+    assert!(dir.join("settings.json.bad").is_dir(), "moved aside");
     assert_eq!(Settings::of(&opened.lab, opened.window), defaults());
 }
 
@@ -716,10 +719,81 @@ fn the_binary_warns_once_about_a_saved_scene_file_that_is_gone_and_keeps_the_set
         [format!(
             "particle-lab: the scene file {} saved in the settings cannot be opened (cannot read it: no such \
              file); starting on projectile",
-            scene_file.display()
+            particle_lab::messages::path(&scene_file)
         )],
         "{stderr}"
     );
     assert!(config.join(FILE_NAME).exists() && !config.join("settings.json.bad").exists());
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+/// Loads the settings in `dir` on another thread: `None` if that did not finish in
+/// 20 s (a read that blocks).
+fn load_within_20_s(dir: &Path) -> Option<(Loaded, std::time::Duration)> {
+    let dir = dir.to_path_buf();
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let started = std::time::Instant::now();
+        let loaded = Store::in_dir(&dir).load();
+        let _ = send.send((loaded, started.elapsed()));
+    });
+    receive.recv_timeout(std::time::Duration::from_secs(20)).ok()
+}
+
+fn unusable_warning(loaded: Loaded) -> String {
+    match loaded {
+        Loaded::Unusable { warning } => warning,
+        other => panic!("not unusable: {other:?}"),
+    }
+}
+
+/// Issue 17, finding 4: a settings file that is a FIFO, a link to a device or too large
+/// is unusable at once: one line, the defaults, no wait for a writer, no endless read.
+#[test]
+fn a_settings_file_that_is_a_fifo_a_device_or_huge_is_unusable_at_once() {
+    let dir = temp_dir("fifo");
+    let file = dir.join(FILE_NAME);
+    assert!(Command::new("mkfifo").arg(&file).status().unwrap().success());
+    let (loaded, took) = load_within_20_s(&dir).expect("reading a FIFO as the settings file blocked");
+    let warning = unusable_warning(loaded);
+    assert!(warning.contains("it is a FIFO (named pipe), not a regular file"), "{warning}");
+    assert!(warning.ends_with("started from the defaults"), "{warning}");
+    assert!(!warning.contains('\n'), "{warning}");
+    assert!(took.as_secs() < 5, "at once: {took:?}");
+    assert!(!file.exists(), "the FIFO is moved aside, so the next save can write the file");
+    let opened = open(&Launch::default(), &dir);
+    assert_eq!(opened.warning, None, "nothing is left in the way");
+
+    let dir = temp_dir("device");
+    let file = dir.join(FILE_NAME);
+    std::os::unix::fs::symlink("/dev/zero", &file).unwrap();
+    let (loaded, _) = load_within_20_s(&dir).expect("reading /dev/zero as the settings file did not stop");
+    let warning = unusable_warning(loaded);
+    assert!(warning.contains("it is a device, not a regular file"), "{warning}");
+    assert!(std::fs::symlink_metadata(&file).is_err(), "the link is moved aside");
+
+    let dir = temp_dir("huge");
+    let file = dir.join(FILE_NAME);
+    let mut text = with("/version", serde_json::json!(1));
+    text.push_str(&" ".repeat(2 << 20));
+    std::fs::write(&file, &text).unwrap();
+    let warning = unusable_warning(Store::in_dir(&dir).load());
+    assert!(warning.contains("it is larger than the limit of 1 MB"), "{warning}");
+}
+
+/// Issue 17, finding 7: a directory where the settings file should be gives one line
+/// (it was one on reading and a second when the window saved on exit), and a path with
+/// a newline or an escape in it is shown with escapes, on the same line.
+#[test]
+fn a_directory_in_place_of_the_settings_file_gives_one_line_and_paths_stay_on_it() {
+    let dir = temp_dir("dir\nname\u{1b}[2J");
+    std::fs::create_dir_all(dir.join(FILE_NAME)).unwrap();
+    let mut store = Store::in_dir(&dir);
+    let warning = unusable_warning(store.load());
+    assert!(!warning.contains('\n') && !warning.contains('\u{1b}'), "one line: {warning:?}");
+    assert!(warning.contains("dir\\nname\\u{1b}[2J"), "{warning}");
+    assert!(warning.contains("it is a directory, not a regular file"), "{warning}");
+    assert!(!warning.contains("os error"), "{warning}");
+    assert!(store.save(&defaults()).is_ok(), "the save on exit then works: no second line");
+    assert_eq!(Settings::parse(&std::fs::read_to_string(dir.join(FILE_NAME)).unwrap()).unwrap(), defaults());
 }

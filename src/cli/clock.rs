@@ -76,9 +76,27 @@ impl Step {
     /// as that short decimal.
     #[must_use]
     pub fn round(self, t: f64) -> f64 {
-        let scale = 10f64.powi(self.decimals().min(MAX_DECIMALS) as i32);
-        let rounded = (t * scale).round() / scale;
-        if rounded.is_finite() { rounded } else { t }
+        round_to(t, self.decimals())
+    }
+
+    /// The time after `steps` steps of this one from `origin` (s), rounded to the
+    /// decimals both need: 37 steps of 1/240 s then 2 of 0.1 s is 0.3541667.
+    #[must_use]
+    pub fn time_from(self, origin: Origin, steps: u64) -> f64 {
+        let (c, d) = self.times(steps);
+        match origin {
+            Origin::Steps(start, done) => {
+                // a/b + c/d as one exact fraction, divided once.
+                let (a, b) = start.times(done);
+                let (a, b, c, d) = (u128::from(a), u128::from(b), u128::from(c), u128::from(d));
+                let (numerator, denominator) = (a * d + c * b, b * d);
+                let common = gcd128(numerator, denominator).max(1);
+                let t = (numerator / common) as f64 / (denominator / common) as f64;
+                round_to(t, self.decimals().max(start.decimals()))
+            }
+            // Seven decimals keep what an f32 step's sum carries of the start.
+            Origin::Time(start) => round_to(start + c as f64 / d as f64, self.decimals().max(7)),
+        }
     }
 
     /// The time after `steps` steps from `start` (s), rounded as [`Self::round`] does.
@@ -87,6 +105,38 @@ impl Step {
         let (numerator, denominator) = self.times(steps);
         self.round(start + numerator as f64 / denominator as f64)
     }
+}
+
+/// Where the times a run prints start from: a world's time as the steps it took, when
+/// they were all one step ([`Step::of`] knows), or else as the world keeps it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Origin {
+    /// `u64` steps of this step from 0.
+    Steps(Step, u64),
+    /// A time (s).
+    Time(f64),
+}
+
+impl Origin {
+    /// The origin of a world at `time` after `steps` steps, taken at `dt` if its time
+    /// says so (to the f32 sum's rounding).
+    #[must_use]
+    pub fn of(dt: f32, time: f64, steps: u64) -> Self {
+        if let Some(step) = Step::of(dt) {
+            let from_zero = step.seconds() * steps as f64;
+            if (from_zero - time).abs() <= 1e-5 * time.max(1.0) {
+                return Self::Steps(step, steps);
+            }
+        }
+        Self::Time(time)
+    }
+}
+
+/// `t` rounded to `decimals` places (at most 12).
+fn round_to(t: f64, decimals: u32) -> f64 {
+    let scale = 10f64.powi(decimals.min(MAX_DECIMALS) as i32);
+    let rounded = (t * scale).round() / scale;
+    if rounded.is_finite() { rounded } else { t }
 }
 
 /// `t` to 7 significant digits, about what an `f32` step carries: for a step too fine
@@ -117,6 +167,13 @@ pub fn is_power_of_ten(mut n: u64) -> bool {
 }
 
 fn gcd(mut a: u64, mut b: u64) -> u64 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+fn gcd128(mut a: u128, mut b: u128) -> u128 {
     while b != 0 {
         (a, b) = (b, a % b);
     }
@@ -170,6 +227,21 @@ mod tests {
         assert_eq!(Step::of(0.003).unwrap().to_string(), "0.003");
         assert_eq!(Step::of(1.0).unwrap().to_string(), "1");
         assert_eq!(Step { numerator: 7, denominator: 240 }.to_string(), "7/240");
+    }
+
+    #[test]
+    fn times_go_on_from_where_the_world_is_at_another_rate() {
+        let start = Origin::of(1.0 / 240.0, f64::from(37.0f32 / 240.0), 37);
+        assert_eq!(start, Origin::Steps(Step { numerator: 1, denominator: 240 }, 37));
+        let tenth = Step::of(0.1).unwrap();
+        assert_eq!(tenth.time_from(start, 0).to_string(), "0.1541667");
+        assert_eq!(tenth.time_from(start, 2).to_string(), "0.3541667");
+        assert_eq!(Step::of(1.0).unwrap().time_from(start, 2).to_string(), "2.1541667");
+        let rate = Step::of(1.0 / 240.0).unwrap();
+        assert_eq!(rate.time_from(start, 3), rate.time_after(0.0, 40), "one rate: an unbroken run's times");
+        let mixed = Origin::of(0.1, 0.25416667, 38);
+        assert_eq!(mixed, Origin::Time(0.25416667));
+        assert_eq!(tenth.time_from(mixed, 1).to_string(), "0.3541667");
     }
 
     #[test]

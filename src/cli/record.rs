@@ -11,6 +11,11 @@
 //! whole hundredths; the rounding is carried from frame to frame so the GIF's total
 //! length stays true. A GIF cannot show frames closer than 0.02 s apart (viewers
 //! slow them down), so a faster one is refused with the `--every` that would do.
+//!
+//! Every file is written at a temporary name beside it (`run.gif.part`) and renamed
+//! into place when complete, so a recording stopped part way (Ctrl-C, a full disk)
+//! leaves nothing half-written under the name asked for; on a failure the temporary
+//! file is removed.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -18,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use super::clock::Step;
 use super::progress::Progress;
+use crate::messages;
 use crate::snapshot::Snapshotter;
 use crate::ui::Lab;
 
@@ -56,7 +62,7 @@ impl Container {
                 return Err(format!(
                     "--out {} must name a .png file, or with --frames a .png (numbered sequence), \
                      .gif or .apng file",
-                    out.display()
+                    messages::path(out)
                 ));
             }
         };
@@ -64,7 +70,10 @@ impl Container {
             return Err("--every K sets the steps between recorded frames: give --frames N too".into());
         }
         if !frames && container != Self::Png {
-            return Err(format!("--out {} is an animation: give --frames N (and --every K)", out.display()));
+            return Err(format!(
+                "--out {} is an animation: give --frames N (and --every K)",
+                messages::path(out)
+            ));
         }
         Ok(container)
     }
@@ -156,6 +165,18 @@ pub fn frame_path(out: &Path, index: u32, frames: u32) -> PathBuf {
 /// Runs `steps` steps of `lab` (stopping if it pauses itself: the state blew up),
 /// moving `progress` on from `done`; returns the steps done now.
 pub fn step(lab: &mut Lab, steps: u64, progress: &mut Progress, done: u64) -> u64 {
+    // The lab logs a blow-up for the window's log; here the one line that ends the run
+    // says it (unless RUST_LOG asked for more than warnings).
+    let level = log::max_level();
+    if level <= log::LevelFilter::Warn {
+        log::set_max_level(log::LevelFilter::Error);
+    }
+    let ran = step_quietly(lab, steps, progress, done);
+    log::set_max_level(level);
+    ran
+}
+
+fn step_quietly(lab: &mut Lab, steps: u64, progress: &mut Progress, done: u64) -> u64 {
     const CHUNK: u64 = 64;
     let mut ran = 0;
     while ran < steps {
@@ -221,35 +242,102 @@ pub fn record(
     ))
 }
 
+/// "cannot write PATH: why", in one line and without the OS's error number.
+fn cannot(out: &Path, error: &dyn std::fmt::Display) -> String {
+    let text = error.to_string();
+    let reason = text.split(" (os error").next().unwrap_or(&text);
+    format!("cannot write {}: {}", messages::path(out), messages::quote(reason))
+}
+
+/// A file being written at a temporary name beside `out` (`out.part`): renamed to
+/// `out` by [`Partial::keep`] when complete, removed if dropped before.
+struct Partial {
+    out: PathBuf,
+    temporary: PathBuf,
+    kept: bool,
+}
+
+impl Partial {
+    /// Creates the temporary file (replacing one a stopped run left).
+    fn create(out: &Path) -> Result<(Self, BufWriter<File>), String> {
+        let mut temporary = out.as_os_str().to_owned();
+        temporary.push(".part");
+        let temporary = PathBuf::from(temporary);
+        let file = File::create(&temporary).map_err(|e| cannot(out, &messages::io_reason(&e)))?;
+        Ok((Self { out: out.to_path_buf(), temporary, kept: false }, BufWriter::new(file)))
+    }
+
+    /// Puts the complete file in place.
+    fn keep(mut self) -> Result<(), String> {
+        std::fs::rename(&self.temporary, &self.out)
+            .map_err(|e| cannot(&self.out, &messages::io_reason(&e)))?;
+        self.kept = true;
+        Ok(())
+    }
+}
+
+impl Drop for Partial {
+    fn drop(&mut self) {
+        if !self.kept {
+            let _ = std::fs::remove_file(&self.temporary);
+        }
+    }
+}
+
+/// Writes one PNG frame to `out`, whole or not at all.
+pub fn write_png(out: &Path, size: [u32; 2], rgba: &[u8]) -> Result<(), String> {
+    let (partial, file) = Partial::create(out)?;
+    let mut encoder = png::Encoder::new(file, size[0], size[1]);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| cannot(out, &e))?;
+    writer.write_image_data(rgba).map_err(|e| cannot(out, &e))?;
+    writer.finish().map_err(|e| cannot(out, &e))?;
+    partial.keep()
+}
+
 /// Where frames go as they are drawn.
 enum Sink {
-    Sequence { out: PathBuf, frames: u32, size: [u32; 2] },
-    Gif { out: PathBuf, encoder: gif::Encoder<BufWriter<File>>, size: [u16; 2], delays: GifDelays },
-    Apng { out: PathBuf, writer: png::Writer<BufWriter<File>> },
+    Sequence {
+        out: PathBuf,
+        frames: u32,
+        size: [u32; 2],
+    },
+    Gif {
+        // Before the partial file: a dropped encoder finishes writing, then the file goes.
+        encoder: gif::Encoder<BufWriter<File>>,
+        partial: Partial,
+        size: [u16; 2],
+        delays: GifDelays,
+    },
+    Apng {
+        writer: png::Writer<BufWriter<File>>,
+        partial: Partial,
+    },
 }
 
 impl Sink {
     fn create(out: &Path, size: [u32; 2], plan: &Plan) -> Result<Self, String> {
-        let cannot = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", out.display());
+        let cannot = |e: &dyn std::fmt::Display| cannot(out, e);
         match plan.container {
             Container::Png => Ok(Self::Sequence { out: out.to_path_buf(), frames: plan.frames, size }),
             Container::Gif => {
                 let (Ok(width), Ok(height)) = (u16::try_from(size[0]), u16::try_from(size[1])) else {
                     return Err(format!("a GIF is at most {0}x{0} pixels", u16::MAX));
                 };
-                let file = BufWriter::new(File::create(out).map_err(|e| cannot(&e))?);
+                let (partial, file) = Partial::create(out)?;
                 let mut encoder = gif::Encoder::new(file, width, height, &[]).map_err(|e| cannot(&e))?;
                 encoder.set_repeat(gif::Repeat::Infinite).map_err(|e| cannot(&e))?;
                 let (numerator, denominator) = plan.step.times(plan.every);
                 Ok(Self::Gif {
-                    out: out.to_path_buf(),
                     encoder,
+                    partial,
                     size: [width, height],
                     delays: GifDelays { numerator, denominator, frames: 0 },
                 })
             }
             Container::Apng => {
-                let file = BufWriter::new(File::create(out).map_err(|e| cannot(&e))?);
+                let (partial, file) = Partial::create(out)?;
                 let mut encoder = png::Encoder::new(file, size[0], size[1]);
                 encoder.set_color(png::ColorType::Rgba);
                 encoder.set_depth(png::BitDepth::Eight);
@@ -257,7 +345,7 @@ impl Sink {
                 let (numerator, denominator) = apng_delay(plan.step.times(plan.every));
                 encoder.set_frame_delay(numerator, denominator).map_err(|e| cannot(&e))?;
                 let writer = encoder.write_header().map_err(|e| cannot(&e))?;
-                Ok(Self::Apng { out: out.to_path_buf(), writer })
+                Ok(Self::Apng { writer, partial })
             }
         }
     }
@@ -265,38 +353,40 @@ impl Sink {
     /// Adds frame `index` (from 1), RGBA bytes.
     fn push(&mut self, index: u32, mut rgba: Vec<u8>) -> Result<(), String> {
         match self {
-            Self::Sequence { out, frames, size } => {
-                crate::render::offscreen::write_png(&frame_path(out, index, *frames), *size, &rgba)
-            }
-            Self::Gif { out, encoder, size, delays } => {
+            Self::Sequence { out, frames, size } => write_png(&frame_path(out, index, *frames), *size, &rgba),
+            Self::Gif { encoder, partial, size, delays } => {
                 let mut frame = gif::Frame::from_rgba_speed(size[0], size[1], &mut rgba, GIF_QUANTIZE_SPEED);
                 frame.delay = delays.next();
-                encoder.write_frame(&frame).map_err(|e| format!("cannot write {}: {e}", out.display()))
+                encoder.write_frame(&frame).map_err(|e| cannot(&partial.out, &e))
             }
-            Self::Apng { out, writer } => {
-                writer.write_image_data(&rgba).map_err(|e| format!("cannot write {}: {e}", out.display()))
+            Self::Apng { writer, partial } => {
+                writer.write_image_data(&rgba).map_err(|e| cannot(&partial.out, &e))
             }
         }
     }
 
-    /// Closes the file; says what was written.
+    /// Closes the file and puts it in place; says what was written.
     fn finish(self) -> Result<String, (u8, String)> {
         match self {
             Self::Sequence { out, frames, .. } => Ok(format!(
                 "{} to {}",
-                frame_path(&out, 1, frames).display(),
-                frame_path(&out, frames, frames).display()
+                messages::path(&frame_path(&out, 1, frames)),
+                messages::path(&frame_path(&out, frames, frames))
             )),
-            Self::Gif { out, encoder, .. } => {
+            Self::Gif { encoder, partial, .. } => {
                 encoder
                     .into_inner()
                     .and_then(|file| file.into_inner().map_err(|e| e.into_error().into()))
-                    .map_err(|e| (1, format!("cannot write {}: {e}", out.display())))?;
-                Ok(format!("{} (GIF)", out.display()))
+                    .map_err(|e| (1, cannot(&partial.out, &e)))?;
+                let shown = messages::path(&partial.out);
+                partial.keep().map_err(|e| (1, e))?;
+                Ok(format!("{shown} (GIF)"))
             }
-            Self::Apng { out, writer } => {
-                writer.finish().map_err(|e| (1, format!("cannot write {}: {e}", out.display())))?;
-                Ok(format!("{} (animated PNG)", out.display()))
+            Self::Apng { writer, partial } => {
+                writer.finish().map_err(|e| (1, cannot(&partial.out, &e)))?;
+                let shown = messages::path(&partial.out);
+                partial.keep().map_err(|e| (1, e))?;
+                Ok(format!("{shown} (animated PNG)"))
             }
         }
     }
@@ -387,6 +477,27 @@ mod tests {
         assert!(error.contains(".gif or .apng"), "{error}");
         assert!(Container::of(Path::new("run.png"), false, true).is_err());
         assert_eq!(Container::of(Path::new("RUN.APNG"), true, true), Ok(Container::Apng));
+    }
+
+    #[test]
+    fn a_partial_file_is_renamed_when_kept_and_removed_when_dropped() {
+        use std::io::Write;
+        let dir = std::env::temp_dir().join(format!("particle-lab-partial-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("run.gif");
+        let (partial, mut file) = Partial::create(&out).unwrap();
+        file.write_all(b"half a recording").unwrap();
+        drop(file);
+        assert!(dir.join("run.gif.part").exists() && !out.exists(), "written beside --out");
+        drop(partial);
+        assert!(!dir.join("run.gif.part").exists() && !out.exists(), "a failed recording leaves nothing");
+        let (partial, mut file) = Partial::create(&out).unwrap();
+        file.write_all(b"a whole one").unwrap();
+        drop(file);
+        partial.keep().unwrap();
+        assert_eq!(std::fs::read(&out).unwrap(), b"a whole one");
+        assert!(!dir.join("run.gif.part").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -130,6 +130,14 @@ pub struct SoftMemory {
     last_tension: Vec<f32>,
 }
 
+impl SoftMemory {
+    /// The contact generator (by index) each kept link impulse belongs to, for a
+    /// loaded state to check against its generators.
+    pub(crate) fn link_generators(&self) -> impl Iterator<Item = u32> + '_ {
+        self.warm_links.iter().map(|&(generator, _)| generator)
+    }
+}
+
 /// Scratch and warm-start memory of the soft solver. Only [`SoftMemory`] needs saving:
 /// without it a new one starts cold, which changes the next step's bits.
 #[derive(Clone, Debug, Default)]

@@ -138,6 +138,29 @@ impl WorldState {
         if !(self.time.is_finite() && self.time >= 0.0 && self.last_dt.is_finite() && self.last_dt >= 0.0) {
             return Err("time and last step must be finite and >= 0".into());
         }
+        // Each step adds its dt, at most MAX_TIME_STEP: no run of these steps ends later.
+        let max_step = super::world::MAX_TIME_STEP;
+        let latest = self.steps as f64 * f64::from(max_step) * (1.0 + 1e-9);
+        if self.time > latest || self.last_dt > max_step {
+            let time = if self.time < 1e9 { self.time.to_string() } else { format!("{:e}", self.time) };
+            return Err(format!(
+                "time = {time} s (last step {} s) is more than {} steps of at most {max_step} s reach",
+                self.last_dt, self.steps
+            ));
+        }
+        if let Some(timer) = self.particles.sleep.iter().map(|s| s.timer).find(|t| *t < 0.0) {
+            return Err(format!("a sleep timer of {timer} s is below zero"));
+        }
+        let generators = &self.contact_generators;
+        for generator in self.soft.link_generators() {
+            if generators.get(generator as usize).is_none_or(|(_, g)| g.link().is_none()) {
+                return Err(format!(
+                    "a warm-start impulse for contact generator {generator}, which is not a link (of {} \
+                     generators)",
+                    generators.len()
+                ));
+            }
+        }
         if !self.link_tension.iter().all(|t| t.is_finite()) {
             return Err("a link tension is not finite".into());
         }

@@ -210,9 +210,14 @@ pub trait Scene: Send {
     }
 
     /// Takes back what [`Scene::save_state`] gave, after the snapshot's world has
-    /// replaced the built one. The error says which part is wrong.
-    fn restore_state(&mut self, _state: &serde_json::Value) -> Result<(), String> {
-        Ok(())
+    /// replaced the built one. The error says which part is wrong. A scene that keeps
+    /// nothing takes only `null`: anything else was not written by it.
+    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+        if state.is_null() {
+            Ok(())
+        } else {
+            Err(format!("{} keeps no state beside its world, so it must be null", self.info().name))
+        }
     }
 
     /// The text the scene was built from and the file it was read from, for a scene

@@ -11,9 +11,12 @@
 //!   solver and integrator settings, the warm-start impulses, time and step count;
 //! - `scene_state`: what the scene keeps beside its world (rounds in flight, ghosts of
 //!   the exact answer), or `null`;
-//! - `hash`: [`World::state_hash`] of the saved world, as 16 hex digits. Loading checks
-//!   it, so a damaged file cannot pass for a good one; delete the field to load a file
-//!   edited by hand.
+//! - `hash`: [`World::state_hash`] of the saved world, as 16 hex digits, and
+//!   `checksum`: a hash of every other field as written (scene, its file, parameters,
+//!   `dt`, world, scene state: everything that changes the run). Loading checks both, so
+//!   a damaged file cannot pass for a good one; delete them to load a file edited by
+//!   hand, which is then checked field by field. A version 1 file's checksum covers its
+//!   world only, and is checked as such.
 //!
 //! Numbers are written in the shortest form that reads back to the same f32 or f64, so
 //! a saved world and the loaded one are the same bits.
@@ -23,16 +26,23 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::{ParamValues, Scene, SceneEntry};
+use crate::messages;
 use crate::physics::{World, WorldState};
+use crate::reading;
 
 /// The `format` field of every snapshot.
 pub const FORMAT: &str = "particle-lab snapshot";
 
 /// The snapshot format this build writes and reads. Raise it when a change makes old
-/// files mean something else.
-pub const VERSION: u32 = 1;
+/// files mean something else. Version 2: the checksum covers every field, not only
+/// the world.
+pub const VERSION: u32 = 2;
 
-/// Largest snapshot file read (bytes): a 100,000-particle pile is about 60 MB.
+/// The oldest version this build still reads (its checksum covers the world only).
+pub const OLDEST_VERSION: u32 = 1;
+
+/// Largest snapshot file read (bytes), 512 MB: a 100,000-particle pile is about 60 MB.
+/// The read stops there whatever the file's reported size.
 pub const MAX_FILE_BYTES: u64 = 512 * 1024 * 1024;
 
 /// A saved scene: see the module comment for each field.
@@ -56,8 +66,9 @@ pub struct Snapshot {
     /// optional when reading.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hash: Option<String>,
-    /// A hash of every byte of `world` as written, as 16 hex digits: it covers what the
-    /// state hash leaves out (forces, settings, totals); optional when reading.
+    /// A hash of every other field as written (the scene, its file, parameters, `dt`,
+    /// world and scene state), as 16 hex digits: it covers what the state hash leaves
+    /// out (forces, settings, totals, the rate); optional when reading.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checksum: Option<String>,
     /// The world.
@@ -77,9 +88,34 @@ pub struct SceneSource {
     pub text: String,
 }
 
-/// The checksum of a saved world: a hash of its compact JSON, byte by byte.
-fn checksum(world: &WorldState) -> String {
-    let bytes = serde_json::to_vec(world).expect("a world state is plain data with string keys");
+/// What the checksum covers: every field of a snapshot but its format, version and
+/// the two seals.
+#[derive(Serialize)]
+struct Sealed<'a> {
+    scene: &'a str,
+    scene_file: &'a Option<SceneSource>,
+    params: &'a [(String, f32)],
+    dt: f32,
+    world: &'a WorldState,
+    scene_state: &'a serde_json::Value,
+}
+
+/// The checksum of a snapshot's fields: a hash of their compact JSON, byte by byte.
+/// For a version 1 file, of its world alone (what that version sealed).
+fn checksum(snapshot: &Snapshot) -> String {
+    let bytes = if snapshot.version == 1 {
+        serde_json::to_vec(&snapshot.world)
+    } else {
+        serde_json::to_vec(&Sealed {
+            scene: &snapshot.scene,
+            scene_file: &snapshot.scene_file,
+            params: &snapshot.params,
+            dt: snapshot.dt,
+            world: &snapshot.world,
+            scene_state: &snapshot.scene_state,
+        })
+    };
+    let bytes = bytes.expect("a snapshot is plain data with string keys");
     let mut hasher = crate::physics::StateHasher::default();
     for chunk in bytes.chunks(8) {
         let mut word = [0u8; 8];
@@ -102,7 +138,7 @@ impl Snapshot {
     pub fn of(scene: &dyn Scene, dt: f32) -> Result<Self, String> {
         let world = scene.world();
         let state = world.state().map_err(|e| format!("cannot save this scene: {e}"))?;
-        Ok(Self {
+        let mut snapshot = Self {
             format: FORMAT.into(),
             version: VERSION,
             scene: scene.info().name.into(),
@@ -113,10 +149,12 @@ impl Snapshot {
             params: scene.params().iter().map(|(param, value)| (param.name.to_string(), value)).collect(),
             dt,
             hash: Some(hash_text(world.state_hash())),
-            checksum: Some(checksum(&state)),
+            checksum: None,
             world: state,
             scene_state: scene.save_state(),
-        })
+        };
+        snapshot.checksum = Some(checksum(&snapshot));
+        Ok(snapshot)
     }
 
     /// The snapshot as pretty-printed JSON.
@@ -128,6 +166,10 @@ impl Snapshot {
     /// Reads a snapshot from JSON text; the error is one line: where the text stops
     /// making sense, or which field is wrong.
     pub fn from_json(text: &str) -> Result<Self, String> {
+        Self::parse(text).map_err(|e| messages::one_line(&e))
+    }
+
+    fn parse(text: &str) -> Result<Self, String> {
         // Format and version first, from a small struct that skips every other field:
         // a newer file's unknown fields are not its problem.
         #[derive(Deserialize)]
@@ -146,7 +188,7 @@ impl Snapshot {
             return Err(format!("not a snapshot: its \"format\" field is not \"{FORMAT}\""));
         }
         match header.version {
-            Some(v) if v == u64::from(VERSION) => {}
+            Some(v) if (u64::from(OLDEST_VERSION)..=u64::from(VERSION)).contains(&v) => {}
             Some(v) if v > u64::from(VERSION) => {
                 return Err(format!(
                     "made by a newer particle-lab (snapshot version {v}; this one reads version {VERSION})"
@@ -154,7 +196,8 @@ impl Snapshot {
             }
             Some(v) => {
                 return Err(format!(
-                    "snapshot version {v} is not supported (this one reads version {VERSION})"
+                    "snapshot version {v} is not supported (this one reads versions {OLDEST_VERSION} to \
+                     {VERSION})"
                 ));
             }
             None => return Err("not a snapshot: it has no \"version\" number".into()),
@@ -163,11 +206,13 @@ impl Snapshot {
         // JSON value an f32 would be rounded twice, and could come back one bit off).
         let snapshot: Self = serde_json::from_str(text).map_err(|e| format!("damaged snapshot: {e}"))?;
         if let Some(saved) = &snapshot.checksum {
-            let sum = checksum(&snapshot.world);
+            let sum = checksum(&snapshot);
             if *saved != sum {
+                let what = if snapshot.version == 1 { "the world" } else { "the snapshot" };
                 return Err(format!(
-                    "the world does not match its checksum ({saved} saved, {sum} read): the file was changed \
-                     or damaged (delete the \"checksum\" and \"hash\" fields to load a file edited by hand)"
+                    "{what} does not match its checksum ({} saved, {sum} read): the file was changed \
+                     or damaged (delete the \"checksum\" and \"hash\" fields to load a file edited by hand)",
+                    messages::quote(saved)
                 ));
             }
         }
@@ -177,25 +222,26 @@ impl Snapshot {
     /// Writes the snapshot to `path`, through a temporary file beside it, so a failed
     /// write leaves what was there.
     pub fn save(&self, path: &Path) -> Result<(), String> {
-        let shown = path.display();
+        let cannot =
+            |e: std::io::Error| format!("cannot write {}: {}", messages::path(path), messages::io_reason(&e));
         let mut temporary = path.as_os_str().to_owned();
         temporary.push(".part");
         let temporary = std::path::PathBuf::from(temporary);
-        std::fs::write(&temporary, self.to_json()).map_err(|e| format!("cannot write {shown}: {e}"))?;
+        std::fs::write(&temporary, self.to_json()).map_err(cannot)?;
         std::fs::rename(&temporary, path).map_err(|e| {
             let _ = std::fs::remove_file(&temporary);
-            format!("cannot write {shown}: {e}")
+            cannot(e)
         })
     }
 
-    /// Reads a snapshot file; the error names the file.
+    /// Reads a snapshot file, at most [`MAX_FILE_BYTES`] of it; a device, FIFO or
+    /// directory is refused without being opened. The error names the file.
     pub fn load(path: &Path) -> Result<Self, String> {
-        let shown = path.display();
-        let size = std::fs::metadata(path).map_err(|e| format!("cannot read {shown}: {e}"))?.len();
-        if size > MAX_FILE_BYTES {
-            return Err(format!("{shown}: {size} bytes is larger than a snapshot can be ({MAX_FILE_BYTES})"));
-        }
-        let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+        let shown = messages::path(path);
+        let text = reading::read_text_limited(path, MAX_FILE_BYTES).map_err(|e| match e {
+            reading::ReadError::TooLarge { .. } => format!("{shown}: {e} for a snapshot"),
+            _ => format!("cannot read {shown}: {e}"),
+        })?;
         Self::from_json(&text).map_err(|e| format!("{shown}: {e}"))
     }
 
@@ -209,17 +255,37 @@ impl Snapshot {
     /// [`Snapshot::restore`], with the registry entry of the scene (for a scene file,
     /// the entry its embedded text made).
     pub fn restore_with_entry(&self) -> Result<(&'static SceneEntry, Box<dyn Scene>), String> {
+        // The parts' errors can quote the file's text (a name, a kind): one line.
+        self.restore_checked().map_err(|e| messages::one_line(&e))
+    }
+
+    fn restore_checked(&self) -> Result<(&'static SceneEntry, Box<dyn Scene>), String> {
         let entry = match &self.scene_file {
             Some(file) => {
-                let shown = file.path.clone().unwrap_or_else(|| format!("{} (in the snapshot)", self.scene));
-                super::file::load_text(&file.text, &shown, file.path.as_ref().map(std::path::PathBuf::from))
-                    .map_err(|e| format!("scene_file: {e}"))?
+                let shown = file.path.as_deref().map_or_else(
+                    || format!("{} (in the snapshot)", messages::quote(&self.scene)),
+                    |path| messages::path(Path::new(path)),
+                );
+                let entry = super::file::load_text(
+                    &file.text,
+                    &shown,
+                    file.path.as_ref().map(std::path::PathBuf::from),
+                )
+                .map_err(|e| format!("scene_file: {e}"))?;
+                if entry.info.name != self.scene {
+                    return Err(format!(
+                        "scene: the snapshot names scene '{}' but its scene file makes '{}'",
+                        messages::quote(&self.scene),
+                        messages::quote(entry.info.name)
+                    ));
+                }
+                entry
             }
             None => super::find(&self.scene)?,
         };
         let mut values = ParamValues::defaults(entry.info.params);
         for (name, value) in &self.params {
-            values.set(name, *value).map_err(|e| format!("parameter {e}"))?;
+            values.set(name, *value).map_err(|e| format!("params: {e}"))?;
         }
         if !(self.dt > 0.0 && self.dt <= crate::physics::world::MAX_TIME_STEP) {
             return Err(format!(
@@ -232,8 +298,9 @@ impl Snapshot {
             let hash = hash_text(world.state_hash());
             if *saved != hash {
                 return Err(format!(
-                    "the world does not match its hash ({saved} saved, {hash} read): the file was changed \
-                     or damaged (delete the \"hash\" field to load a file edited by hand)"
+                    "the world does not match its hash ({} saved, {hash} read): the file was changed \
+                     or damaged (delete the \"hash\" field to load a file edited by hand)",
+                    messages::quote(saved)
                 ));
             }
         }
@@ -252,5 +319,31 @@ impl Snapshot {
         *scene.world_mut() = world;
         scene.restore_state(&self.scene_state).map_err(|e| format!("scene_state: {e}"))?;
         Ok((entry, scene))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file from before version 2 sealed its world only: it still loads, its
+    /// checksum checked as it was written.
+    #[test]
+    fn a_version_1_file_is_read_with_its_world_only_checksum() {
+        let scene = super::super::build("pendulum", &[]).unwrap();
+        let mut old = Snapshot::of(scene.as_ref(), 1.0 / 240.0).unwrap();
+        old.version = 1;
+        old.checksum = Some(checksum(&old));
+        assert_ne!(old.checksum, Snapshot::of(scene.as_ref(), 1.0 / 240.0).unwrap().checksum);
+        let read = Snapshot::from_json(&old.to_json()).unwrap();
+        assert_eq!((read.version, read.checksum.as_ref()), (1, old.checksum.as_ref()));
+        assert!(read.restore().is_ok());
+        let mut moved = old.clone();
+        moved.world.time += 1.0;
+        let error = Snapshot::from_json(&moved.to_json()).unwrap_err();
+        assert!(error.starts_with("the world does not match its checksum"), "{error}");
+        let too_old = old.to_json().replacen("\"version\": 1", "\"version\": 0", 1);
+        let error = Snapshot::from_json(&too_old).unwrap_err();
+        assert_eq!(error, "snapshot version 0 is not supported (this one reads versions 1 to 2)");
     }
 }
