@@ -555,6 +555,17 @@ impl World {
         }
     }
 
+    /// What measuring gravitational energy from the height `height` (m) instead of
+    /// y = 0 adds to it (J): `Σ m a_y height` over the movable particles, with `a` each
+    /// one's constant acceleration (so `-m g height` each under gravity `g`).
+    #[must_use]
+    pub fn gravity_reference_shift(&self, height: f32) -> f32 {
+        let p = &self.particles;
+        let bodies = p.acceleration.iter().zip(&p.inverse_mass).filter(|(_, w)| **w > 0.0);
+        let sum: f64 = bodies.map(|(a, &w)| f64::from(a.y) / f64::from(w)).sum();
+        (sum * f64::from(height)) as f32 + 0.0
+    }
+
     /// One particle's kinetic, gravitational and stored (elastic, buoyancy) energy (J):
     /// the stored energy of every force generator acting on it, whole (a spring between
     /// two particles counts for both). `None` for an unknown or immovable particle.

@@ -96,6 +96,10 @@ impl Cradle {
 }
 
 impl Scene for Cradle {
+    fn gravity_reference(&self) -> Option<(f32, &'static str)> {
+        Some((TOP - CABLE, "the balls' rest height"))
+    }
+
     scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {

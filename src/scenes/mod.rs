@@ -196,6 +196,21 @@ pub trait Scene: Send {
     /// points and its launch, apex and landing, with time, range and height.
     fn hover_points(&self, _out: &mut Vec<(Vec3, String)>) {}
 
+    /// The height (m) the energy bars and plot measure gravitational energy from, and
+    /// what stands there, where the ground (y = 0) would hide the exchange the scene
+    /// shows: a cradle's balls swap a joule of height while hanging 0.6 m up, 30 J
+    /// above the ground. `None`: the ground.
+    fn gravity_reference(&self) -> Option<(f32, &'static str)> {
+        None
+    }
+
+    /// The particle whose energy the bars show until the user picks another (or the
+    /// scene), and its name: springForces' bob, whose joules its stiff spring's
+    /// kilojoules would swamp. `None`: the whole scene.
+    fn energy_focus(&self) -> Option<(crate::physics::ParticleId, &'static str)> {
+        None
+    }
+
     /// Distance from the exact answer (m) where the scene has a closed form: the newest
     /// round's or the bob's distance from its ghost. Plotted live beside the energy.
     fn exact_error(&self) -> Option<f32> {

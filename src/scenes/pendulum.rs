@@ -91,6 +91,13 @@ impl Pendulum {
 }
 
 impl Scene for Pendulum {
+    fn gravity_reference(&self) -> Option<(f32, &'static str)> {
+        Some((
+            pivot(&self.params).y - links(&self.params) as f32 * self.params.get("length"),
+            "the chain's lowest point at rest",
+        ))
+    }
+
     scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {

@@ -171,6 +171,10 @@ fn float_buoyancy(target: ParticleId, g: f32) -> Buoyancy {
 impl Scene for SpringForces {
     scene_basics!();
 
+    fn energy_focus(&self) -> Option<(ParticleId, &'static str)> {
+        Some((self.bob, "the bob"))
+    }
+
     fn save_state(&self) -> serde_json::Value {
         serde_json::json!({ "ghost": self.ghost, "stopwatch": self.stopwatch })
     }

@@ -133,17 +133,48 @@ impl EnergySample {
     pub fn of(scene: &dyn Scene) -> Self {
         let world = scene.world();
         let energy = world.energy();
+        // Gravitational energy from the scene's reference height (see `gravity_from`).
+        let shift =
+            scene.gravity_reference().map_or(0.0, |(height, _)| world.gravity_reference_shift(height));
         Self {
             t: world.time(),
             kinetic: energy.kinetic,
-            potential: energy.potential,
-            gravitational: energy.gravitational,
+            potential: energy.potential + shift,
+            gravitational: energy.gravitational + shift,
             dissipated: energy.dissipated,
             work: energy.work,
             removed: energy.removed,
             error: energy.error,
             exact_error: scene.exact_error().unwrap_or(f32::NAN),
         }
+    }
+}
+
+/// The energy bars: whose energy they show, the height gravitational energy is
+/// measured from, and each bar's name and value (J).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyBars {
+    /// "the scene", or the particle shown ("the bob", "particle 3").
+    pub subject: String,
+    /// Where gravitational energy is zero ("the ground (y = 0)").
+    pub reference: String,
+    /// Kinetic, gravitational, elastic and, for the scene, dissipated, removed and the
+    /// budget; for a particle, its total.
+    pub bars: Vec<(&'static str, f32)>,
+}
+
+impl EnergyBars {
+    /// Each bar's height (signed, up positive) when `span` pixels stand for the range
+    /// the bars cover (from the lowest value or 0 to the highest or 0). 0 J is no bar.
+    #[must_use]
+    pub fn heights(&self, span: f32) -> Vec<f32> {
+        let low = self.bars.iter().map(|b| b.1).fold(0.0, f32::min);
+        let high = self.bars.iter().map(|b| b.1).fold(0.0, f32::max);
+        let range = high - low;
+        self.bars
+            .iter()
+            .map(|&(_, value)| if range > 0.0 && value != 0.0 { value / range * span } else { 0.0 })
+            .collect()
     }
 }
 
@@ -936,6 +967,67 @@ impl Lab {
     /// Lets go of the dragged particle (it keeps the velocity it had).
     pub fn end_grab(&mut self) {
         self.grab = None;
+    }
+
+    /// The height gravitational energy is measured from in the bars and the plot (m),
+    /// and its name: the scene's own reference, or the ground.
+    #[must_use]
+    pub fn gravity_from(&self) -> (f32, String) {
+        match self.scene.gravity_reference() {
+            Some((height, name)) => (height, format!("{name} (y = {height} m)")),
+            None => (0.0, "the ground (y = 0)".into()),
+        }
+    }
+
+    /// The particle the bars show, if they show one: the selected particle, else the
+    /// scene's focus (springForces' bob), unless the user asked for the whole scene.
+    #[must_use]
+    pub fn bars_particle(&self) -> Option<(ParticleId, String)> {
+        if !self.bars_for_selected {
+            return None;
+        }
+        match self.selected {
+            Some(id) => Some((id, format!("particle {}", id.0))),
+            None => self.scene.energy_focus().map(|(id, name)| (id, name.to_string())),
+        }
+        .filter(|(id, _)| self.scene.world().particle_energy(*id).is_some())
+    }
+
+    /// The energy bars now ([`EnergyBars`]), gravitational energy from
+    /// [`Self::gravity_from`].
+    #[must_use]
+    pub fn energy_bars(&self) -> EnergyBars {
+        let world = self.scene.world();
+        let (height, reference) = self.gravity_from();
+        let particle =
+            self.bars_particle().and_then(|(id, name)| Some((world.particle_energy(id)?, id, name)));
+        let bars = match &particle {
+            Some(((kinetic, gravitational, stored), id, _)) => {
+                let i = world.particles.index(*id).expect("it has an energy");
+                let shift = world.particles.accelerations()[i].y * world.particles.mass(i) * height;
+                let gravitational = gravitational + shift + 0.0;
+                vec![
+                    ("kinetic", *kinetic),
+                    ("gravity", gravitational),
+                    ("elastic", *stored),
+                    ("total", kinetic + gravitational + stored),
+                ]
+            }
+            None => {
+                let e = world.energy();
+                let shift = world.gravity_reference_shift(height);
+                vec![
+                    ("kinetic", e.kinetic),
+                    ("gravity", e.gravitational + shift),
+                    ("elastic", e.potential - e.gravitational),
+                    ("dissipated", e.dissipated),
+                    ("removed", e.removed),
+                    ("budget", e.kinetic + e.potential + shift + e.dissipated + e.removed - e.work),
+                ]
+            }
+        };
+        let subject = particle.map_or_else(|| "the scene".to_string(), |(_, _, name)| name);
+        EnergyBars { subject, reference, bars }
     }
 
     /// Writes the energy history (every sample kept, not only the plotted window) as

@@ -822,7 +822,10 @@ fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
         ("integrator error", Color32::from_rgb(110, 210, 120), |s| s.error),
     ];
     ui.horizontal_wrapped(|ui| {
-        ui.label(egui::RichText::new("Energy").strong());
+        ui.label(egui::RichText::new("Energy").strong()).on_hover_text(format!(
+            "Potential energy's gravitational part is measured from {}.",
+            lab.gravity_from().1
+        ));
         for (name, color, _) in &series {
             ui.label(egui::RichText::new(*name).color(*color).small());
         }
@@ -847,6 +850,13 @@ fn energy_plot(ui: &mut egui::Ui, lab: &Lab) {
 
 /// Curves of `(t, value)` over a shared time axis, scaled to fit what they show, with
 /// the top and bottom of the scale written at the right in `unit`'s format.
+/// The runs of a series between its breaks (a value that is not finite: no round in
+/// flight, no exact answer), each drawn as its own line, so a plot never draws a line
+/// across a gap where the series has no value.
+pub fn segments(points: &[(f64, f32)]) -> impl Iterator<Item = &[(f64, f32)]> {
+    points.split(|(_, v)| !v.is_finite()).filter(|run| !run.is_empty())
+}
+
 fn line_plot(ui: &mut egui::Ui, curves: &[(Color32, Vec<(f64, f32)>)], height: f32, unit: fn(f32) -> String) {
     let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), height), Sense::hover());
     let painter = ui.painter_at(rect);
@@ -866,9 +876,10 @@ fn line_plot(ui: &mut egui::Ui, curves: &[(Color32, Vec<(f64, f32)>)], height: f
         )
     };
     for (color, points) in curves {
-        let line: Vec<egui::Pos2> =
-            points.iter().filter(|(_, v)| v.is_finite()).map(|&(t, v)| to_screen(t, v)).collect();
-        painter.add(egui::Shape::line(line, Stroke::new(1.5, *color)));
+        for run in segments(points) {
+            let line: Vec<egui::Pos2> = run.iter().map(|&(t, v)| to_screen(t, v)).collect();
+            painter.add(egui::Shape::line(line, Stroke::new(1.5, *color)));
+        }
     }
     for (corner, offset, align, value) in [
         (rect.right_top(), egui::vec2(-6.0, 4.0), egui::Align2::RIGHT_TOP, high),
@@ -885,14 +896,12 @@ fn error_plot(ui: &mut egui::Ui, lab: &Lab) {
     let Some(newest) = lab.energy.back() else { return };
     let since = newest.t - PLOT_SECONDS;
     let millimetres = |samples: &std::collections::VecDeque<lab::EnergySample>| -> Vec<(f64, f32)> {
-        samples
-            .iter()
-            .filter(|s| s.t >= since && s.exact_error.is_finite())
-            .map(|s| (s.t, s.exact_error * 1000.0))
-            .collect()
+        samples.iter().filter(|s| s.t >= since).map(|s| (s.t, s.exact_error * 1000.0)).collect()
     };
     let ours = millimetres(&lab.energy);
-    let Some(&(_, now)) = ours.last() else { return };
+    // Gaps (no round in flight) stay in the series, to break its line there.
+    let last = |points: &[(f64, f32)]| points.iter().rev().find(|(_, v)| v.is_finite()).map(|p| p.1);
+    let Some(now) = last(&ours) else { return };
     ui.horizontal_wrapped(|ui| {
         ui.label(egui::RichText::new("Distance from the exact answer").strong()).on_hover_text(
             "How far the simulated particle (the newest round, or the bob) is from its ghost: the \
@@ -903,7 +912,7 @@ fn error_plot(ui: &mut egui::Ui, lab: &Lab) {
     let mut curves = vec![(Color32::from_rgb(110, 210, 120), ours)];
     if let Some(compare) = &lab.compare {
         let theirs = millimetres(&compare.energy);
-        if let Some(&(_, then)) = theirs.last() {
+        if let Some(then) = last(&theirs) {
             ui.colored_label(
                 srgb(paint::COMPARE_COLOR),
                 format!("copy ({}): {then:.2} mm", compare.change.describe()),
@@ -914,64 +923,57 @@ fn error_plot(ui: &mut egui::Ui, lab: &Lab) {
     line_plot(ui, &curves, 50.0, |mm| format!("{mm:.2} mm"));
 }
 
-/// PhET's energy bar chart: kinetic, gravitational, elastic, dissipated and the budget's
-/// total (with the work put in taken off, so it stays level), for the whole scene or
-/// the selected particle (without dissipation, which the world tracks only in total).
+/// PhET's energy bar chart: kinetic, gravitational, elastic, dissipated, removed and the
+/// budget (total + dissipated + removed − work put in, which stays level), for the whole
+/// scene or one particle (the selected one, else the scene's focus, springForces' bob),
+/// without dissipation, which the world tracks only in total.
 fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
-    let world = lab.scene.world();
-    let particle = lab.selected.filter(|_| lab.bars_for_selected).and_then(|id| world.particle_energy(id));
-    let e = world.energy();
-    let bars: Vec<(&str, Color32, f32)> = match particle {
-        Some((kinetic, gravitational, stored)) => vec![
-            ("kinetic", KINETIC_COLOR, kinetic),
-            ("gravity", GRAVITY_COLOR, gravitational),
-            ("elastic", ELASTIC_COLOR, stored),
-            ("total", TOTAL_COLOR, kinetic + gravitational + stored),
-        ],
-        None => vec![
-            ("kinetic", KINETIC_COLOR, e.kinetic),
-            ("gravity", GRAVITY_COLOR, e.gravitational),
-            ("elastic", ELASTIC_COLOR, e.potential - e.gravitational),
-            ("dissipated", DISSIPATED_COLOR, e.dissipated),
-            ("removed", REMOVED_COLOR, e.removed),
-            ("budget", TOTAL_COLOR, e.kinetic + e.potential + e.dissipated + e.removed - e.work),
-        ],
+    let chart = lab.energy_bars();
+    let color = |name: &str| match name {
+        "kinetic" => KINETIC_COLOR,
+        "gravity" => GRAVITY_COLOR,
+        "elastic" => ELASTIC_COLOR,
+        "dissipated" => DISSIPATED_COLOR,
+        "removed" => REMOVED_COLOR,
+        _ => TOTAL_COLOR,
     };
-    ui.horizontal(|ui| {
-        ui.label(egui::RichText::new("Energy bars").strong()).on_hover_text(
-            "Gravitational energy is measured from y = 0; elastic includes buoyancy's. \
-             'removed' is what particles carried out when they left the scene. The budget bar, \
-             total + dissipated + removed − work put in, stays level when the budget balances.",
+    ui.horizontal_wrapped(|ui| {
+        ui.label(egui::RichText::new(format!("Energy bars: {}", chart.subject)).strong()).on_hover_text(
+            format!(
+                "Gravitational energy is measured from {}; elastic includes buoyancy's. 'removed' is what \
+             particles carried out when they left the scene. The budget bar, total + dissipated + \
+             removed − work put in, stays level when the budget balances.",
+                chart.reference
+            ),
         );
-        if lab.selected.is_some() {
+        let particle = lab.selected.is_some() || lab.scene.energy_focus().is_some();
+        if particle {
+            let name = if lab.selected.is_some() { "selected" } else { "focus" };
             ui.selectable_value(&mut lab.bars_for_selected, false, "scene");
-            ui.selectable_value(&mut lab.bars_for_selected, true, "selected");
-        } else {
-            ui.label("scene");
+            ui.selectable_value(&mut lab.bars_for_selected, true, name);
         }
     });
+    ui.label(egui::RichText::new(format!("gravity from {}", chart.reference)).small());
     let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 110.0), Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 2.0, Color32::from_gray(20));
-    let low = bars.iter().map(|b| b.2).fold(0.0, f32::min);
-    let high = bars.iter().map(|b| b.2).fold(0.0, f32::max);
-    let span = (high - low).max(1e-6);
     // Room for a value above and a name below each bar.
     let (top, bottom) = (rect.top() + 14.0, rect.bottom() - 14.0);
-    let y_of = |e: f32| bottom - (e - low) / span * (bottom - top);
-    let zero = y_of(0.0);
+    let heights = chart.heights(bottom - top);
+    let low = heights.iter().copied().fold(0.0, f32::min);
+    let zero = bottom + low;
     painter.line_segment(
         [egui::pos2(rect.left(), zero), egui::pos2(rect.right(), zero)],
         Stroke::new(1.0, Color32::GRAY),
     );
-    let slot = rect.width() / bars.len() as f32;
-    for (k, (name, color, value)) in bars.iter().enumerate() {
+    let slot = rect.width() / chart.bars.len() as f32;
+    for (k, ((name, value), height)) in chart.bars.iter().zip(&heights).enumerate() {
         let x = rect.left() + slot * (k as f32 + 0.5);
-        let (y0, y1) = (zero.min(y_of(*value)), zero.max(y_of(*value)));
+        let (y0, y1) = (zero.min(zero - height), zero.max(zero - height));
         // 0 J is no bar (not a one-pixel stub a reader takes for a small energy).
-        if y1 - y0 >= 0.5 {
-            let bar = Rect::from_x_y_ranges(x - slot * 0.3..=x + slot * 0.3, y0..=y1);
-            painter.rect_filled(bar, 1.0, *color);
+        if *height != 0.0 {
+            let bar = Rect::from_x_y_ranges(x - slot * 0.3..=x + slot * 0.3, y0..=y1.max(y0 + 0.5));
+            painter.rect_filled(bar, 1.0, color(name));
         }
         painter.text(
             egui::pos2(x, y0 - 1.0),
@@ -985,7 +987,7 @@ fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
             egui::Align2::CENTER_BOTTOM,
             *name,
             egui::FontId::proportional(10.0),
-            *color,
+            color(name),
         );
     }
 }
@@ -1005,7 +1007,7 @@ const REMOVED_COLOR: Color32 = Color32::from_rgb(150, 150, 110);
 
 /// An energy for the plot's scale: one decimal, or scientific notation once it is so
 /// large (a spring exploding) that the digits would run off the plot.
-fn joules(e: f32) -> String {
+pub fn joules(e: f32) -> String {
     if e.abs() >= 1e5 {
         format!("{e:.2e} J")
     } else if e.abs() >= 0.95 || e == 0.0 {
