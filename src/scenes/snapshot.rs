@@ -219,7 +219,7 @@ impl Snapshot {
         };
         let mut values = ParamValues::defaults(entry.info.params);
         for (name, value) in &self.params {
-            values.set(name, *value).map_err(|e| format!("parameter {e}"))?;
+            values.set(name, *value).map_err(|e| format!("params: {e}"))?;
         }
         if !(self.dt > 0.0 && self.dt <= crate::physics::world::MAX_TIME_STEP) {
             return Err(format!(
