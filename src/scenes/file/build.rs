@@ -28,6 +28,10 @@ pub const MAX_LINKS: usize = 1_000_000;
 /// row under ten drags; what it bounds is the memory of the targets (8 bytes each) and
 /// the work of every step (a drag application is a few nanoseconds).
 pub const MAX_APPLICATIONS: usize = 2_000_000;
+/// Most terms of expressions one build may evaluate for the members of rows and grids
+/// (an expression of a thousand terms for each of 200,000 particles would be 200
+/// million, seconds of work from a few kilobytes): about a tenth of a second.
+pub const MAX_EVALUATIONS: usize = 50_000_000;
 
 /// An error at a byte range of the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -165,6 +169,9 @@ struct Builder<'a> {
     /// Each named group's index in `groups`.
     named: HashMap<&'static str, usize>,
     plans: Vec<LinkPlan>,
+    /// Terms evaluated for the members of rows and grids so far, against
+    /// [`MAX_EVALUATIONS`].
+    evaluations: usize,
 }
 
 fn builder<'a>(source: &'a str, params: &'a ParamValues) -> Builder<'a> {
@@ -184,6 +191,7 @@ fn builder<'a>(source: &'a str, params: &'a ParamValues) -> Builder<'a> {
         groups: Vec::new(),
         named: HashMap::new(),
         plans: Vec::new(),
+        evaluations: 0,
     }
 }
 
@@ -490,6 +498,9 @@ impl Builder<'_> {
             let mass = self.compile_or(t.mass.as_ref(), 1.0, I)?;
             let radius = self.compile_or(t.radius.as_ref(), 0.1, I)?;
             let damping = self.compile_or(t.damping.as_ref(), 1.0, I)?;
+            let each =
+                place.size() + size(&velocity) + mass.expr.size() + radius.expr.size() + damping.expr.size();
+            self.spend_evaluations(each, count, "[[row]]", &span)?;
             let mut pinned = vec![t.fixed; count];
             for pin in &t.pin {
                 let k = self.index(pin, count, "pin")?;
@@ -553,6 +564,9 @@ impl Builder<'_> {
             let mass = self.compile_or(t.mass.as_ref(), 1.0, IJ)?;
             let radius = self.compile_or(t.radius.as_ref(), 0.1, IJ)?;
             let damping = self.compile_or(t.damping.as_ref(), 1.0, IJ)?;
+            let each =
+                place.size() + size(&velocity) + mass.expr.size() + radius.expr.size() + damping.expr.size();
+            self.spend_evaluations(each, rows * cols, "[[grid]]", &span)?;
             let mut pinned = vec![t.fixed; rows * cols];
             for pin in &t.pin {
                 let pair = pin.get_ref();
@@ -636,6 +650,30 @@ impl Builder<'_> {
                 span: span.clone(),
                 ..shared
             });
+        }
+        Ok(())
+    }
+
+    /// Counts `each` terms for every one of `members`, refusing the table that takes the
+    /// file past [`MAX_EVALUATIONS`] with what it costs.
+    fn spend_evaluations(
+        &mut self,
+        each: usize,
+        members: usize,
+        table: &str,
+        span: &Range<usize>,
+    ) -> Result<(), Located> {
+        self.evaluations += each * members;
+        if self.evaluations > MAX_EVALUATIONS {
+            return Err(Located::at(
+                span,
+                format!(
+                    "this {table} evaluates {each} expression terms for each of its {members} particles, \
+                     which brings the file to {}; a scene file evaluates at most {MAX_EVALUATIONS} \
+                     (shorten the expressions, or make fewer particles)",
+                    self.evaluations
+                ),
+            ));
         }
         Ok(())
     }
@@ -1046,7 +1084,20 @@ enum Placement {
     Steps([Value; 3], [Value; 3], Option<[Value; 3]>),
 }
 
+/// Terms in three values.
+fn size(values: &[Value; 3]) -> usize {
+    values.iter().map(|v| v.expr.size()).sum()
+}
+
 impl Placement {
+    /// Terms evaluated for each member (a start and steps are evaluated once).
+    fn size(&self) -> usize {
+        match self {
+            Self::Formula(position) => size(position),
+            Self::Steps(..) => 0,
+        }
+    }
+
     /// The start and steps, evaluated once (they do not depend on the index).
     fn evaluate(&self, b: &mut Builder<'_>) -> Result<[Vec3; 3], Located> {
         match self {

@@ -145,6 +145,16 @@ impl Expr {
         }
     }
 
+    /// How many numbers, names and operations it holds: the work of one evaluation.
+    #[must_use]
+    pub fn size(&self) -> usize {
+        match self {
+            Self::Number(_) | Self::Variable(_) => 1,
+            Self::Negate(x) | Self::Call(_, x) => 1 + x.size(),
+            Self::Binary(_, a, b) => 1 + a.size() + b.size(),
+        }
+    }
+
     /// Whether the expression reads variable `k`.
     #[must_use]
     pub fn uses(&self, k: usize) -> bool {
