@@ -168,6 +168,10 @@ fn devices_fifos_directories_and_huge_files_are_refused_at_once() {
     std::fs::write(&big, vec![b'#'; (4 << 20) + 1]).unwrap();
     let error = load_path_within(&big, Duration::from_secs(10)).unwrap_err();
     assert!(error.ends_with("it is larger than the limit of 4 MB"), "{error}");
+    // The same limit for text that comes another way (a snapshot holds its scene file).
+    let text = format!("{HEAD}{}", "#".repeat(4 << 20));
+    let error = file::load_text(&text, "test.toml", None).err().unwrap().to_string();
+    assert_eq!(error, "test.toml: it is larger than the limit of 4 MB for a scene file");
     let error = load_path_within(&dir.join("missing.toml"), Duration::from_secs(10)).unwrap_err();
     assert!(error.ends_with("missing.toml: cannot read it: no such file"), "{error}");
     std::fs::remove_dir_all(&dir).unwrap();

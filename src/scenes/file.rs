@@ -101,7 +101,12 @@
 //! in a grid's `i` is its row and `j` its column. Every file scene has a parameter `g`
 //! (9.81 m/s², 0 to 30) unless it declares its own; changing `g` acts at once, any other
 //! parameter rebuilds the scene with the solver kept. A scene makes at most
-//! 200,000 particles.
+//! 200,000 particles and a million links. Its cost is bounded whatever the file's size:
+//! an expression holds at most [`expr::MAX_NODES`] terms, generators act at most
+//! `MAX_APPLICATIONS` (2,000,000) times a step (each link once, each drag and buoyancy once
+//! per particle it acts on), the members of rows and grids evaluate at most
+//! `MAX_EVALUATIONS` (50,000,000) terms a build, and [`load_path`] reads at most 4 MB of a
+//! regular file.
 //!
 //! Errors name the file, line and column of the offending value and what was expected,
 //! on one line: `chain.toml:12:9: unknown name 'lenght'; valid names here: links, ...`.
@@ -350,6 +355,11 @@ fn toml_message(error: &toml::de::Error) -> String {
 /// [`load_text`] with `shown` already fit for a message.
 fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
     let shown = shown.as_str();
+    if text.len() as u64 > MAX_FILE_BYTES {
+        let limit = reading::bytes(MAX_FILE_BYTES);
+        let message = format!("it is larger than the limit of {limit} for a scene file");
+        return Err(FileError { file: shown.to_string(), position: None, message });
+    }
     let at = |offset: usize, message: String| FileError {
         file: shown.to_string(),
         position: Some(line_column(text, offset)),
