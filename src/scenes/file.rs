@@ -102,11 +102,11 @@
 //! (9.81 m/s², 0 to 30) unless it declares its own; changing `g` acts at once, any other
 //! parameter rebuilds the scene with the solver kept. A scene makes at most
 //! 200,000 particles and a million links. Its cost is bounded whatever the file's size:
-//! an expression holds at most [`expr::MAX_NODES`] terms, generators act at most
-//! `MAX_APPLICATIONS` (2,000,000) times a step (each link once, each drag and buoyancy once
-//! per particle it acts on), the members of rows and grids evaluate at most
-//! `MAX_EVALUATIONS` (50,000,000) terms a build, and [`load_path`] reads at most 4 MB of a
-//! regular file.
+//! an expression holds at most [`expr::MAX_NODES`] terms, drags and buoyancies act at
+//! most `MAX_APPLICATIONS` (1,000,000) times a step (once per particle each acts on), the
+//! members of rows and grids evaluate at most `MAX_EVALUATIONS` (50,000,000) terms a
+//! build, and a file is at most 4 MB ([`load_path`] reads no more of a regular file and
+//! refuses devices, FIFOs and directories).
 //!
 //! Errors name the file, line and column of the offending value and what was expected,
 //! on one line: `chain.toml:12:9: unknown name 'lenght'; valid names here: links, ...`.

@@ -23,11 +23,13 @@ use crate::scenes::{CameraHint, ParamValues, Water};
 pub const MAX_PARTICLES: usize = 200_000;
 /// Most links one scene file may make.
 pub const MAX_LINKS: usize = 1_000_000;
-/// Most generator applications a step one scene file may ask for: each link counts one,
-/// each drag and buoyancy one per particle it acts on. The whole of a 200,000-particle
-/// row under ten drags; what it bounds is the memory of the targets (8 bytes each) and
-/// the work of every step (a drag application is a few nanoseconds).
-pub const MAX_APPLICATIONS: usize = 2_000_000;
+/// Most applications a step of the generators that act on many particles one scene file
+/// may ask for: each drag and buoyancy counts one per particle it acts on (links have
+/// their own limit, [`MAX_LINKS`]). The whole of a 200,000-particle row under five
+/// drags. It bounds the memory of the targets and the work of a step: a drag
+/// application costs about half a microsecond to one (its exact step), so this is up to
+/// about a second a step on a busy two-core machine.
+pub const MAX_APPLICATIONS: usize = 1_000_000;
 /// Most terms of expressions one build may evaluate for the members of rows and grids
 /// (an expression of a thousand terms for each of 200,000 particles would be 200
 /// million, seconds of work from a few kilobytes): about a tenth of a second.
@@ -861,8 +863,7 @@ impl Builder<'_> {
     }
 
     fn forces(&mut self, doc: &'static Document, g: f32) -> Result<Vec<(ForceId, Buoyancy)>, Located> {
-        // Every link is applied once a step.
-        let mut applications = self.plans.len();
+        let mut applications = 0;
         for table in &doc.drag {
             let span = table.span();
             let t = table.get_ref();
@@ -1062,9 +1063,9 @@ fn spend(applications: &mut usize, more: usize, table: &str, span: &Range<usize>
         return Err(Located::at(
             span,
             format!(
-                "this {table} adds {more}, which brings the file to {applications} generator \
-                 applications a step (each link counts 1, each drag or buoyancy 1 per particle it acts on); \
-                 a scene file makes at most {MAX_APPLICATIONS}"
+                "this {table} acts on {more} particles, which brings the file to {applications} drag \
+                 and buoyancy applications a step (one per particle each acts on); a scene file makes \
+                 at most {MAX_APPLICATIONS}"
             ),
         ));
     }
