@@ -101,7 +101,12 @@
 //! in a grid's `i` is its row and `j` its column. Every file scene has a parameter `g`
 //! (9.81 m/s², 0 to 30) unless it declares its own; changing `g` acts at once, any other
 //! parameter rebuilds the scene with the solver kept. A scene makes at most
-//! 200,000 particles.
+//! 200,000 particles and a million links. Its cost is bounded whatever the file's size:
+//! an expression holds at most [`expr::MAX_NODES`] terms, drags and buoyancies act at
+//! most `MAX_APPLICATIONS` (1,000,000) times a step (once per particle each acts on), the
+//! members of rows and grids evaluate at most `MAX_EVALUATIONS` (50,000,000) terms a
+//! build, and a file is at most 4 MB ([`load_path`] reads no more of a regular file and
+//! refuses devices, FIFOs and directories).
 //!
 //! Errors name the file, line and column of the offending value and what was expected,
 //! on one line: `chain.toml:12:9: unknown name 'lenght'; valid names here: links, ...`.
@@ -129,7 +134,9 @@ use self::format::Document;
 use super::{
     CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water,
 };
+use crate::messages::{self, quote};
 use crate::physics::{LinkState, PhysicsError, ResolveReport, World};
+use crate::reading;
 
 /// The scenes shipped in `assets/scenes/`, built into the binary so the Scene menu has
 /// them wherever it runs; a copy on disk beside the working directory is used instead
@@ -261,35 +268,98 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
     }
 }
 
-/// Reads and loads a scene file from disk.
+/// Reads and loads a scene file from disk. A device, FIFO or directory is refused
+/// before it is opened, and at most [`MAX_FILE_BYTES`] are read whatever the file
+/// says its size is.
 pub fn load_path(path: &Path) -> Result<&'static SceneEntry, FileError> {
-    let shown = path.display().to_string();
+    let shown = messages::path(path);
     let fail = |message: String| FileError { file: shown.clone(), position: None, message };
-    let size = std::fs::metadata(path).map_err(|e| fail(format!("cannot read it: {}", io_reason(&e))))?.len();
-    if size > MAX_FILE_BYTES {
-        return Err(fail(format!("{size} bytes is too large for a scene file (at most {MAX_FILE_BYTES})")));
-    }
-    let bytes = std::fs::read(path).map_err(|e| fail(format!("cannot read it: {}", io_reason(&e))))?;
+    let bytes =
+        reading::read_limited(path, MAX_FILE_BYTES).map_err(|e| fail(format!("cannot read it: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|_| fail("is not UTF-8 text".into()))?;
-    load_text(&text, &shown, Some(path.to_path_buf()))
+    load_shown(&text, shown, Some(path.to_path_buf()))
 }
 
-/// An I/O error's reason without the OS's error number.
-fn io_reason(error: &std::io::Error) -> String {
-    match error.kind() {
-        std::io::ErrorKind::NotFound => "no such file".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        std::io::ErrorKind::IsADirectory => "it is a directory".into(),
-        _ => {
-            let text = error.to_string();
-            text.split(" (os error").next().unwrap_or(&text).to_string()
+/// Loads a scene from its text; `shown` names it in messages (escaped and cut, as any
+/// user text there), `path` is where it lives on disk, if anywhere.
+pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
+    load_shown(text, quote(shown), path)
+}
+
+/// `text` for a one-line message: [`quote`]d (control characters escaped) and cut so
+/// that the quoted form holds at most `room` characters, with the count of what was
+/// left out.
+fn clip(text: &str, room: usize) -> String {
+    let mut out = String::new();
+    let mut used = 0;
+    let mut rest = text.chars();
+    for c in rest.by_ref() {
+        // One character at a time, so the cut is at `room`, not at `quote`'s own.
+        let shown = quote(c.encode_utf8(&mut [0; 4]));
+        let width = shown.chars().count();
+        if used + width > room {
+            let left = 1 + rest.count();
+            out.push_str(&format!("… ({left} more characters)"));
+            break;
         }
+        used += width;
+        out.push_str(&shown);
+    }
+    out
+}
+
+/// Names for a one-line message: joined with commas, cut after a few.
+fn list<'a>(names: impl Iterator<Item = &'a str>) -> String {
+    const ROOM: usize = 60;
+    let mut out = String::new();
+    let mut left = 0;
+    for name in names {
+        if left > 0 || out.chars().count() + name.chars().count() > ROOM {
+            left += 1;
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(", ");
+        }
+        out.push_str(&quote(name));
+    }
+    if left > 0 {
+        out.push_str(&format!(" and {left} more"));
+    }
+    out
+}
+
+/// A number for a message: as Rust writes it, but with an exponent where that would
+/// take more than a few digits (1e39, not forty digits; 1e-300, not three hundred).
+fn number(x: f64) -> String {
+    if x.is_finite() && x != 0.0 && !(1e-6..1e16).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }
 
-/// Loads a scene from its text; `shown` names it in messages, `path` is where it lives
-/// on disk, if anywhere.
-pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
+/// A TOML error's words on one line: the key or value it echoes in backquotes is
+/// escaped and cut like any user text.
+fn toml_message(error: &toml::de::Error) -> String {
+    let pieces: Vec<String> = error
+        .message()
+        .trim()
+        .split('`')
+        .enumerate()
+        .map(|(k, piece)| if k % 2 == 1 { clip(piece, 40) } else { clip(&piece.replace('\n', "; "), 200) })
+        .collect();
+    clip(&pieces.join("`"), 240)
+}
+
+/// [`load_text`] with `shown` already fit for a message.
+fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
+    let shown = shown.as_str();
+    if text.len() as u64 > MAX_FILE_BYTES {
+        let limit = reading::bytes(MAX_FILE_BYTES);
+        let message = format!("it is larger than the limit of {limit} for a scene file");
+        return Err(FileError { file: shown.to_string(), position: None, message });
+    }
     let at = |offset: usize, message: String| FileError {
         file: shown.to_string(),
         position: Some(line_column(text, offset)),
@@ -297,8 +367,7 @@ pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<&'sta
     };
     let doc: Document = toml::from_str(text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
-        let message = e.message().trim().replace('\n', "; ");
-        at(offset, message)
+        at(offset, toml_message(&e))
     })?;
     let doc: &'static Document = Box::leak(Box::new(doc));
     let params = param_table(doc).map_err(|e| at(e.offset, e.message))?;
@@ -311,7 +380,7 @@ pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<&'sta
         Some(dt) if !(1e-5..=0.1).contains(dt.get_ref()) => {
             return Err(at(
                 dt.span().start,
-                format!("dt = {} is out of range; valid range: 1e-5 to 0.1 s", dt.get_ref()),
+                format!("dt = {} is out of range; valid range: 1e-5 to 0.1 s", number(*dt.get_ref())),
             ));
         }
         Some(dt) => *dt.get_ref() as f32,
@@ -370,7 +439,7 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
         if !identifier {
             return Err(Located::at(
                 &span,
-                format!("'{name}' is not a parameter name: use letters, digits and _"),
+                format!("'{}' is not a parameter name: use letters, digits and _", clip(name, 40)),
             ));
         }
         if RESERVED.contains(&name) {
@@ -380,17 +449,25 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
             ));
         }
         if table.iter().any(|q| q.name == name) {
-            return Err(Located::at(&span, format!("the parameter '{name}' is declared twice")));
+            return Err(Located::at(&span, format!("the parameter '{}' is declared twice", clip(name, 40))));
         }
         let (min, max, default) = (*p.min.get_ref(), *p.max.get_ref(), *p.default.get_ref());
         let finite = |x: f64| x.is_finite() && (x as f32).is_finite();
         if !(finite(min) && finite(max)) || min > max {
-            return Err(Located::at(&p.min.span(), format!("min = {min} and max = {max} are not a range")));
+            return Err(Located::at(
+                &p.min.span(),
+                format!("min = {} and max = {} are not a range", number(min), number(max)),
+            ));
         }
         if !finite(default) || default < min || default > max {
             return Err(Located::at(
                 &p.default.span(),
-                format!("default = {default} is out of range; valid range: {min} to {max}"),
+                format!(
+                    "default = {} is out of range; valid range: {} to {}",
+                    number(default),
+                    number(min),
+                    number(max)
+                ),
             ));
         }
         if p.logarithmic && min <= 0.0 {

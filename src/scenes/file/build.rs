@@ -4,12 +4,14 @@
 //! file (a byte span, turned into a line and column by the caller), not at whatever the
 //! physics would later refuse.
 
+use std::collections::HashMap;
 use std::ops::Range;
 
 use glam::{Vec2, Vec3, Vec3Swizzles};
 
 use super::expr::Expr;
 use super::format::{Document, LinkProps, Num, Ref, SNum, SVec};
+use super::{clip, list, number};
 use crate::physics::particles::{MAX_MASS, MIN_MASS};
 use crate::physics::{
     Buoyancy, Constraint, ContactGeneratorId, Drag, ForceGenerator, ForceId, LinkEnd, LinkSpec, ParticleDesc,
@@ -21,6 +23,17 @@ use crate::scenes::{CameraHint, ParamValues, Water};
 pub const MAX_PARTICLES: usize = 200_000;
 /// Most links one scene file may make.
 pub const MAX_LINKS: usize = 1_000_000;
+/// Most applications a step of the generators that act on many particles one scene file
+/// may ask for: each drag and buoyancy counts one per particle it acts on (links have
+/// their own limit, [`MAX_LINKS`]). The whole of a 200,000-particle row under five
+/// drags. It bounds the memory of the targets and the work of a step: a drag
+/// application costs about half a microsecond to one (its exact step), so this is up to
+/// about a second a step on a busy two-core machine.
+pub const MAX_APPLICATIONS: usize = 1_000_000;
+/// Most terms of expressions one build may evaluate for the members of rows and grids
+/// (an expression of a thousand terms for each of 200,000 particles would be 200
+/// million, seconds of work from a few kilobytes): about a tenth of a second.
+pub const MAX_EVALUATIONS: usize = 50_000_000;
 
 /// An error at a byte range of the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -155,7 +168,12 @@ struct Builder<'a> {
     gravity: Vec3,
     ids: Vec<ParticleId>,
     groups: Vec<Group>,
+    /// Each named group's index in `groups`.
+    named: HashMap<&'static str, usize>,
     plans: Vec<LinkPlan>,
+    /// Terms evaluated for the members of rows and grids so far, against
+    /// [`MAX_EVALUATIONS`].
+    evaluations: usize,
 }
 
 fn builder<'a>(source: &'a str, params: &'a ParamValues) -> Builder<'a> {
@@ -173,7 +191,9 @@ fn builder<'a>(source: &'a str, params: &'a ParamValues) -> Builder<'a> {
         gravity: Vec3::ZERO,
         ids: Vec::new(),
         groups: Vec::new(),
+        named: HashMap::new(),
         plans: Vec::new(),
+        evaluations: 0,
     }
 }
 
@@ -260,7 +280,8 @@ impl Builder<'_> {
                     let inner = written.len() == text.len() + 2
                         && written.get(1..written.len() - 1) == Some(text.as_str());
                     let offset = if inner { span.start + 1 + error.offset } else { span.start };
-                    Located { offset, message: format!("in the expression \"{text}\": {}", error.message) }
+                    let message = format!("in the expression \"{}\": {}", clip(text, 32), error.message);
+                    Located { offset, message }
                 })?
             }
         };
@@ -315,13 +336,24 @@ impl Builder<'_> {
         self.values.extend_from_slice(locals);
         let x = value.expr.eval(&self.values);
         let single = x as f32;
-        if !x.is_finite() || !single.is_finite() {
+        if !x.is_finite() {
             return Err(Located::at(&value.span, format!("{what} is {x}, not a finite number")));
         }
-        if x < bounds.min || x > bounds.max {
+        if !single.is_finite() {
             return Err(Located::at(
                 &value.span,
-                format!("{what} = {single} is out of range; valid range: {}", bounds.text),
+                format!(
+                    "{what} = {} is too large: beyond ±3.4e38, the range of a single-precision number",
+                    number(x)
+                ),
+            ));
+        }
+        if x < bounds.min || x > bounds.max {
+            // The single-precision value where it reads the same, so 0.1 is not 0.100000001.
+            let shown = if number(x).contains('e') { number(x) } else { single.to_string() };
+            return Err(Located::at(
+                &value.span,
+                format!("{what} = {shown} is out of range; valid range: {}", bounds.text),
             ));
         }
         Ok(single)
@@ -344,8 +376,9 @@ impl Builder<'_> {
             return Err(Located::at(
                 &value.span,
                 format!(
-                    "{what} = {x} is out of range; valid range: 1 to {room} (a scene file makes at most \
-                     {MAX_PARTICLES} particles)"
+                    "{what} = {} is out of range; valid range: 1 to {room} (a scene file makes at most \
+                     {MAX_PARTICLES} particles)",
+                    number(f64::from(x))
                 ),
             ));
         }
@@ -361,13 +394,24 @@ impl Builder<'_> {
         if !valid {
             return Err(Located::at(
                 &field.span(),
-                format!("'{name}' is not a name: use letters, digits and _"),
+                format!("'{}' is not a name: use letters, digits and _", clip(name, 40)),
             ));
         }
-        if self.groups.iter().any(|g| g.name == Some(name)) {
-            return Err(Located::at(&field.span(), format!("the name '{name}' is already taken")));
+        if self.named.contains_key(name) {
+            return Err(Located::at(
+                &field.span(),
+                format!("the name '{}' is already taken", clip(name, 40)),
+            ));
         }
         Ok(Some(name))
+    }
+
+    /// Adds a group of particles, findable by its name from now on.
+    fn push_group(&mut self, group: Group) {
+        if let Some(name) = group.name {
+            self.named.insert(name, self.groups.len());
+        }
+        self.groups.push(group);
     }
 
     fn add(&mut self, desc: ParticleDesc, span: &Range<usize>) -> Result<(), Located> {
@@ -401,7 +445,7 @@ impl Builder<'_> {
                 damping: self.eval(&damping, &[], "damping", UNIT)?,
                 radius: self.eval(&radius, &[], "radius", NON_NEGATIVE)?,
             };
-            self.groups.push(Group { name, single: true, first: self.ids.len(), rows: 1, cols: 1 });
+            self.push_group(Group { name, single: true, first: self.ids.len(), rows: 1, cols: 1 });
             self.add(desc, &span)?;
         }
         Ok(())
@@ -414,7 +458,7 @@ impl Builder<'_> {
             let valid: Vec<&str> = KINDS.iter().map(|(n, _)| *n).collect();
             Located::at(
                 &field.span(),
-                format!("unknown link kind '{text}'; valid kinds: {}", valid.join(", ")),
+                format!("unknown link kind '{}'; valid kinds: {}", clip(text, 40), valid.join(", ")),
             )
         })
     }
@@ -456,6 +500,9 @@ impl Builder<'_> {
             let mass = self.compile_or(t.mass.as_ref(), 1.0, I)?;
             let radius = self.compile_or(t.radius.as_ref(), 0.1, I)?;
             let damping = self.compile_or(t.damping.as_ref(), 1.0, I)?;
+            let each =
+                place.size() + size(&velocity) + mass.expr.size() + radius.expr.size() + damping.expr.size();
+            self.spend_evaluations(each, count, "[[row]]", &span)?;
             let mut pinned = vec![t.fixed; count];
             for pin in &t.pin {
                 let k = self.index(pin, count, "pin")?;
@@ -477,7 +524,7 @@ impl Builder<'_> {
                 };
                 self.add(desc, &span)?;
             }
-            self.groups.push(Group { name, single: false, first, rows: 1, cols: count });
+            self.push_group(Group { name, single: false, first, rows: 1, cols: count });
             if let Some(kind) = &t.link {
                 let kind = Self::kind(kind)?;
                 let mut pairs: Vec<(usize, usize)> = (1..count).map(|k| (k - 1, k)).collect();
@@ -519,6 +566,9 @@ impl Builder<'_> {
             let mass = self.compile_or(t.mass.as_ref(), 1.0, IJ)?;
             let radius = self.compile_or(t.radius.as_ref(), 0.1, IJ)?;
             let damping = self.compile_or(t.damping.as_ref(), 1.0, IJ)?;
+            let each =
+                place.size() + size(&velocity) + mass.expr.size() + radius.expr.size() + damping.expr.size();
+            self.spend_evaluations(each, rows * cols, "[[grid]]", &span)?;
             let mut pinned = vec![t.fixed; rows * cols];
             for pin in &t.pin {
                 let pair = pin.get_ref();
@@ -550,7 +600,7 @@ impl Builder<'_> {
                     self.add(desc, &span)?;
                 }
             }
-            self.groups.push(Group { name, single: false, first, rows, cols });
+            self.push_group(Group { name, single: false, first, rows, cols });
             if let Some(kind) = &t.link {
                 let kind = Self::kind(kind)?;
                 let at = |i: usize, j: usize| i * cols + j;
@@ -602,6 +652,30 @@ impl Builder<'_> {
                 span: span.clone(),
                 ..shared
             });
+        }
+        Ok(())
+    }
+
+    /// Counts `each` terms for every one of `members`, refusing the table that takes the
+    /// file past [`MAX_EVALUATIONS`] with what it costs.
+    fn spend_evaluations(
+        &mut self,
+        each: usize,
+        members: usize,
+        table: &str,
+        span: &Range<usize>,
+    ) -> Result<(), Located> {
+        self.evaluations += each * members;
+        if self.evaluations > MAX_EVALUATIONS {
+            return Err(Located::at(
+                span,
+                format!(
+                    "this {table} evaluates {each} expression terms for each of its {members} particles, \
+                     which brings the file to {}; a scene file evaluates at most {MAX_EVALUATIONS} \
+                     (shorten the expressions, or make fewer particles)",
+                    self.evaluations
+                ),
+            ));
         }
         Ok(())
     }
@@ -683,22 +757,24 @@ impl Builder<'_> {
             Ref::Name(text) => {
                 let mut parts = text.split('.');
                 let base = parts.next().unwrap_or("");
-                let Some(group) = self.groups.iter().find(|g| g.name == Some(base)) else {
-                    let names: Vec<&str> = self.groups.iter().filter_map(|g| g.name).collect();
-                    let valid = if names.is_empty() {
+                let Some(group) = self.named.get(base).map(|&k| &self.groups[k]) else {
+                    let valid = if self.named.is_empty() {
                         "none (give particles a name)".into()
                     } else {
-                        names.join(", ")
+                        list(self.groups.iter().filter_map(|g| g.name))
                     };
                     return Err(Located::at(
                         &span,
-                        format!("no particle or array named '{base}'; names: {valid}"),
+                        format!("no particle or array named '{}'; names: {valid}", clip(base, 40)),
                     ));
                 };
                 let indices: Vec<&str> = parts.collect();
                 let member = |part: &str, len: usize| -> Result<usize, Located> {
                     let k: i64 = part.parse().map_err(|_| {
-                        Located::at(&span, format!("'{part}' in '{text}' is not a whole number"))
+                        Located::at(
+                            &span,
+                            format!("'{}' in '{}' is not a whole number", clip(part, 24), clip(text, 40)),
+                        )
                     })?;
                     let index = if k < 0 { k + len as i64 } else { k };
                     if (0..len as i64).contains(&index) {
@@ -706,7 +782,11 @@ impl Builder<'_> {
                     } else {
                         Err(Located::at(
                             &span,
-                            format!("index {k} of '{base}' is out of range: it has {len} (0 to {})", len - 1),
+                            format!(
+                                "index {k} of '{}' is out of range: it has {len} (0 to {})",
+                                clip(base, 40),
+                                len - 1
+                            ),
                         ))
                     }
                 };
@@ -720,9 +800,9 @@ impl Builder<'_> {
                     }
                     ([_], _) => Err(Located::at(
                         &span,
-                        format!("'{base}' is a grid: name a member as '{base}.ROW.COL'"),
+                        format!("'{0}' is a grid: name a member as '{0}.ROW.COL'", clip(base, 40)),
                     )),
-                    _ => Err(Located::at(&span, format!("'{text}' has too many indices"))),
+                    _ => Err(Located::at(&span, format!("'{}' has too many indices", clip(text, 40)))),
                 }
             }
         }
@@ -783,6 +863,7 @@ impl Builder<'_> {
     }
 
     fn forces(&mut self, doc: &'static Document, g: f32) -> Result<Vec<(ForceId, Buoyancy)>, Located> {
+        let mut applications = 0;
         for table in &doc.drag {
             let span = table.span();
             let t = table.get_ref();
@@ -792,11 +873,16 @@ impl Builder<'_> {
                 Some(list) => {
                     let mut out = Vec::new();
                     for field in list {
-                        out.extend(self.resolve(field)?.into_iter().map(|k| self.ids[k]));
+                        let members = self.resolve(field)?;
+                        spend(&mut applications, members.len(), "[[drag]]", &span)?;
+                        out.extend(members.into_iter().map(|k| self.ids[k]));
                     }
                     out
                 }
-                None => self.ids.clone(),
+                None => {
+                    spend(&mut applications, self.ids.len(), "[[drag]]", &span)?;
+                    self.ids.clone()
+                }
             };
             let drag = Drag {
                 k1: self.eval(&k1, &[], "k1", NON_NEGATIVE)?,
@@ -810,6 +896,7 @@ impl Builder<'_> {
             let span = table.span();
             let t = table.get_ref();
             let targets = self.resolve(&t.particle)?;
+            spend(&mut applications, targets.len(), "[[buoyancy]]", &span)?;
             let surface = self.compile(&t.surface, &[])?;
             let half_height = self.compile(&t.half_height, &[])?;
             let volume = self.compile(&t.volume, &[])?;
@@ -968,6 +1055,23 @@ impl Builder<'_> {
     }
 }
 
+/// Adds `more` generator applications a step to the file's count, refusing the table
+/// that takes it past [`MAX_APPLICATIONS`] with what the file then costs.
+fn spend(applications: &mut usize, more: usize, table: &str, span: &Range<usize>) -> Result<(), Located> {
+    *applications += more;
+    if *applications > MAX_APPLICATIONS {
+        return Err(Located::at(
+            span,
+            format!(
+                "this {table} acts on {more} particles, which brings the file to {applications} drag \
+                 and buoyancy applications a step (one per particle each acts on); a scene file makes \
+                 at most {MAX_APPLICATIONS}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn kind_name(kind: Kind) -> &'static str {
     KINDS.iter().find(|(_, k)| *k == kind).map_or("link", |(n, _)| n)
 }
@@ -981,7 +1085,20 @@ enum Placement {
     Steps([Value; 3], [Value; 3], Option<[Value; 3]>),
 }
 
+/// Terms in three values.
+fn size(values: &[Value; 3]) -> usize {
+    values.iter().map(|v| v.expr.size()).sum()
+}
+
 impl Placement {
+    /// Terms evaluated for each member (a start and steps are evaluated once).
+    fn size(&self) -> usize {
+        match self {
+            Self::Formula(position) => size(position),
+            Self::Steps(..) => 0,
+        }
+    }
+
     /// The start and steps, evaluated once (they do not depend on the index).
     fn evaluate(&self, b: &mut Builder<'_>) -> Result<[Vec3; 3], Located> {
         match self {

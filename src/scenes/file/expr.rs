@@ -7,6 +7,9 @@
 //! reported with its column before anything is built; it is evaluated every time the
 //! scene is built, with the parameters' current values.
 
+use super::{clip, list};
+use crate::messages::quote;
+
 /// A parsed expression.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Expr {
@@ -75,6 +78,13 @@ const FUNCTIONS: &[(&str, Function)] = &[
 /// Deepest nesting accepted, so that a pathological file cannot overflow the stack.
 const MAX_DEPTH: usize = 64;
 
+/// Most numbers, names and operations one expression may hold. Evaluating and dropping
+/// a tree recurse through it, and a flat chain `1+1+…+1` is as deep as it is long, so
+/// nesting alone does not bound the stack: this does (a thousand frames are a few tens
+/// of kilobytes), and it bounds the work of every evaluation. Hand-written
+/// expressions hold a few dozen.
+pub const MAX_NODES: usize = 1000;
+
 /// Why an expression was refused: a byte offset into its text and what was expected.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExprError {
@@ -88,12 +98,15 @@ impl Expr {
     /// Parses `text`; `names` are the variables it may use, in the order their values
     /// are given to [`Expr::eval`].
     pub fn parse(text: &str, names: &[&str]) -> Result<Self, ExprError> {
-        let mut parser = Parser { text, position: 0, names, depth: 0 };
+        let mut parser = Parser { text, position: 0, names, depth: 0, nodes: 0 };
         let expr = parser.sum()?;
         parser.skip_space();
         if parser.position < text.len() {
             let found = parser.rest().chars().next().unwrap_or(' ');
-            return Err(parser.error(format!("expected an operator (+ - * / ^) or the end, found '{found}'")));
+            return Err(parser.error(format!(
+                "expected an operator (+ - * / ^) or the end, found '{}'",
+                quote(&found.to_string())
+            )));
         }
         Ok(expr)
     }
@@ -132,6 +145,16 @@ impl Expr {
         }
     }
 
+    /// How many numbers, names and operations it holds: the work of one evaluation.
+    #[must_use]
+    pub fn size(&self) -> usize {
+        match self {
+            Self::Number(_) | Self::Variable(_) => 1,
+            Self::Negate(x) | Self::Call(_, x) => 1 + x.size(),
+            Self::Binary(_, a, b) => 1 + a.size() + b.size(),
+        }
+    }
+
     /// Whether the expression reads variable `k`.
     #[must_use]
     pub fn uses(&self, k: usize) -> bool {
@@ -149,6 +172,8 @@ struct Parser<'a> {
     position: usize,
     names: &'a [&'a str],
     depth: usize,
+    /// Nodes made so far, against [`MAX_NODES`].
+    nodes: usize,
 }
 
 impl<'a> Parser<'a> {
@@ -176,6 +201,18 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// `expr`, counted against the expression's budget of nodes.
+    fn node(&mut self, expr: Expr) -> Result<Expr, ExprError> {
+        self.nodes += 1;
+        if self.nodes > MAX_NODES {
+            return Err(self.error(format!(
+                "the expression is too long: more than {MAX_NODES} numbers, names and operations \
+                 (split it with a parameter)"
+            )));
+        }
+        Ok(expr)
+    }
+
     fn nested<T>(&mut self, inner: impl FnOnce(&mut Self) -> Result<T, ExprError>) -> Result<T, ExprError> {
         if self.depth >= MAX_DEPTH {
             return Err(self.error(format!("expression nested more than {MAX_DEPTH} deep")));
@@ -198,7 +235,7 @@ impl<'a> Parser<'a> {
                 return Ok(left);
             };
             let right = self.product()?;
-            left = Expr::Binary(op, Box::new(left), Box::new(right));
+            left = self.node(Expr::Binary(op, Box::new(left), Box::new(right)))?;
         }
     }
 
@@ -214,7 +251,7 @@ impl<'a> Parser<'a> {
                 return Ok(left);
             };
             let right = self.unary()?;
-            left = Expr::Binary(op, Box::new(left), Box::new(right));
+            left = self.node(Expr::Binary(op, Box::new(left), Box::new(right)))?;
         }
     }
 
@@ -222,7 +259,8 @@ impl<'a> Parser<'a> {
     fn unary(&mut self) -> Result<Expr, ExprError> {
         self.nested(|p| {
             if p.eat('-') {
-                Ok(Expr::Negate(Box::new(p.unary()?)))
+                let inner = p.unary()?;
+                p.node(Expr::Negate(Box::new(inner)))
             } else if p.eat('+') {
                 p.unary()
             } else {
@@ -236,7 +274,7 @@ impl<'a> Parser<'a> {
         let base = self.atom()?;
         if self.eat('^') {
             let exponent = self.unary()?;
-            return Ok(Expr::Binary(Op::Power, Box::new(base), Box::new(exponent)));
+            return self.node(Expr::Binary(Op::Power, Box::new(base), Box::new(exponent)));
         }
         Ok(base)
     }
@@ -262,7 +300,10 @@ impl<'a> Parser<'a> {
         if first.is_alphabetic() || first == '_' {
             return self.name();
         }
-        Err(self.error(format!("expected a number, a parameter name or '(', found '{first}'")))
+        Err(self.error(format!(
+            "expected a number, a parameter name or '(', found '{}'",
+            quote(&first.to_string())
+        )))
     }
 
     fn number(&mut self) -> Result<Expr, ExprError> {
@@ -286,9 +327,10 @@ impl<'a> Parser<'a> {
             }
         }
         let text = &rest[..end];
-        let value: f64 = text.parse().map_err(|_| self.error(format!("'{text}' is not a number")))?;
+        let value: f64 =
+            text.parse().map_err(|_| self.error(format!("'{}' is not a number", clip(text, 40))))?;
         self.position += end;
-        Ok(Expr::Number(value))
+        self.node(Expr::Number(value))
     }
 
     fn name(&mut self) -> Result<Expr, ExprError> {
@@ -305,23 +347,22 @@ impl<'a> Parser<'a> {
             if !self.eat(')') {
                 return Err(self.error(format!("expected ')' to close '{name}('")));
             }
-            return Ok(Expr::Call(function, Box::new(argument)));
+            return self.node(Expr::Call(function, Box::new(argument)));
         }
         if name == "pi" {
             self.position += end;
-            return Ok(Expr::Number(std::f64::consts::PI));
+            return self.node(Expr::Number(std::f64::consts::PI));
         }
         match self.names.iter().position(|n| *n == name) {
             Some(k) => {
                 self.position += end;
-                Ok(Expr::Variable(k))
+                self.node(Expr::Variable(k))
             }
             None => {
-                let mut valid: Vec<&str> = self.names.to_vec();
-                valid.push("pi");
+                let valid = self.names.iter().copied().chain(["pi"]);
                 Err(ExprError {
                     offset: start,
-                    message: format!("unknown name '{name}'; valid names here: {}", valid.join(", ")),
+                    message: format!("unknown name '{}'; valid names here: {}", clip(name, 32), list(valid)),
                 })
             }
         }
@@ -366,5 +407,21 @@ mod tests {
         assert!(error.message.contains("found the end"), "{}", error.message);
         let deep = "(".repeat(500) + "1" + &")".repeat(500);
         assert!(Expr::parse(&deep, &[]).unwrap_err().message.contains("nested"));
+    }
+
+    #[test]
+    fn flat_chains_are_bounded_by_the_node_budget() {
+        for op in ["+", "-", "*", "/"] {
+            let long = "1".to_string() + &format!("{op}1").repeat(150_000);
+            let error = Expr::parse(&long, &[]).unwrap_err();
+            assert!(error.message.contains("too long"), "{op}: {}", error.message);
+            // Refused as soon as the budget is spent, not at the end of the text.
+            assert!(error.offset < 4 * MAX_NODES, "{op}: at {}", error.offset);
+        }
+        // Just within the budget: 500 numbers and 499 additions.
+        let within = "1".to_string() + &"+1".repeat(499);
+        assert_eq!(Expr::parse(&within, &[]).unwrap().eval(&[]), 500.0);
+        let over = "1".to_string() + &"+1".repeat(500);
+        assert!(Expr::parse(&over, &[]).is_err());
     }
 }
