@@ -167,7 +167,12 @@ pub struct RenderArgs {
 pub const MAX_IMAGE_SIDE: u32 = 8192;
 
 fn parse_size(text: &str) -> Result<[u32; 2], String> {
-    let bad = || format!("'{text}' is not a size like 1280x720 (each side 1 to {MAX_IMAGE_SIDE})");
+    let bad = || {
+        format!(
+            "'{}' is not a size like 1280x720 (each side 1 to {MAX_IMAGE_SIDE})",
+            crate::messages::quote(text)
+        )
+    };
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
     let side = |s: &str| s.trim().parse::<u32>().ok().filter(|v| (1..=MAX_IMAGE_SIDE).contains(v));
     Ok([side(w).ok_or_else(bad)?, side(h).ok_or_else(bad)?])

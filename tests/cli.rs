@@ -797,6 +797,33 @@ fn typed_control_characters_never_break_the_one_line_rule() {
     }
 }
 
+/// Issue 17, finding 10: a long name typed where a scene, setting or option goes is
+/// quoted cut to a readable length, not echoed whole.
+#[test]
+fn a_long_typed_value_is_cut_in_its_message() {
+    let long = "x".repeat(20_000);
+    let set = format!("{long}=1");
+    let size = format!("{long}x1");
+    let compare = format!("{long}=1");
+    let cases: [&[&str]; 7] = [
+        &["simulate", "--scene", &long],
+        &["simulate", "--scene", "pendulum", "--set", &set],
+        &["simulate", "--scene", "pendulum", "--solver", &long],
+        &["simulate", "--scene", "pendulum", "--integrator", &long],
+        &["render", "--scene", "pendulum", "--view", &long, "--out", "x.png"],
+        &["render", "--scene", "pendulum", "--compare", &compare, "--out", "x.png"],
+        &["render", "--scene", "pendulum", "--size", &size, "--out", "x.png"],
+    ];
+    for args in cases {
+        let output = run(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{:?}: {stderr}", &args[..2]);
+        assert_eq!(stderr.lines().count(), 1, "one line: {stderr:?}");
+        assert!(stderr.chars().count() < 400, "{} characters: {}", stderr.chars().count(), &stderr[..300]);
+        assert!(stderr.contains("more characters"), "says it was cut: {stderr}");
+    }
+}
+
 /// Issue 17, finding 7: a directory where settings.json should be gave the window two
 /// lines, one on reading it and one when the autosave could not write over it. Now it
 /// is set aside like any unusable file: one line, and the settings are saved.

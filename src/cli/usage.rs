@@ -32,7 +32,24 @@ pub fn one_line(rendered: &str, command: &str) -> String {
     if parts.is_empty() {
         parts.push("the command line was not understood".into());
     }
-    format!("{} (see '{help}')", parts.join("; "))
+    format!("{} (see '{help}')", cut_quoted(&parts.join("; ")))
+}
+
+/// clap quotes what was typed in single quotes ("invalid value '…' for '--solver'"):
+/// each quoted span is [`crate::messages::quote`]d, so a 20 KB value is cut to a
+/// readable length.
+fn cut_quoted(text: &str) -> String {
+    let mut out = String::with_capacity(text.len().min(1024));
+    let mut rest = text;
+    while let Some(open) = rest.find('\'') {
+        let Some(close) = rest[open + 1..].find('\'') else { break };
+        out.push_str(&rest[..=open]);
+        out.push_str(&crate::messages::quote(&rest[open + 1..open + 1 + close]));
+        out.push('\'');
+        rest = &rest[open + close + 2..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// `particle-lab simulate --help` from a usage line such as
@@ -71,6 +88,14 @@ mod tests {
             "the following required arguments were not provided: --scene <SCENE> \
              (see 'particle-lab render --help')"
         );
+    }
+
+    #[test]
+    fn a_long_typed_value_is_cut() {
+        let rendered = format!("error: invalid value '{}' for '--solver <NAME>'\n", "y".repeat(5000));
+        let line = one_line(&rendered, "particle-lab");
+        assert!(line.chars().count() < 250, "{line}");
+        assert!(line.contains("(4920 more characters)' for '--solver <NAME>'"), "{line}");
     }
 
     #[test]

@@ -87,7 +87,11 @@ impl Integrator {
     pub fn parse(name: &str) -> Result<Self, String> {
         Self::ALL.into_iter().find(|i| i.name().eq_ignore_ascii_case(name.trim())).ok_or_else(|| {
             let names: Vec<_> = Self::ALL.iter().map(|i| i.name()).collect();
-            format!("unknown integrator '{name}'; valid integrators: {}", names.join(", "))
+            format!(
+                "unknown integrator '{}'; valid integrators: {}",
+                crate::messages::quote(name),
+                names.join(", ")
+            )
         })
     }
 }

@@ -42,7 +42,7 @@ impl SolverKind {
     pub fn parse(name: &str) -> Result<Self, String> {
         Self::ALL.into_iter().find(|kind| kind.name().eq_ignore_ascii_case(name.trim())).ok_or_else(|| {
             let names: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
-            format!("unknown solver '{name}'; valid solvers: {}", names.join(", "))
+            format!("unknown solver '{}'; valid solvers: {}", crate::messages::quote(name), names.join(", "))
         })
     }
 }

@@ -271,7 +271,13 @@ pub fn find(name: &str) -> Result<&'static SceneEntry, String> {
         .iter()
         .chain(file::shipped().iter().copied())
         .find(|entry| simplify(entry.info.name) == wanted)
-        .ok_or_else(|| format!("unknown scene '{name}'; valid scenes: {}", scene_names().join(", ")))
+        .ok_or_else(|| {
+            format!(
+                "unknown scene '{}'; valid scenes: {}",
+                crate::messages::quote(name),
+                scene_names().join(", ")
+            )
+        })
 }
 
 /// Builds a registered scene with its defaults.

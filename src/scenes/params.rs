@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+use crate::messages::quote;
+
 /// One tunable parameter of a scene. The same entry drives a slider, a `--set` flag
 /// and validation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,17 +81,17 @@ impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::UnknownKey { key, valid } => {
-                write!(f, "unknown parameter '{key}'; valid parameters: {}", valid.join(", "))
+                write!(f, "unknown parameter '{}'; valid parameters: {}", quote(key), valid.join(", "))
             }
             Self::NotANumber { key, text } => {
-                write!(f, "value '{text}' for '{key}' is not a finite number")
+                write!(f, "value '{}' for '{}' is not a finite number", quote(text), quote(key))
             }
             Self::OutOfRange { key, value, min, max, unit } => {
                 let unit = if unit.is_empty() { String::new() } else { format!(" {unit}") };
                 write!(f, "'{key}' = {value} is out of range; valid range: {min} to {max}{unit}")
             }
             Self::Malformed(text) => {
-                write!(f, "'{text}' is not of the form KEY=VALUE (for example g=9.81)")
+                write!(f, "'{}' is not of the form KEY=VALUE (for example g=9.81)", quote(text))
             }
             Self::Rejected { key, reason } => write!(f, "'{key}' cannot take that value: {reason}"),
         }

@@ -5,6 +5,7 @@
 
 use std::collections::VecDeque;
 
+use crate::messages::quote;
 use crate::physics::{Integrator, SolverKind, SolverSettings};
 use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{Scene, SceneEntry};
@@ -29,7 +30,10 @@ impl Change {
     /// `entry`'s scene; a refusal is one line naming what is accepted.
     pub fn parse(text: &str, entry: &SceneEntry) -> Result<Self, String> {
         let Some((key, value)) = text.split_once('=') else {
-            return Err(format!("compare '{text}': expected KEY=VALUE, e.g. integrator=rk4 or rate=60"));
+            return Err(format!(
+                "compare '{}': expected KEY=VALUE, e.g. integrator=rk4 or rate=60",
+                quote(text)
+            ));
         };
         let (key, value) = (key.trim(), value.trim());
         let number = || {
@@ -37,7 +41,7 @@ impl Change {
                 .parse::<f32>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("compare {key}: '{value}' is not a number"))
+                .ok_or_else(|| format!("compare {}: '{}' is not a number", quote(key), quote(value)))
         };
         match key {
             "integrator" => Ok(Self::Integrator(Integrator::parse(value)?)),
@@ -59,7 +63,8 @@ impl Change {
                 let Some(param) = entry.info.params.iter().find(|p| p.name == name) else {
                     let names: Vec<&str> = entry.info.params.iter().map(|p| p.name).collect();
                     return Err(format!(
-                        "compare: unknown setting '{name}'; valid: integrator, solver, rate, {}",
+                        "compare: unknown setting '{}'; valid: integrator, solver, rate, {}",
+                        quote(name),
                         names.join(", ")
                     ));
                 };

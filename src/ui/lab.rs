@@ -871,8 +871,9 @@ impl Lab {
             }
             other => {
                 return Err(format!(
-                    "--view {other}: unknown view option; known: forces, no-forces, all-vectors, contacts, \
-                     tension, side, follow, no-labels, no-trails"
+                    "--view {}: unknown view option; known: forces, no-forces, all-vectors, contacts, \
+                     tension, side, follow, no-labels, no-trails",
+                    crate::messages::quote(other)
                 ));
             }
         }
