@@ -1,11 +1,14 @@
 //! One world step of 1,000,000 free particles under gravity and damping, next to a
-//! plain copy of the bytes the step reads and writes, measured in the same run.
+//! plain copy of the bytes the step reads and writes, measured in the same run; and a
+//! step of chains of rods at 50,000 and 200,000 rods on both solvers (issue 17: the
+//! longest chain a file may make took 7 s a step when the soft solver's warm start
+//! searched a list per link; linear, the two sizes are 4x apart).
 
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;
-use particle_lab::physics::{ParticleDesc, World};
+use particle_lab::physics::{Constraint, ParticleDesc, SolverKind, SolverSettings, World};
 
 const N: usize = 1_000_000;
 const DT: f32 = 1.0 / 240.0;
@@ -66,5 +69,43 @@ fn step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, step);
+/// A horizontal chain of `rods` rods of 1 cm pinned at both ends, falling into its sag.
+fn chain(rods: usize, kind: SolverKind) -> World {
+    let mut world = World::new();
+    world.set_solver(SolverSettings { kind, ..SolverSettings::default() }).expect("valid settings");
+    let ids: Vec<_> = (0..=rods)
+        .map(|i| {
+            let desc = ParticleDesc {
+                position: Vec3::new(0.01 * i as f32, 3.0, 0.0),
+                acceleration: Vec3::new(0.0, -9.81, 0.0),
+                mass: 0.1,
+                immovable: i == 0 || i == rods,
+                damping: 0.8,
+                radius: 0.004,
+                ..ParticleDesc::default()
+            };
+            world.add_particle(desc).expect("valid particle")
+        })
+        .collect();
+    for pair in ids.windows(2) {
+        world.add_contact_generator(Constraint::rod(pair[0], pair[1], 0.01)).expect("valid rod");
+    }
+    world
+}
+
+fn chains(c: &mut Criterion) {
+    let mut group = c.benchmark_group("chain_of_rods");
+    group.sample_size(10);
+    for kind in [SolverKind::Soft, SolverKind::Paper] {
+        for rods in [50_000, 200_000] {
+            let mut w = chain(rods, kind);
+            w.step(DT).expect("valid dt");
+            let name = format!("{}/{rods}", kind.name());
+            group.bench_function(name, |b| b.iter(|| black_box(&mut w).step(DT).expect("valid dt")));
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, step, chains);
 criterion_main!(benches);
