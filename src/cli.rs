@@ -626,6 +626,12 @@ struct ResolverJson {
     max_penetration: f32,
 }
 
+/// A vector as printed: `+ 0` turns a component's negative zero (a velocity that has
+/// never moved along an axis, times a negative factor) into 0, so no figure reads "-0".
+fn figure(v: Vec3) -> Vec3 {
+    v + Vec3::ZERO
+}
+
 /// One CSV row per particle (by id), each with the step's energy budget; `t` is the
 /// time printed (s).
 fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Result<()> {
@@ -634,7 +640,7 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
     let mut order: Vec<usize> = (0..p.len()).collect();
     order.sort_by_key(|&i| p.ids()[i].0);
     for i in order {
-        let (x, v) = (p.positions()[i], p.velocities()[i]);
+        let (x, v) = (figure(p.positions()[i]), figure(p.velocities()[i]));
         let mass = if p.inverse_masses()[i] > 0.0 { p.mass(i).to_string() } else { String::new() };
         writeln!(
             out,
@@ -677,7 +683,7 @@ fn write_state(
             let id = p.ids()[i];
             let listed =
                 measured.as_ref().map(|measured| inspect::forces_on(world, id, measured.get(&id).copied()));
-            let f = listed.as_ref().map(|list| list.iter().map(|(_, f)| *f).sum::<Vec3>().to_array());
+            let f = listed.as_ref().map(|list| figure(list.iter().map(|(_, f)| *f).sum::<Vec3>()).to_array());
             let forces = listed.map(|list| {
                 let mut named = serde_json::Map::new();
                 for (name, force) in list {
@@ -687,14 +693,14 @@ fn write_state(
                         n += 1;
                         key = format!("{name} {n}");
                     }
-                    named.insert(key, serde_json::json!(force.to_array()));
+                    named.insert(key, serde_json::json!(figure(force).to_array()));
                 }
                 named
             });
             ParticleJson {
                 id: id.0,
-                p: p.position[i].to_array(),
-                v: p.velocity[i].to_array(),
+                p: figure(p.position[i]).to_array(),
+                v: figure(p.velocity[i]).to_array(),
                 r: p.radius[i],
                 m: (p.inverse_mass[i] > 0.0).then(|| p.mass(i)),
                 f,

@@ -75,3 +75,27 @@ fn forces_are_json_only() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("--forces") && stderr.lines().count() == 1, "{stderr}");
 }
+
+#[test]
+fn no_printed_figure_reads_minus_zero() {
+    // Issue 18, item 3: "kinetic": -0.0 once the sky was empty, "tension": -0.0 on a
+    // slack rod, a damping force's untouched z of -0.0.
+    let scenes: [&[&str]; 3] = [
+        &["--scene", "projectile", "--steps", "700", "--every", "100"],
+        &["--scene", "bridge", "--steps", "300", "--every", "100"],
+        &["--scene", "springForces", "--steps", "300", "--every", "100"],
+    ];
+    for args in scenes {
+        let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+            .args(["simulate", "--forces"])
+            .args(args)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&output.stdout);
+        assert!(!text.is_empty());
+        for (at, _) in text.match_indices("-0.0") {
+            let next = text[at + 4..].chars().next();
+            assert!(next.is_some_and(|c| c.is_ascii_digit() || c == 'e'), "{args:?}: a -0.0 at {at}");
+        }
+    }
+}
