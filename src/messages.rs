@@ -119,6 +119,24 @@ pub fn io_reason(error: &std::io::Error) -> String {
     }
 }
 
+/// `value` with `decimals` decimals, and never "-0.0": a value that rounds to zero
+/// is shown as zero.
+#[must_use]
+pub fn fixed(value: f32, decimals: usize) -> String {
+    let text = format!("{value:.decimals$}");
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => text,
+    }
+}
+
+/// [`fixed`] with its sign always shown, "+" for zero.
+#[must_use]
+pub fn signed(value: f32, decimals: usize) -> String {
+    let text = fixed(value, decimals);
+    if text.starts_with('-') { text } else { format!("+{text}") }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -138,6 +156,15 @@ mod tests {
         assert_eq!(one_line("unknown scene 'a\nb\r\u{1b}[2J'"), "unknown scene 'a\\nb\\r\\u{1b}[2J'");
         let long = "x".repeat(500);
         assert_eq!(one_line(&long), long);
+    }
+
+    #[test]
+    fn figures_never_read_minus_zero() {
+        assert_eq!(fixed(-0.0, 1), "0.0");
+        assert_eq!(fixed(-0.004, 2), "0.00");
+        assert_eq!(fixed(-0.006, 2), "-0.01");
+        assert_eq!(signed(-0.0001, 3), "+0.000");
+        assert_eq!(signed(-2.5, 1), "-2.5");
     }
 
     #[test]

@@ -300,7 +300,11 @@ impl Scene for Projectile {
     fn hover_points(&self, out: &mut Vec<(Vec3, String)>) {
         let launcher = self.launcher();
         let describe = |what: &str, (t, p): (f64, Vec3)| {
-            format!("{what}t = {t:.2} s, range {:.2} m, height {:.2} m", p.x - launcher.x, p.y)
+            format!(
+                "{what}t = {t:.2} s, range {} m, height {} m",
+                crate::messages::fixed(p.x - launcher.x, 2),
+                crate::messages::fixed(p.y, 2)
+            )
         };
         for flight in &self.flights {
             for &point in &flight.path {

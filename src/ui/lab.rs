@@ -798,8 +798,13 @@ impl Lab {
         self.tape_points.push(point);
         if let [a, b] = self.tape_points[..] {
             let d = b - a;
-            self.status =
-                format!("tape: {:.3} m (Δx {:.3}, Δy {:.3}, Δz {:.3} m)", d.length(), d.x, d.y, d.z);
+            self.status = format!(
+                "tape: {:.3} m (Δx {}, Δy {}, Δz {} m)",
+                d.length(),
+                crate::messages::fixed(d.x, 3),
+                crate::messages::fixed(d.y, 3),
+                crate::messages::fixed(d.z, 3)
+            );
             log::info!("{}", self.status);
         }
     }

@@ -10,6 +10,7 @@ pub mod scene_files;
 use egui::{Color32, Key, Modifiers, PointerButton, Rect, Sense, Stroke};
 use glam::{Vec2, Vec3};
 
+use crate::messages::{fixed, signed};
 use crate::physics::LinkKind;
 use crate::physics::solver::SUBSTEP_RANGE;
 use crate::physics::{Integrator, SolverKind};
@@ -729,7 +730,8 @@ fn inspector(ui: &mut egui::Ui, lab: &mut Lab) {
     let movable = particles.inverse_masses()[i] > 0.0;
     let mass = particles.mass(i);
     let net = if movable { lab.net_force(id) } else { Vec3::ZERO };
-    let vector = |x: Vec3, unit: &str| format!("({:.1}, {:.1}, {:.1}) {unit}", x.x, x.y, x.z);
+    let vector =
+        |x: Vec3, unit: &str| format!("({}, {}, {}) {unit}", fixed(x.x, 1), fixed(x.y, 1), fixed(x.z, 1));
     ui.horizontal(|ui| {
         ui.label(egui::RichText::new(format!("Particle {}", id.0)).strong());
         if ui.small_button("clear").on_hover_text("Clear the selection (or click empty space)").clicked() {
@@ -920,7 +922,7 @@ fn error_plot(ui: &mut egui::Ui, lab: &Lab) {
         }
         curves.push((srgb(paint::COMPARE_COLOR), theirs));
     }
-    line_plot(ui, &curves, 50.0, |mm| format!("{mm:.2} mm"));
+    line_plot(ui, &curves, 50.0, |mm| format!("{} mm", fixed(mm, 2)));
 }
 
 /// PhET's energy bar chart: kinetic, gravitational, elastic, dissipated, removed and the
@@ -1016,22 +1018,6 @@ pub fn joules(e: f32) -> String {
         // A light particle's energies are a fraction of a joule: in mJ, not "0.0 J".
         format!("{} mJ", fixed(e * 1000.0, 1))
     }
-}
-
-/// `value` with `decimals` decimals, and never "-0.0": a value that rounds to zero
-/// is shown as zero.
-fn fixed(value: f32, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    match text.strip_prefix('-') {
-        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
-        _ => text,
-    }
-}
-
-/// [`fixed`] with its sign always shown, "+" for zero.
-fn signed(value: f32, decimals: usize) -> String {
-    let text = fixed(value, decimals);
-    if text.starts_with('-') { text } else { format!("+{text}") }
 }
 
 fn help(ui: &mut egui::Ui) {
