@@ -57,7 +57,10 @@ impl Plane {
         for (i, ((&p, &r), &inverse_mass)) in positions.zip(&particles.inverse_mass).enumerate() {
             let penetration = r - self.distance(p);
             if penetration > 0.0 && inverse_mass > 0.0 {
-                out.push(Contact::new(i, None, self.normal, penetration, self.restitution).with_friction(self.friction));
+                out.push(
+                    Contact::new(i, None, self.normal, penetration, self.restitution)
+                        .with_friction(self.friction),
+                );
             }
         }
     }
@@ -116,7 +119,8 @@ impl SphereCollisions {
             // Coincident centres have no direction: separate them vertically.
             let normal = if normal == Vec3::ZERO { Vec3::Y } else { normal };
             out.push(
-                Contact::new(a, Some(b), normal, reach - distance, self.restitution).with_friction(self.friction),
+                Contact::new(a, Some(b), normal, reach - distance, self.restitution)
+                    .with_friction(self.friction),
             );
         }
     }

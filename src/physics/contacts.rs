@@ -13,7 +13,8 @@
 //! known behaviour: restitution is applied against the step-end closing speed (an
 //! `e = 1` bounce loses a little height each time), rods and cables are corrected by
 //! moving positions, which takes energy out of a swinging chain, and nothing stops a
-//! fast particle passing through another within a step.
+//! fast particle passing through another within a step. Contacts with friction get
+//! Coulomb friction each time they are handled (see `Contact::friction_impulse`).
 
 use glam::Vec3;
 
@@ -147,7 +148,12 @@ impl Contact {
     /// cannot is slowed by the whole of it (kinetic). A resting contact's normal impulse
     /// includes the part that cancels the velocity gravity built up over the step, so
     /// its friction can hold the same part of gravity along a slope.
-    fn friction_impulse(&mut self, particles: &Particles, normal_impulse: Vec3, total_inverse_mass: f32) -> Vec3 {
+    fn friction_impulse(
+        &mut self,
+        particles: &Particles,
+        normal_impulse: Vec3,
+        total_inverse_mass: f32,
+    ) -> Vec3 {
         let mut relative = particles.velocity[self.a] + normal_impulse * particles.inverse_mass[self.a];
         if let Some(b) = self.b {
             relative -= particles.velocity[b] - normal_impulse * particles.inverse_mass[b];

@@ -108,11 +108,8 @@ pub struct World {
     paper_motion: Vec<Vec3>,
     /// Positions at the start of a paper step (scratch).
     paper_start: Vec<Vec3>,
-    /// Velocities at the start of a paper step, and velocities and positions after its
-    /// integration, before the resolver (scratch, semi-implicit Euler only).
+    /// Velocities at the start of a paper step (scratch, semi-implicit Euler only).
     paper_velocity: Vec<Vec3>,
-    paper_kicked: Vec<Vec3>,
-    paper_integrated: Vec<Vec3>,
     profile: Profile,
     next_contact_generator: u32,
     contacts: Vec<Contact>,
@@ -327,8 +324,6 @@ impl World {
             self.particles.clear_forces();
             self.forces.apply(&mut self.particles, dt);
             self.particles.integrate(dt);
-            self.paper_kicked.clone_from(&self.particles.velocity);
-            self.paper_integrated.clone_from(&self.particles.position);
         } else {
             // No constraints inside the paper's integration: move, then take the end
             // velocity; the resolver works on that afterwards.
@@ -373,7 +368,7 @@ impl World {
         // What the resolver's impulses and position corrections added (or took out).
         self.particles.dissipated -= self.mechanical_energy() - before;
         if fast {
-            self.particles.dissipated -= self.integration_error_of_constrained();
+            self.particles.dissipated -= self.integration_error_of_constrained(dt);
         }
 
         for contact in &self.contacts {
@@ -404,16 +399,22 @@ impl World {
     /// motion, so this error is the contact's work and is booked with it, as the soft
     /// solver books each constrained particle's change of energy over its substep. A
     /// particle nothing touched keeps its error as error.
-    fn integration_error_of_constrained(&self) -> f64 {
+    fn integration_error_of_constrained(&self, dt: f32) -> f64 {
+        if self.contacts.is_empty() {
+            return 0.0; // nothing touched (the passes only find what the first found)
+        }
         let p = &self.particles;
-        let starts = self.paper_start.iter().zip(&self.paper_velocity);
-        let integrated = self.paper_kicked.iter().zip(&self.paper_integrated);
         let mut error = 0.0;
-        for (i, ((&x0, &v0), (&kicked, &moved_to))) in starts.zip(integrated).enumerate() {
+        for (i, (&x0, &v0)) in self.paper_start.iter().zip(&self.paper_velocity).enumerate() {
             let (w, d) = (p.inverse_mass[i], p.damping_per_step[i]);
-            let untouched = p.velocity[i] == kicked && p.position[i] == moved_to;
-            if w <= 0.0 || d <= 0.0 || untouched {
+            if w <= 0.0 || d <= 0.0 {
                 continue;
+            }
+            // The integration's end, as `Particles::integrate` computed it (same bits).
+            let kicked = (v0 + (p.acceleration[i] + p.force[i] * w) * dt) * d;
+            let moved_to = x0 + kicked * dt;
+            if p.velocity[i] == kicked && p.position[i] == moved_to {
+                continue; // nothing touched it
             }
             let (m, d) = (1.0 / f64::from(w), f64::from(d));
             let (v0, kicked) = (v0.as_dvec3(), kicked.as_dvec3());
