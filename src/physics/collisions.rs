@@ -57,7 +57,10 @@ impl Plane {
         for (i, ((&p, &r), &inverse_mass)) in positions.zip(&particles.inverse_mass).enumerate() {
             let penetration = r - self.distance(p);
             if penetration > 0.0 && inverse_mass > 0.0 {
-                out.push(Contact::new(i, None, self.normal, penetration, self.restitution));
+                out.push(
+                    Contact::new(i, None, self.normal, penetration, self.restitution)
+                        .with_friction(self.friction),
+                );
             }
         }
     }
@@ -84,8 +87,7 @@ pub struct GroundPlane {
 pub struct SphereCollisions {
     /// Coefficient of restitution between particles, in [0, 1].
     pub restitution: f32,
-    /// Coulomb friction coefficient between particles, >= 0 (the paper's resolver
-    /// ignores it).
+    /// Coulomb friction coefficient between particles, >= 0.
     pub friction: f32,
 }
 
@@ -116,7 +118,10 @@ impl SphereCollisions {
             let (normal, distance) = direction_or_zero(particles.position[a] - particles.position[b]);
             // Coincident centres have no direction: separate them vertically.
             let normal = if normal == Vec3::ZERO { Vec3::Y } else { normal };
-            out.push(Contact::new(a, Some(b), normal, reach - distance, self.restitution));
+            out.push(
+                Contact::new(a, Some(b), normal, reach - distance, self.restitution)
+                    .with_friction(self.friction),
+            );
         }
     }
 }

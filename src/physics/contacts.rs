@@ -13,7 +13,8 @@
 //! known behaviour: restitution is applied against the step-end closing speed (an
 //! `e = 1` bounce loses a little height each time), rods and cables are corrected by
 //! moving positions, which takes energy out of a swinging chain, and nothing stops a
-//! fast particle passing through another within a step.
+//! fast particle passing through another within a step. Contacts with friction get
+//! Coulomb friction each time they are handled (see `Contact::friction_impulse`).
 
 use glam::Vec3;
 
@@ -39,6 +40,8 @@ pub struct Contact {
     pub penetration: f32,
     /// Coefficient of restitution in [0, 1].
     pub restitution: f32,
+    /// Coulomb friction coefficient, >= 0 (one for static and kinetic friction).
+    pub friction: f32,
     /// Index of the contact generator that made it, or [`NO_SOURCE`].
     pub source: u32,
     /// True when the impulse on this contact pulls the ends together (a stretched link):
@@ -46,6 +49,9 @@ pub struct Contact {
     pub pulls: bool,
     /// Impulse applied along the normal during resolution (N·s), always >= 0.
     pub impulse: f32,
+    /// Friction impulse applied across the normal during resolution (N·s): on `a`, and
+    /// its opposite on `b`; never longer than `friction * impulse`.
+    pub tangent_impulse: Vec3,
     /// Separating velocity the resolver aims for (m/s); set by the resolver.
     pub target: f32,
 }
@@ -60,11 +66,19 @@ impl Contact {
             normal,
             penetration,
             restitution,
+            friction: 0.0,
             source: NO_SOURCE,
             pulls: false,
             impulse: 0.0,
+            tangent_impulse: Vec3::ZERO,
             target: 0.0,
         }
+    }
+
+    /// The same contact with Coulomb friction `friction` (>= 0).
+    #[must_use]
+    pub fn with_friction(self, friction: f32) -> Self {
+        Self { friction, ..self }
     }
 
     /// Velocity of separation along the normal (m/s); negative means closing.
@@ -117,11 +131,43 @@ impl Contact {
         let wanted = (self.target - self.separating_velocity(particles)) / total_inverse_mass;
         let impulse = wanted.max(-self.impulse);
         self.impulse += impulse;
-        let impulse_vector = self.normal * impulse;
+        let mut impulse_vector = self.normal * impulse;
+        if self.friction > 0.0 {
+            impulse_vector += self.friction_impulse(particles, impulse_vector, total_inverse_mass);
+        }
         particles.velocity[self.a] += impulse_vector * particles.inverse_mass[self.a];
         if let Some(b) = self.b {
             particles.velocity[b] -= impulse_vector * particles.inverse_mass[b];
         }
+    }
+
+    /// Coulomb friction after a normal impulse `normal_impulse` (not yet applied): the
+    /// change of this contact's friction impulse that stops its sliding, with the total
+    /// kept within `friction` times the normal impulse the contact has applied this
+    /// step. A contact that can be stopped within it sticks (static friction); one that
+    /// cannot is slowed by the whole of it (kinetic). A resting contact's normal impulse
+    /// includes the part that cancels the velocity gravity built up over the step, so
+    /// its friction can hold the same part of gravity along a slope.
+    fn friction_impulse(
+        &mut self,
+        particles: &Particles,
+        normal_impulse: Vec3,
+        total_inverse_mass: f32,
+    ) -> Vec3 {
+        let mut relative = particles.velocity[self.a] + normal_impulse * particles.inverse_mass[self.a];
+        if let Some(b) = self.b {
+            relative -= particles.velocity[b] - normal_impulse * particles.inverse_mass[b];
+        }
+        let sliding = relative - self.normal * relative.dot(self.normal);
+        let old = self.tangent_impulse;
+        let mut total = old - sliding / total_inverse_mass;
+        let limit = self.friction * self.impulse;
+        let squared = total.length_squared();
+        if squared > limit * limit {
+            total *= limit / squared.sqrt();
+        }
+        self.tangent_impulse = total;
+        total - old
     }
 
     /// Corrects the (linearised) penetration after particle `a` moved by `move_a` and
@@ -265,6 +311,7 @@ impl ContactResolver {
         for contact in contacts.iter_mut() {
             contact.target = contact.target_velocity(particles, dt, self.restitution_threshold);
             contact.impulse = 0.0;
+            contact.tangent_impulse = Vec3::ZERO;
         }
         // The worst is the largest error above epsilon, the first of equals.
         let epsilon = self.velocity_epsilon;
@@ -287,7 +334,44 @@ impl ContactResolver {
             }
             worst.refresh(changed);
         }
+        Self::move_with_friction(contacts, particles, dt, lists, changed);
         iterations
+    }
+
+    /// Moves each particle a friction impulse acted on by the change of velocity it
+    /// made, times `dt`, as if friction had acted inside the step: the integration
+    /// already moved it with the velocity before friction. Without this a sphere held
+    /// on a slope creeps down by `g sinθ dt²` every step, and a sliding one goes a step's
+    /// worth of friction too far each step. The penetrations of the contacts that share
+    /// a moved particle are corrected (linearised), as the position phase does.
+    fn move_with_friction(
+        contacts: &mut [Contact],
+        particles: &mut Particles,
+        dt: f32,
+        lists: &ContactLists,
+        changed: &mut Vec<u32>,
+    ) {
+        for i in 0..contacts.len() {
+            let Contact { a, b, tangent_impulse, .. } = contacts[i];
+            if tangent_impulse == Vec3::ZERO {
+                continue;
+            }
+            let move_a = tangent_impulse * (particles.inverse_mass[a] * dt);
+            particles.position[a] += move_a;
+            let move_b = match b {
+                Some(b) => {
+                    let m = -tangent_impulse * (particles.inverse_mass[b] * dt);
+                    particles.position[b] += m;
+                    m
+                }
+                None => Vec3::ZERO,
+            };
+            lists.sharing(a, b, changed);
+            for &k in changed.iter() {
+                contacts[k as usize].shift_penetration(a, b, move_a, move_b);
+            }
+        }
+        changed.clear();
     }
 
     /// The position phase: repeatedly removes the deepest penetration, updating the
