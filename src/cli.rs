@@ -58,7 +58,7 @@ pub struct Cli {
 #[derive(Debug, Clone, clap::Args)]
 pub struct SolverArgs {
     /// Constraint solver: soft (substepped soft contacts with friction, the default) or
-    /// paper (the paper's worst-first resolver).
+    /// paper (the paper's worst-first resolver, with Coulomb friction).
     #[arg(long, value_name = "NAME", default_value = "soft")]
     pub solver: String,
     /// Substeps per physics step for the soft solver, 1 to 64.

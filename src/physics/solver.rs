@@ -11,7 +11,8 @@ pub enum SolverKind {
     /// [`super::soft_step`].
     #[default]
     Soft,
-    /// The paper's resolver: one contact at a time, worst first, then interpenetration.
+    /// The paper's resolver: one contact at a time, worst first (with Coulomb friction
+    /// clamped by each contact's normal impulse), then interpenetration.
     /// Kept to show why the soft solver exists; see [`super::contacts`].
     Paper,
 }
@@ -34,7 +35,7 @@ impl SolverKind {
     pub fn summary(self) -> &'static str {
         match self {
             Self::Soft => "substepped soft contacts with friction, warm started (Box2D v3's soft step)",
-            Self::Paper => "the paper's resolver: worst contact first, then interpenetration",
+            Self::Paper => "the paper's resolver: worst contact first (with Coulomb friction), then interpenetration",
         }
     }
 
