@@ -23,7 +23,14 @@ fn ball(position: Vec3, velocity: Vec3) -> ParticleDesc {
 /// level; `moving_both` gives each half the speed (else the second is at rest). Returns
 /// both velocities after the pass and the second sphere's velocity right after the first
 /// step in which it changed (zero if it never did).
-fn pass(speed: f32, offset: f32, phase: f32, restitution: f32, friction: f32, moving_both: bool) -> [Vec3; 3] {
+fn pass(
+    speed: f32,
+    offset: f32,
+    phase: f32,
+    restitution: f32,
+    friction: f32,
+    moving_both: bool,
+) -> [Vec3; 3] {
     let mut world = World::new();
     let start = 1.0 + speed * DT * phase;
     let (va, vb) = if moving_both { (0.5 * speed, -0.5 * speed) } else { (speed, 0.0) };
@@ -55,8 +62,14 @@ fn spheres_passing_at_a_clear_gap_keep_their_velocity_exactly() {
                 for moving_both in [false, true] {
                     for k in 0..20 {
                         let (va, vb) = if moving_both { (0.5 * speed, -0.5 * speed) } else { (speed, 0.0) };
-                        let [a, b, _] =
-                            pass(speed, 2.0 * RADIUS + gap, k as f32 / 20.0, restitution, friction, moving_both);
+                        let [a, b, _] = pass(
+                            speed,
+                            2.0 * RADIUS + gap,
+                            k as f32 / 20.0,
+                            restitution,
+                            friction,
+                            moving_both,
+                        );
                         if a != Vec3::X * va || b != Vec3::X * vb {
                             let dv = (a - Vec3::X * va).length() / speed;
                             ghosts.push(format!(
@@ -69,7 +82,12 @@ fn spheres_passing_at_a_clear_gap_keep_their_velocity_exactly() {
             }
         }
     }
-    assert!(ghosts.is_empty(), "{} ghost collisions, e.g. {:?}", ghosts.len(), &ghosts[..ghosts.len().min(5)]);
+    assert!(
+        ghosts.is_empty(),
+        "{} ghost collisions, e.g. {:?}",
+        ghosts.len(),
+        &ghosts[..ghosts.len().min(5)]
+    );
 }
 
 #[test]
@@ -83,7 +101,10 @@ fn spheres_that_do_meet_are_pushed_along_the_line_of_centres_at_contact() {
             let expected = Vec3::new((sum * sum - offset * offset).sqrt(), offset, 0.0) / sum;
             for k in 0..20 {
                 let [_, _, push] = pass(speed, offset, k as f32 / 20.0, 0.0, 0.0, false);
-                assert!(push.length() > 0.01 * speed, "{speed} m/s, offset {offset}, phase {k}: no collision");
+                assert!(
+                    push.length() > 0.01 * speed,
+                    "{speed} m/s, offset {offset}, phase {k}: no collision"
+                );
                 let angle = push.normalize().angle_between(expected).to_degrees();
                 assert!(
                     angle < 1.0,
