@@ -7,7 +7,10 @@
 //! Stages, each finished before the next begins:
 //! 1. **Collide** once per step: the broad phase's pairs and the planes give contacts
 //!    whose gap is below a speculative margin (a pair that may touch within the step
-//!    gets its contact now). Each contact stores its separation and closing speed at
+//!    gets its contact now). A sphere pair's contact is swept: it is made only if the
+//!    pair's straight relative path comes near touching within the step, along the
+//!    line of centres at the time of impact (see `swept_contact`), so spheres passing
+//!    each other are never stopped by a ghost. Each contact stores its separation at
 //!    the start of the step, and picks up last step's impulses (warm starting).
 //! 2. **Colour** the contacts so that no two of one colour share a movable particle;
 //!    a colour is then solved in parallel with the same result as in order.
@@ -609,7 +612,8 @@ impl SoftStep {
                     );
                     scratch.pair_budget_hit |= broad_phase.budget_hit();
                     profile.broad_phase_ms += ms(broad.elapsed());
-                    self.collide_spheres(spheres, particles, &scratch.pairs);
+                    let slack = 2.0 * settings.speculative_distance;
+                    self.collide_spheres(spheres, particles, &scratch.pairs, slack, dt);
                 }
                 ContactGenerator::Link(link) => self.add_link(link, particles, source as u32),
             }
@@ -641,8 +645,18 @@ impl SoftStep {
         }
     }
 
-    fn collide_spheres(&mut self, spheres: &SphereCollisions, particles: &Particles, pairs: &[(u32, u32)]) {
+    /// Contacts of the broad phase's pairs that can come within `slack` of touching in
+    /// the step `dt` (see [`swept_contact`]: a pair that only passes by gets none).
+    fn collide_spheres(
+        &mut self,
+        spheres: &SphereCollisions,
+        particles: &Particles,
+        pairs: &[(u32, u32)],
+        slack: f32,
+        dt: f32,
+    ) {
         let (p, w, r) = (&particles.position, &particles.inverse_mass, &particles.radius);
+        let (v, acceleration) = (&particles.velocity, &particles.acceleration);
         for &(a, b) in pairs {
             let (i, j) = (a as usize, b as usize);
             let total = w[i] + w[j];
@@ -656,15 +670,17 @@ impl SoftStep {
                 }
                 continue;
             }
-            let (normal, distance) = direction_or_zero(p[i] - p[j]);
-            // Coincident centres have no direction: separate them vertically.
-            let normal = if normal == Vec3::ZERO { Vec3::Y } else { normal };
+            // Gravity moves both alike; any difference in constant acceleration may
+            // close the gap by up to |a_i - a_j| dt² / 2 (counted twice, as the margins do).
+            let slack = slack + (acceleration[i].length() + acceleration[j].length()) * dt * dt;
+            let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
+            let Some((normal, separation)) = swept else { continue };
             self.fresh_keys.push(key(a, b));
             self.fresh.push(SoftContact {
                 a,
                 b,
                 normal,
-                separation: distance - r[i] - r[j],
+                separation,
                 restitution: spheres.restitution,
                 friction: spheres.friction,
                 mass: 1.0 / total,
@@ -1067,6 +1083,59 @@ fn contact_terms(s: f32, context: Context) -> (f32, f32, f32) {
     } else {
         (0.0, 1.0, 0.0)
     }
+}
+
+/// The contact of two spheres `offset = p_a - p_b` apart, closing with relative velocity
+/// `velocity = v_a - v_b`, whose radii sum to `reach`: its unit normal (pointing the way
+/// `a` is pushed) and its gap along that normal at the start of the step, or `None` when
+/// the swept spheres come no closer than `slack` to touching within `dt`.
+///
+/// The relative path `d(t) = offset + velocity·t` is a straight line over the step.
+/// The solver keeps a contact's gap along a fixed normal, `d(t)·n - reach`, from going
+/// negative, so the normal decides what the contact does:
+/// - overlapping at the start: the line of centres now (the overlap is pushed out);
+/// - meeting within the step: the line of centres at the time of impact, the smallest
+///   `t` in `[0, dt]` with `|d(t)| = reach` (the quadratic of PHYSICS.md). Along it the
+///   gap is positive before `t` and zero at `t`, so the pair is stopped where it
+///   touches and pushed the way it really touches (a glancing hit goes sideways);
+/// - only passing near: the line of centres at the closest approach `t*`. As `t*`
+///   minimises `|d|` over `[0, dt]`, `d(t*)·velocity·(t - t*) >= 0` for every `t` in the
+///   step, so `d(t)·n >= |d(t*)| > reach`: the contact cannot act on the motion it was
+///   made for. It is there for pushes from other contacts within the step (a pile).
+///
+/// A normal from the start separation alone would stop two spheres passing at a clear
+/// gap as soon as their start-of-step line of centres closed: a ghost collision.
+#[inline]
+fn swept_contact(offset: Vec3, velocity: Vec3, reach: f32, dt: f32, slack: f32) -> Option<(Vec3, f32)> {
+    let unit_or_up = |d: Vec3| {
+        // Coincident centres have no direction: separate them vertically.
+        let (n, length) = direction_or_zero(d);
+        (if n == Vec3::ZERO { Vec3::Y } else { n }, length)
+    };
+    let squared = offset.length_squared();
+    if squared <= reach * reach {
+        let (normal, distance) = unit_or_up(offset);
+        return Some((normal, distance - reach));
+    }
+    let closing = offset.dot(velocity);
+    let speed_squared = velocity.length_squared();
+    let closest_time = if speed_squared > 0.0 { (-closing / speed_squared).clamp(0.0, dt) } else { 0.0 };
+    let closest = offset + velocity * closest_time;
+    let closest_distance = closest.length();
+    if closest_distance - reach >= slack {
+        return None;
+    }
+    let at = if closest_distance < reach {
+        // |offset + velocity t|² = reach²: the earlier root (the pair closes, so the
+        // discriminant is positive and `closing` negative).
+        let c = squared - reach * reach;
+        let root = (closing * closing - speed_squared * c).max(0.0).sqrt();
+        offset + velocity * (c / (-closing + root))
+    } else {
+        closest
+    };
+    let (normal, _) = unit_or_up(at);
+    Some((normal, offset.dot(normal) - reach))
 }
 
 /// Adds `impulse` to `a` and its opposite to `b`, each divided by its mass.

@@ -87,9 +87,11 @@ pub struct SolverSettings {
     /// Closing speeds below this do not bounce (m/s), >= 0. Default 0.1: resting
     /// contacts are not resting if gravity's step-by-step speed makes them bounce.
     pub restitution_threshold: f32,
-    /// Gap below which two spheres (or a sphere and a plane) get a contact before they
-    /// touch (m), >= 0. Default 0.02. To it is added how far each particle can move in
-    /// the step, so fast particles are caught before they pass through.
+    /// Gap below which a sphere and a plane get a contact before they touch (m), >= 0.
+    /// Default 0.02. To it is added how far the particle can move in the step, so fast
+    /// particles are caught before they pass through. Two spheres get one when their
+    /// straight relative path over the step comes within twice this of touching (each
+    /// sphere's share), at the closest approach: spheres that only pass by get none.
     pub speculative_distance: f32,
     /// Let islands of particles at rest fall asleep (soft solver). Default true. A
     /// sleeping particle is not integrated or solved (its velocity is zero) until an
