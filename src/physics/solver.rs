@@ -35,7 +35,9 @@ impl SolverKind {
     pub fn summary(self) -> &'static str {
         match self {
             Self::Soft => "substepped soft contacts with friction, warm started (Box2D v3's soft step)",
-            Self::Paper => "the paper's resolver: worst contact first (with Coulomb friction), then interpenetration",
+            Self::Paper => {
+                "the paper's resolver: worst contact first (with Coulomb friction), then interpenetration"
+            }
         }
     }
 
