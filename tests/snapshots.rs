@@ -648,6 +648,16 @@ fn snapshot_checks_cover_dt_the_scene_file_name_and_every_index() {
             changed(pendulum, true, &|v| v["world"]["time"] = 1e300.into()),
             "time = 1e300 s",
         ),
+        (
+            "a round fired in the future, unsealed",
+            changed(projectile.clone(), true, &|v| v["scene_state"]["rounds"][0][1] = 1e300.into()),
+            "was fired at t = 1e300 s",
+        ),
+        (
+            "a round fired before the start, unsealed",
+            changed(projectile.clone(), true, &|v| v["scene_state"]["rounds"][0][1] = (-5.0).into()),
+            "was fired at t = -5 s",
+        ),
     ];
     for (what, bytes, expected) in cases {
         let (mut lab, _) = lab_and_snapshot("springForces");

@@ -222,6 +222,16 @@ impl Scene for Projectile {
         if let Some((id, _)) = saved.rounds.iter().find(|(id, _)| particles.index(*id).is_none()) {
             return Err(format!("round {} is not a particle of the world", id.0));
         }
+        // A round was fired at a time the world has passed: not before 0, not ahead of
+        // the world's clock (its age decides when it is removed).
+        let now = self.world.time();
+        if let Some((id, fired)) = saved.rounds.iter().find(|(_, t)| !(*t >= 0.0 && *t <= now)) {
+            let fired = if fired.abs() >= 1e6 { format!("{fired:e}") } else { format!("{fired}") };
+            return Err(format!(
+                "round {} was fired at t = {fired} s, outside 0 to the world's {now:.3} s",
+                id.0
+            ));
+        }
         (self.rounds, self.ghosts, self.flights) = (saved.rounds, saved.ghosts, saved.flights);
         Ok(())
     }
