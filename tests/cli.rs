@@ -489,13 +489,21 @@ fn render_frames_writes_a_gif_and_an_apng_timed_by_the_simulation() {
 struct VirtualDisplay {
     name: String,
     server: std::process::Child,
+    /// One display at a time: two servers started together by tests running in
+    /// parallel were seen to leave a test's app facing a display that had gone
+    /// ("DISPLAY=:0 does not answer") once the other test ended its own.
+    _serial: std::sync::MutexGuard<'static, ()>,
 }
+
+static ONE_DISPLAY_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 impl VirtualDisplay {
     /// Starts Xvfb and waits until its display answers; a server that does not within
     /// 10 s (seen once on a busy CI machine) is started again, up to three times.
     fn start() -> Self {
         use std::io::BufRead;
+        // A test that failed holding the lock has let go of its display all the same.
+        let serial = ONE_DISPLAY_AT_A_TIME.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         for _ in 0..3 {
             let mut server = Command::new("Xvfb")
                 .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
@@ -505,19 +513,22 @@ impl VirtualDisplay {
                 .expect("Xvfb starts ('bash scripts/test.sh' installs it)");
             let mut number = String::new();
             std::io::BufReader::new(server.stdout.take().unwrap()).read_line(&mut number).unwrap();
-            let display = Self { name: format!(":{}", number.trim()), server };
+            let name = format!(":{}", number.trim());
             let start = std::time::Instant::now();
             while start.elapsed().as_secs() < 10 {
                 let probe = Command::new("xdotool")
-                    .env("DISPLAY", &display.name)
+                    .env("DISPLAY", &name)
                     .arg("getdisplaygeometry")
                     .output()
                     .is_ok_and(|o| o.status.success());
                 if probe {
-                    return display;
+                    return Self { name, server, _serial: serial };
                 }
                 std::thread::sleep(std::time::Duration::from_millis(100));
             }
+            // Not answering: end this server (keeping the lock) and start another.
+            let _ = server.kill();
+            let _ = server.wait();
         }
         panic!("Xvfb did not answer, three times");
     }
