@@ -533,6 +533,16 @@ impl VirtualDisplay {
         panic!("Xvfb did not answer, three times");
     }
 
+    /// Waits (up to 60 s) for the app's window; fails with its stderr if it exits first.
+    fn wait_for_window(&self, app: &mut std::process::Child, log: &std::path::Path) {
+        let start = std::time::Instant::now();
+        while !self.has_window("^particle-lab$") {
+            assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(log).unwrap());
+            assert!(start.elapsed().as_secs() < 60, "no window");
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        }
+    }
+
     fn has_window(&self, title: &str) -> bool {
         Command::new("xdotool")
             .env("DISPLAY", &self.name)
@@ -566,12 +576,7 @@ fn the_window_is_quiet_when_nothing_is_wrong_and_names_the_driver_when_one_is() 
         .stderr(std::fs::File::create(&log).unwrap())
         .spawn()
         .unwrap();
-    let start = std::time::Instant::now();
-    while !display.has_window("^particle-lab$") {
-        assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(&log).unwrap());
-        assert!(start.elapsed().as_secs() < 60, "no window");
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
+    display.wait_for_window(&mut app, &log);
     // Let it draw a few frames (the GPU is set up by then).
     std::thread::sleep(std::time::Duration::from_secs(2));
     assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(&log).unwrap());
@@ -854,12 +859,7 @@ fn a_directory_in_place_of_the_settings_file_gives_the_window_one_line() {
         .stderr(std::fs::File::create(&log).unwrap())
         .spawn()
         .unwrap();
-    let start = std::time::Instant::now();
-    while !display.has_window("^particle-lab$") {
-        assert!(app.try_wait().unwrap().is_none(), "exited: {}", std::fs::read_to_string(&log).unwrap());
-        assert!(start.elapsed().as_secs() < 60, "no window");
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
+    display.wait_for_window(&mut app, &log);
     // The autosave runs every 2 s: past two of them.
     std::thread::sleep(std::time::Duration::from_secs(5));
     app.kill().unwrap();

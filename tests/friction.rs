@@ -53,6 +53,18 @@ fn on_slope(kind: SolverKind, slope: Slope, degrees: f32, mu: f32, velocity: f32
     (world, down_slope, normal)
 }
 
+/// The energy budget of `world` balances: its error is within [`budget_tolerance`] of
+/// what it dissipated.
+fn assert_budget_closed(world: &World, what: &str) {
+    let energy = world.energy();
+    assert!(
+        energy.error.abs() < budget_tolerance(energy.dissipated),
+        "{what}: budget error {} J of {} J dissipated",
+        energy.error,
+        energy.dissipated
+    );
+}
+
 /// `|error|` of the energy budget allowed after friction dissipated `dissipated` J.
 fn budget_tolerance(dissipated: f32) -> f32 {
     0.01 + 0.01 * dissipated.abs()
@@ -109,12 +121,7 @@ fn a_sliding_sphere_stops_after_v0_squared_over_2_mu_g_on_both_solvers() {
                 "{what}: dissipated {} J, μ m g d = {work} J",
                 energy.dissipated
             );
-            assert!(
-                energy.error.abs() < budget_tolerance(energy.dissipated),
-                "{what}: budget error {} J of {} J dissipated",
-                energy.error,
-                energy.dissipated
-            );
+            assert_budget_closed(&world, &what);
         }
     }
 }
@@ -163,13 +170,7 @@ fn a_sphere_slides_down_an_incline_at_g_sin_minus_mu_cos_on_both_solvers() {
                         "{what}: acceleration from the {how} {a} m/s², g(sinθ − μcosθ) = {expected}"
                     );
                 }
-                let energy = world.energy();
-                assert!(
-                    energy.error.abs() < budget_tolerance(energy.dissipated),
-                    "{what}: budget error {} J of {} J dissipated",
-                    energy.error,
-                    energy.dissipated
-                );
+                assert_budget_closed(&world, &what);
             }
         }
     }
@@ -196,13 +197,7 @@ fn a_sphere_on_a_slope_with_mu_above_tan_theta_stays_put_on_both_solvers() {
                 assert!(crept.abs() < 1e-4, "{what}: crept {crept} m down the slope in 5 s");
                 let v = world.particles.velocities()[0];
                 assert!(v.length() < 1e-3, "{what}: moving at {v} m/s");
-                let energy = world.energy();
-                assert!(
-                    energy.error.abs() < budget_tolerance(energy.dissipated),
-                    "{what}: budget error {} J of {} J dissipated",
-                    energy.error,
-                    energy.dissipated
-                );
+                assert_budget_closed(&world, &what);
             }
         }
     }

@@ -7,28 +7,14 @@
 //! The default run is short (`FUZZ_CASES` cases, 300 by default); a longer run by hand:
 //! `FUZZ_CASES=100000 cargo test --release --test fuzz_snapshots -- --nocapture`.
 
+mod common;
+
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use particle_lab::scenes::snapshot::Snapshot;
 use particle_lab::scenes::{self, SCENES};
 
-/// A small deterministic generator (splitmix64): a failing case is found again by its
-/// number.
-struct Random(u64);
-
-impl Random {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+use common::Random;
 
 /// Numbers that have broken loaders: beyond f32, negative counts and times, ids past
 /// any array, integers past u32 and u64.

@@ -4,6 +4,8 @@
 //! The last test feeds mutated versions of the shipped files to the loader: a few
 //! thousand cases by default (a second or two), `FUZZ_CASES=100000` (and `FUZZ_SEED=N`) for a longer run.
 
+mod common;
+
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -179,6 +181,8 @@ fn devices_fifos_directories_and_huge_files_are_refused_at_once() {
 
 use std::process::Command;
 
+use common::Random;
+
 /// `n` named particles (inline tables, so that 100,000 fit in a file's 4 MB), every
 /// twentieth linked by name to the one before.
 fn named_particles(n: usize) -> String {
@@ -326,23 +330,6 @@ fn a_snapshot_naming_an_unknown_parameter_says_so_once() {
 // ---------------------------------------------------------------------------------------
 // The mutation loop.
 
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
-
 const NUMBERS: &[&str] = &[
     "0",
     "-0",
@@ -376,7 +363,7 @@ const NUMBERS: &[&str] = &[
 ];
 
 /// One mutation of `text`.
-fn mutate(text: &str, rng: &mut Rng) -> String {
+fn mutate(text: &str, rng: &mut Random) -> String {
     if text.is_empty() {
         return String::new();
     }
@@ -461,7 +448,7 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
 fn mutated_shipped_files_load_or_fail_with_one_line_and_never_panic() {
     let cases: usize = std::env::var("FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(2000);
     let seed: u64 = std::env::var("FUZZ_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(17);
-    let mut rng = Rng(seed);
+    let mut rng = Random(seed);
     let (mut loaded, mut refused) = (0, 0);
     for case in 0..cases {
         let (name, original) = file::SHIPPED[case % file::SHIPPED.len()];

@@ -2,29 +2,15 @@
 //! its slider's range every 50 steps, as a restless student would. No step may fail,
 //! panic or leave a number that is not finite.
 
+mod common;
+
 use particle_lab::scenes::{self, SCENES, Scene};
 use particle_lab::ui::Lab;
 
+use common::Random;
+
 const STEPS: u32 = 100_000;
 const EVERY: u32 = 50;
-
-/// A small deterministic generator (splitmix64), so a failure can be replayed.
-struct Random(u64);
-
-impl Random {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1].
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / ((1u64 << 24) - 1) as f32
-    }
-}
 
 /// The slider range the soak draws from: the parameter's own, except the pile's
 /// sphere count, held to 400 so that 100,000 steps fit in a test run (its cost is per
