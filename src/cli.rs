@@ -678,11 +678,17 @@ fn write_state(
     let p = &world.particles;
     let measured: Option<std::collections::HashMap<ParticleId, Vec3>> =
         forces.map(|list| list.iter().copied().collect());
+    // Which particles a contact or link acts on, found in one pass, not one per particle.
+    let mut constrained = Vec::new();
+    if forces.is_some() {
+        world.constrained_into(&mut constrained);
+    }
     let mut particles: Vec<ParticleJson> = (0..p.len())
         .map(|i| {
             let id = p.ids()[i];
-            let listed =
-                measured.as_ref().map(|measured| inspect::forces_on(world, id, measured.get(&id).copied()));
+            let listed = measured
+                .as_ref()
+                .map(|measured| inspect::forces_given(world, id, measured.get(&id).copied(), constrained[i]));
             let f = listed.as_ref().map(|list| figure(list.iter().map(|(_, f)| *f).sum::<Vec3>()).to_array());
             let forces = listed.map(|list| {
                 let mut named = serde_json::Map::new();

@@ -18,6 +18,18 @@ pub const CONSTRAINT_FORCE: &str = "contacts and links (last step)";
 /// what they hold: the opposite of the rest. Their sum is the net force.
 #[must_use]
 pub fn forces_on(world: &World, id: ParticleId, measured: Option<Vec3>) -> Vec<(&'static str, Vec3)> {
+    forces_given(world, id, measured, world.constrained(id))
+}
+
+/// [`forces_on`] when it is already known whether a contact or link acts on the
+/// particle ([`World::constrained_into`], for many particles at once).
+#[must_use]
+pub fn forces_given(
+    world: &World,
+    id: ParticleId,
+    measured: Option<Vec3>,
+    constrained: bool,
+) -> Vec<(&'static str, Vec3)> {
     let mut forces = world.free_body(id);
     if forces.is_empty() {
         return forces;
@@ -26,9 +38,7 @@ pub fn forces_on(world: &World, id: ParticleId, measured: Option<Vec3>) -> Vec<(
     if asleep {
         let others: Vec3 = forces.iter().map(|(_, f)| *f).sum();
         forces.push((CONSTRAINT_FORCE, -others));
-    } else if world.constrained(id)
-        && let Some(force) = measured
-    {
+    } else if constrained && let Some(force) = measured {
         forces.push((CONSTRAINT_FORCE, force));
     }
     forces

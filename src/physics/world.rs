@@ -9,7 +9,7 @@ use super::collisions::{ContactGenerator, Scratch};
 use super::contacts::{Contact, ContactResolver, NO_SOURCE, ResolveReport};
 use super::forces::{ForceGenerator, ForceId, ForceRegistry};
 use super::integrator::{Integration, Integrator};
-use super::links::{LinkState, link_geometry};
+use super::links::{LinkEnd, LinkState, link_geometry};
 use super::particles::{ParticleDesc, ParticleId, Particles};
 use super::soft_step::SoftStep;
 use super::solver::{SolverKind, SolverSettings};
@@ -551,18 +551,44 @@ impl World {
     #[must_use]
     pub fn constrained(&self, id: ParticleId) -> bool {
         let Some(i) = self.particles.index(id) else { return false };
-        if self.contact_generators.iter().any(|(_, g)| g.link().is_some() && g.involves(id)) {
-            return true;
+        let mut found = false;
+        self.mark_constrained(|j| found |= j == i);
+        found
+    }
+
+    /// [`World::constrained`] for every particle at once, by dense index, into `out`
+    /// (replacing what was there): one pass over the links and contacts.
+    pub fn constrained_into(&self, out: &mut Vec<bool>) {
+        out.clear();
+        out.resize(self.particles.len(), false);
+        self.mark_constrained(|j| out[j] = true);
+    }
+
+    /// Calls `mark` with the dense index of each particle a link holds or a contact
+    /// pushed in the last step (a particle may come more than once).
+    fn mark_constrained(&self, mut mark: impl FnMut(usize)) {
+        let index = |id: ParticleId| self.particles.index(id);
+        for spec in self.contact_generators.iter().filter_map(|(_, g)| g.link()) {
+            index(spec.a).into_iter().for_each(&mut mark);
+            if let LinkEnd::Particle(b) = spec.b {
+                index(b).into_iter().for_each(&mut mark);
+            }
         }
         match self.solver.kind {
-            SolverKind::Soft => self.soft.contacts().iter().any(|c| {
-                let touches = c.a as usize == i || (c.b != super::soft_step::NONE && c.b as usize == i);
-                touches && c.normal_impulse > 0.0
-            }),
-            SolverKind::Paper => self
-                .contacts
-                .iter()
-                .any(|c| (c.a == i || c.b == Some(i)) && (c.impulse != 0.0 || c.penetration > 0.0)),
+            SolverKind::Soft => {
+                for c in self.soft.contacts().iter().filter(|c| c.normal_impulse > 0.0) {
+                    mark(c.a as usize);
+                    if c.b != super::soft_step::NONE {
+                        mark(c.b as usize);
+                    }
+                }
+            }
+            SolverKind::Paper => {
+                for c in self.contacts.iter().filter(|c| c.impulse != 0.0 || c.penetration > 0.0) {
+                    mark(c.a);
+                    c.b.into_iter().for_each(&mut mark);
+                }
+            }
         }
     }
 
