@@ -8,11 +8,9 @@
 
 use glam::Vec3;
 
-use super::{PhysicsError, Shown};
-
-/// A stable handle to a particle. Ids are never reused within one [`Particles`] store.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
-pub struct ParticleId(pub u32);
+use super::error::{PhysicsError, Shown};
+use super::hash::StateHasher;
+pub use super::ids::ParticleId;
 
 /// Everything needed to create a particle. Units: metres, seconds, kilograms.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -129,7 +127,7 @@ pub struct Particles {
     /// Sleep state, per particle: see [`Sleep`].
     pub(crate) sleep: Vec<Sleep>,
     /// Energy taken out by drag, damped springs and damping since the world last read
-    /// it (J); see [`super::world::Energy::dissipated`].
+    /// it (J); see [`Energy::dissipated`](super::energy::Energy::dissipated).
     pub(crate) dissipated: f64,
     /// Dense index -> id.
     ids: Vec<ParticleId>,
@@ -236,7 +234,7 @@ impl Particles {
     }
 
     /// Feeds every array a step reads to a state hash, in dense order.
-    pub(crate) fn hash_into(&self, hasher: &mut super::state::StateHasher) {
+    pub(crate) fn hash_into(&self, hasher: &mut StateHasher) {
         for id in &self.ids {
             hasher.u64(u64::from(id.0));
         }
