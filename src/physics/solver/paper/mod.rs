@@ -18,7 +18,7 @@ use crate::physics::energy::mechanical_energy;
 use crate::physics::forces::ForceRegistry;
 use crate::physics::ids::ContactGeneratorId;
 use crate::physics::integrator::{Integration, Integrator};
-use crate::physics::particles::Particles;
+use crate::physics::particles::{Particles, kicked};
 use crate::physics::solver::report::{Profile, ResolveReport};
 use resolver::{ContactResolver, ResolverScratch};
 
@@ -103,7 +103,12 @@ impl PaperStep {
             self.start_velocity.clone_from(&particles.velocity);
             particles.clear_forces();
             forces.apply(particles, dt);
-            particles.integrate(dt);
+            // Semi-implicit Euler, the soft solver's kick and drift in one step (no
+            // particle sleeps under this solver).
+            particles.integrate_velocities(dt, false);
+            self.moved.clear();
+            self.moved.resize(particles.len(), Vec3::ZERO);
+            particles.integrate_positions(dt, &mut self.moved, false);
         } else {
             // No constraints inside the paper's integration: move, then take the end
             // velocity; the resolver works on that afterwards.
@@ -185,8 +190,8 @@ impl PaperStep {
             if w <= 0.0 || d <= 0.0 {
                 continue;
             }
-            // The integration's end, as `Particles::integrate` computed it (same bits).
-            let kicked = (v0 + (p.acceleration[i] + p.force[i] * w) * dt) * d;
+            // The integration's end, as the kick and drift computed it (same bits).
+            let kicked = kicked(v0, p.acceleration[i] + p.force[i] * w, dt, d);
             let moved_to = x0 + kicked * dt;
             if p.velocity[i] == kicked && p.position[i] == moved_to {
                 continue; // nothing touched it

@@ -23,7 +23,7 @@ pub(super) fn contact_terms(s: f32, context: Context) -> (f32, f32, f32) {
 
 /// Adds `impulse` to `a` and its opposite to `b`, each divided by its mass.
 #[inline]
-pub(super) fn apply(velocities: SharedVelocities, w: &[f32], a: u32, b: u32, impulse: Vec3) {
+pub(super) fn apply(velocities: SharedVelocities<'_>, w: &[f32], a: u32, b: u32, impulse: Vec3) {
     let (a, wa) = (a as usize, w[a as usize]);
     if wa > 0.0 {
         velocities.set(a, velocities.get(a) + impulse * wa);
@@ -42,7 +42,7 @@ pub(super) fn apply(velocities: SharedVelocities, w: &[f32], a: u32, b: u32, imp
 #[inline]
 pub(super) fn solve_contact(
     c: &mut SoftContact,
-    velocities: SharedVelocities,
+    velocities: SharedVelocities<'_>,
     w: &[f32],
     delta: &[Vec3],
     context: Context,
