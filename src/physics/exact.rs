@@ -70,7 +70,7 @@ impl SpringMotion {
         let omega = (self.k / self.m).sqrt();
         let zeta = self.lambda / (2.0 * omega);
         let equilibrium = self.equilibrium();
-        let (y, v) = super::stiff_spring::damped_oscillator(p0 - equilibrium, v0, omega, zeta, t);
+        let (y, v) = super::forces::stiff_spring::damped_oscillator(p0 - equilibrium, v0, omega, zeta, t);
         (equilibrium + y, v)
     }
 }

@@ -2,14 +2,15 @@
 //! cables, which are constraints rather than forces.
 //!
 //! With the paper's resolver a rod or cable checks its length each step and, when it is
-//! off, emits a contact that the resolver treats like a collision. The soft-step solver
-//! reads the same [`Constraint`] and solves it on the exact geometry every substep.
+//! off, emits a contact that the resolver treats like a collision (see
+//! `collision/constraints.rs`). The soft solver reads the same [`Constraint`] and solves
+//! it on the exact geometry every substep.
 
 use glam::Vec3;
 
-use super::contacts::Contact;
-use super::particles::{ParticleId, Particles};
-use super::{POSITIVE, PhysicsError, UNIT, check, positive};
+use super::error::{POSITIVE, PhysicsError, UNIT, check, positive};
+use super::ids::ParticleId;
+use super::particles::Particles;
 
 /// Unit vector of `d` and its length, or zero and the length when `d` is (nearly) zero:
 /// coincident ends exert no directed force instead of producing NaN.
@@ -163,33 +164,6 @@ impl Constraint {
             check(anchor.is_finite(), &format!("{name} anchor"), anchor, "a point of finite numbers")?;
         }
         Ok(())
-    }
-
-    /// Emits the paper resolver's contact when the link is too long (or, for a rod, too
-    /// short). `source` is this link's generator index, kept for its tension.
-    pub fn generate(&self, particles: &Particles, source: u32, out: &mut Vec<Contact>) {
-        let Some(a) = particles.index(self.a) else { return };
-        let (b, other) = match self.b {
-            LinkEnd::Particle(id) => match particles.index(id) {
-                Some(i) => (Some(i), particles.position[i]),
-                None => return,
-            },
-            LinkEnd::Anchor(p) => (None, p),
-        };
-        if b == Some(a) {
-            return; // a link from a particle to itself constrains nothing
-        }
-        let (towards_b, current) = direction_or_zero(other - particles.position[a]);
-        let error = current - self.length;
-        let too_long = error > 0.0;
-        let too_short = self.rigid && error < 0.0;
-        if !(too_long || too_short) {
-            return;
-        }
-        // Coincident ends give no direction; any fixed axis will do to push them apart.
-        let towards_b = if towards_b == Vec3::ZERO { Vec3::NEG_Y } else { towards_b };
-        let (normal, restitution) = if too_long { (towards_b, self.restitution) } else { (-towards_b, 0.0) };
-        out.push(Contact { source, pulls: too_long, ..Contact::new(a, b, normal, error.abs(), restitution) });
     }
 
     /// Whether this link refers to the particle.

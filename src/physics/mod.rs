@@ -4,110 +4,56 @@
 //! read a [`World`]; only scenes and the command line step it.
 //!
 //! Units everywhere: metres, seconds, kilograms, newtons; y is up.
+//!
+//! The engine is layered rooms; a room imports only rooms on the floors below it (see
+//! ARCHITECTURE.md, "The engine", and `scripts/imports.py`, which checks it):
+//! 1. [`ids`], [`hash`], [`error`]: handles, the state hash, errors and range checks;
+//! 2. [`particles`]: the struct-of-arrays store;
+//! 3. [`links`], [`contact`]: what a link and a contact are;
+//! 4. [`forces`]: force generators; [`collision`]: broad and narrow phase;
+//! 5. [`integrator`], [`energy`], [`exact`]: stepping a particle, the energy budget,
+//!    closed forms;
+//! 6. [`solver`]: settings, reports, the paper's resolver and the soft solver;
+//! 7. [`state`]: the snapshot codec;
+//! 8. [`world`]: owns the parts and runs the stages; [`inspect`] reads a world.
+//!
+//! This file only names the rooms and re-exports what outside code uses.
 
-pub mod broad_phase;
-pub mod collisions;
-pub mod contacts;
+pub mod collision;
+pub mod contact;
+pub mod energy;
+pub mod error;
 pub mod exact;
 pub mod forces;
+pub mod hash;
+pub mod ids;
 pub mod inspect;
 pub mod integrator;
 pub mod links;
 pub mod particles;
-pub mod soft_step;
 pub mod solver;
 pub mod state;
-pub mod stiff_spring;
 pub mod world;
 
-pub use broad_phase::BroadPhase;
-pub use collisions::{ContactGenerator, GroundPlane, Plane, SphereCollisions};
-pub use contacts::{Contact, ContactResolver, ResolveReport};
-pub use forces::{Buoyancy, ClosedStep, Drag, ForceGenerator, ForceId, ForceRegistry, Gravity, Spring};
+/// The broad phase, under the path it had before `collision/` (`physics::broad_phase`).
+pub use collision::broad_phase;
+/// The stiff spring, under the path it had before `forces/` (`physics::stiff_spring`).
+pub use forces::stiff_spring;
+
+pub use collision::{BroadPhase, ContactGenerator, GroundPlane, Plane, SphereCollisions};
+pub use contact::Contact;
+pub use energy::Energy;
+pub use error::PhysicsError;
+pub use forces::{
+    Buoyancy, ClosedStep, Drag, Force, ForceGenerator, ForceId, ForceRegistry, Gravity, Spring, StiffSpring,
+};
+pub use hash::StateHasher;
+pub use ids::{ContactGeneratorId, ParticleId};
 pub use integrator::Integrator;
 pub use links::{Constraint, LinkEnd, LinkKind, LinkSpec, LinkState, direction_or_zero};
-pub use particles::{ParticleDesc, ParticleId, Particles};
+pub use particles::{ParticleDesc, Particles};
+pub use solver::paper::resolver::ContactResolver;
+pub use solver::report::{Profile, ResolveReport};
 pub use solver::{SolverKind, SolverSettings};
-pub use state::{SavedForce, StateHasher, WorldState};
-pub use stiff_spring::StiffSpring;
-pub use world::{ContactGeneratorId, ContactPoint, Energy, Profile, World};
-
-/// A value as an error message shows it: numbers far from 1 in scientific notation
-/// (`2e-39`, not thirty-eight zeros).
-pub(crate) trait Shown {
-    fn shown(&self) -> String;
-}
-
-impl Shown for f32 {
-    fn shown(&self) -> String {
-        let x = self.abs();
-        if x != 0.0 && x.is_finite() && !(1e-4..1e7).contains(&x) {
-            format!("{self:e}")
-        } else {
-            format!("{self}")
-        }
-    }
-}
-
-impl Shown for usize {
-    fn shown(&self) -> String {
-        self.to_string()
-    }
-}
-
-impl Shown for u32 {
-    fn shown(&self) -> String {
-        self.to_string()
-    }
-}
-
-impl Shown for glam::Vec3 {
-    fn shown(&self) -> String {
-        format!("({}, {}, {})", self.x.shown(), self.y.shown(), self.z.shown())
-    }
-}
-
-/// The error for a setting out of its range: names the field, the value and the range,
-/// so a user knows what to type instead.
-pub(crate) fn out_of_range(field: &str, value: impl Shown, range: &str) -> PhysicsError {
-    PhysicsError::InvalidSetting(format!("{field} = {} is out of range; valid range: {range}", value.shown()))
-}
-
-/// `Ok` if `ok`, else [`out_of_range`].
-pub(crate) fn check(ok: bool, field: &str, value: impl Shown, range: &str) -> Result<(), PhysicsError> {
-    if ok { Ok(()) } else { Err(out_of_range(field, value, range)) }
-}
-
-/// Range text of a finite number >= 0.
-pub(crate) const NON_NEGATIVE: &str = "a finite number >= 0";
-/// Range text of a finite number > 0.
-pub(crate) const POSITIVE: &str = "a finite number > 0";
-/// Range text of a coefficient of restitution.
-pub(crate) const UNIT: &str = "0 to 1";
-
-/// A finite number >= 0.
-pub(crate) fn non_negative(x: f32) -> bool {
-    x.is_finite() && x >= 0.0
-}
-
-/// A finite number > 0.
-pub(crate) fn positive(x: f32) -> bool {
-    x.is_finite() && x > 0.0
-}
-
-/// What can go wrong when building or stepping a world.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum PhysicsError {
-    /// A particle description was rejected.
-    #[error("invalid particle: {0}")]
-    InvalidParticle(String),
-    /// A step was asked for with a duration outside `(0, MAX_TIME_STEP]`.
-    #[error("time step dt = {0} s is out of range; valid range: more than 0 and at most {max} s", max = world::MAX_TIME_STEP)]
-    InvalidTimeStep(f32),
-    /// A solver or generator setting out of its range; the message names the field.
-    #[error("{0}")]
-    InvalidSetting(String),
-    /// An id that names no live particle.
-    #[error("no particle with id {}", .0.0)]
-    UnknownParticle(ParticleId),
-}
+pub use state::{SavedForce, WorldState};
+pub use world::{ContactPoint, World};

@@ -8,11 +8,9 @@
 
 use glam::Vec3;
 
-use super::{PhysicsError, Shown};
-
-/// A stable handle to a particle. Ids are never reused within one [`Particles`] store.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
-pub struct ParticleId(pub u32);
+use super::error::{PhysicsError, Shown};
+use super::hash::StateHasher;
+pub use super::ids::ParticleId;
 
 /// Everything needed to create a particle. Units: metres, seconds, kilograms.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -129,7 +127,7 @@ pub struct Particles {
     /// Sleep state, per particle: see [`Sleep`].
     pub(crate) sleep: Vec<Sleep>,
     /// Energy taken out by drag, damped springs and damping since the world last read
-    /// it (J); see [`super::world::Energy::dissipated`].
+    /// it (J); see [`Energy::dissipated`](super::energy::Energy::dissipated).
     pub(crate) dissipated: f64,
     /// Dense index -> id.
     ids: Vec<ParticleId>,
@@ -236,7 +234,7 @@ impl Particles {
     }
 
     /// Feeds every array a step reads to a state hash, in dense order.
-    pub(crate) fn hash_into(&self, hasher: &mut super::state::StateHasher) {
+    pub(crate) fn hash_into(&self, hasher: &mut StateHasher) {
         for id in &self.ids {
             hasher.u64(u64::from(id.0));
         }
@@ -560,31 +558,15 @@ impl Particles {
         self.force.fill(Vec3::ZERO);
     }
 
-    /// Semi-implicit Euler over `dt` seconds for every movable particle:
-    /// `v += (a + F/m) dt; v *= damping^dt; p += v dt`, using the new velocity.
-    pub fn integrate(&mut self, dt: f32) {
-        self.prepare_damping(dt);
-        let motion = self.position.iter_mut().zip(self.velocity.iter_mut());
-        let inputs = self
-            .acceleration
-            .iter()
-            .zip(&self.force)
-            .zip(self.inverse_mass.iter().zip(&self.damping_per_step));
-        for ((p, v), ((&a, &f), (&inverse_mass, &damp))) in motion.zip(inputs) {
-            if inverse_mass > 0.0 {
-                *v = (*v + (a + f * inverse_mass) * dt) * damp;
-                *p += *v * dt;
-            }
-        }
-    }
-
-    /// The velocity half of a substep: `v = (v + (a + F/m) h) damping^h` for every
-    /// movable particle. [`Particles::prepare_damping`] must have been called with `h`.
+    /// The velocity half of a semi-implicit Euler (sub)step: `v = (v + (a + F/m) h)
+    /// damping^h` for every movable, awake particle ([`kicked`]).
+    /// [`Particles::prepare_damping`] must have been called with `h`; the position half
+    /// is [`Particles::integrate_positions`].
     pub(crate) fn integrate_velocities(&mut self, h: f32, parallel: bool) {
         type Inputs<'a> = ((&'a Vec3, &'a Vec3), ((&'a f32, &'a f32), &'a Sleep));
         let kick = |(v, ((&a, &f), ((&inverse_mass, &damp), sleep))): (&mut Vec3, Inputs<'_>)| {
             if inverse_mass > 0.0 && sleep.island == AWAKE {
-                *v = (*v + (a + f * inverse_mass) * h) * damp;
+                *v = kicked(*v, a + f * inverse_mass, h, damp);
             }
         };
         let bodies = self.inverse_mass.iter().zip(&self.damping_per_step).zip(&self.sleep);
@@ -634,6 +616,15 @@ impl Particles {
             Vec3::ZERO
         }
     }
+}
+
+/// Semi-implicit Euler's kick, the one place it is written: the velocity `v` (m/s)
+/// after `h` seconds of the acceleration `acceleration` (m/s², constant plus force over
+/// mass), times the step's damping factor `damping^h`. Positions then move with it.
+#[inline]
+#[must_use]
+pub(crate) fn kicked(v: Vec3, acceleration: Vec3, h: f32, damping_per_step: f32) -> Vec3 {
+    (v + acceleration * h) * damping_per_step
 }
 
 /// `Sleep::island` of a particle that is awake.

@@ -1,4 +1,4 @@
-//! A world's state apart from its scratch: what a snapshot saves, and its hash.
+//! A world's state apart from its scratch: what a snapshot saves.
 //!
 //! [`WorldState`] holds everything the next step reads: the particles (with their sleep
 //! state), every force generator (with the state a stiff spring carries between steps),
@@ -7,17 +7,20 @@
 //! are rebuilt each step and never saved. A world made from a state steps on with the
 //! same bits as the world it came from (`tests/snapshots.rs`).
 
-use glam::Vec3;
+//!
+//! The codec sits above the parts it saves and reads them: a generator knows nothing of
+//! snapshots; [`SavedForce`] is made from a [`Force`] here, by one match.
 
-use super::collisions::ContactGenerator;
-use super::contacts::ContactResolver;
-use super::forces::{Buoyancy, Drag, ForceGenerator, ForceId, Gravity, Spring};
+use super::collision::ContactGenerator;
+use super::energy::Ledger;
+use super::error::{MAX_TIME_STEP, PhysicsError};
+use super::forces::{Buoyancy, Drag, Force, ForceId, ForceRegistry, Gravity, Spring, StiffSpring};
+use super::ids::{ContactGeneratorId, ParticleId};
 use super::links::LinkEnd;
-use super::particles::{ParticleId, Particles};
-use super::soft_step::SoftMemory;
-use super::solver::SolverSettings;
-use super::stiff_spring::StiffSpring;
-use super::world::{ContactGeneratorId, Ledger};
+use super::particles::{AWAKE, Particles};
+use super::solver::paper::resolver::ContactResolver;
+use super::solver::soft::SoftMemory;
+use super::solver::{SolverKind, SolverSettings};
 
 /// A force generator as a snapshot stores it: one of the kinds the lab knows.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -38,13 +41,13 @@ pub enum SavedForce {
 impl SavedForce {
     /// The generator this describes.
     #[must_use]
-    pub fn into_generator(self) -> Box<dyn ForceGenerator> {
+    pub fn into_force(self) -> Force {
         match self {
-            Self::Gravity(g) => Box::new(g),
-            Self::Drag(g) => Box::new(g),
-            Self::Spring(g) => Box::new(g),
-            Self::Buoyancy(g) => Box::new(g),
-            Self::StiffSpring(g) => Box::new(g),
+            Self::Gravity(g) => Force::Gravity(g),
+            Self::Drag(g) => Force::Drag(g),
+            Self::Spring(g) => Force::Spring(g),
+            Self::Buoyancy(g) => Force::Buoyancy(g),
+            Self::StiffSpring(g) => Force::StiffSpring(g),
         }
     }
 
@@ -61,6 +64,34 @@ impl SavedForce {
             Self::StiffSpring(g) => vec![g.target],
         }
     }
+}
+
+impl From<&Force> for SavedForce {
+    /// The generator as a snapshot stores it, with any state it carries between steps.
+    fn from(force: &Force) -> Self {
+        match force {
+            Force::Gravity(g) => Self::Gravity(g.clone()),
+            Force::Drag(g) => Self::Drag(g.clone()),
+            Force::Spring(g) => Self::Spring(g.clone()),
+            Force::Buoyancy(g) => Self::Buoyancy(g.clone()),
+            Force::StiffSpring(g) => Self::StiffSpring(g.clone()),
+        }
+    }
+}
+
+/// Every generator of `forces` as a snapshot stores it, with its handle, and the next
+/// handle.
+pub(crate) fn saved_forces(forces: &ForceRegistry) -> (Vec<(ForceId, SavedForce)>, u32) {
+    let saved = forces.entries().iter().map(|(id, force)| (*id, SavedForce::from(force))).collect();
+    (saved, forces.next_id())
+}
+
+/// A registry from saved generators, each checked as [`ForceRegistry::add`] checks.
+pub(crate) fn forces_from_saved(
+    saved: Vec<(ForceId, SavedForce)>,
+    next: u32,
+) -> Result<ForceRegistry, PhysicsError> {
+    ForceRegistry::from_entries(saved.into_iter().map(|(id, force)| (id, force.into_force())).collect(), next)
 }
 
 /// Everything a world's next step depends on (see the module comment).
@@ -139,7 +170,7 @@ impl WorldState {
             return Err("time and last step must be finite and >= 0".into());
         }
         // Each step adds its dt, at most MAX_TIME_STEP: no run of these steps ends later.
-        let max_step = super::world::MAX_TIME_STEP;
+        let max_step = MAX_TIME_STEP;
         let latest = self.steps as f64 * f64::from(max_step) * (1.0 + 1e-9);
         if self.time > latest || self.last_dt > max_step {
             let time = if self.time < 1e9 { self.time.to_string() } else { format!("{:e}", self.time) };
@@ -172,59 +203,10 @@ impl WorldState {
         {
             return Err("the step count or a handle counter is too large".into());
         }
-        let sleeping = self.particles.sleep.iter().any(|s| s.island != super::particles::AWAKE);
-        if sleeping && (self.solver.kind == super::solver::SolverKind::Paper || !self.solver.sleep) {
+        let sleeping = self.particles.sleep.iter().any(|s| s.island != AWAKE);
+        if sleeping && (self.solver.kind == SolverKind::Paper || !self.solver.sleep) {
             return Err("particles are asleep although the solver does not let them sleep".into());
         }
         Ok(())
-    }
-}
-
-/// A 64-bit hash of a state's numbers, fed word by word: each f32 by its bits, so two
-/// states hash alike only if they are the same bits (up to collisions). Cheap enough
-/// to run after every step: one multiply per word (the mix of `FxHash`, finished with
-/// `splitmix64`'s so that nearby states give unlike hashes).
-#[derive(Clone, Copy, Debug)]
-pub struct StateHasher(u64);
-
-impl Default for StateHasher {
-    fn default() -> Self {
-        Self(0x243F_6A88_85A3_08D3)
-    }
-}
-
-impl StateHasher {
-    /// Feeds a 64-bit word.
-    #[inline]
-    pub fn u64(&mut self, word: u64) {
-        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x517C_C1B7_2722_0A95);
-    }
-
-    /// Feeds an f32 by its bits.
-    #[inline]
-    pub fn f32(&mut self, x: f32) {
-        self.u64(u64::from(x.to_bits()));
-    }
-
-    /// Feeds an f64 by its bits.
-    #[inline]
-    pub fn f64(&mut self, x: f64) {
-        self.u64(x.to_bits());
-    }
-
-    /// Feeds a vector's three components.
-    #[inline]
-    pub fn vec3(&mut self, v: Vec3) {
-        self.u64(u64::from(v.x.to_bits()) | (u64::from(v.y.to_bits()) << 32));
-        self.f32(v.z);
-    }
-
-    /// The hash.
-    #[must_use]
-    pub fn finish(self) -> u64 {
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
     }
 }

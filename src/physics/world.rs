@@ -1,90 +1,26 @@
-//! The world: particles, the generators acting on them, and the step.
+//! The world: owns the parts (particles, generators, solver settings and scratch) and
+//! runs the stages of a step. The top of the engine: nothing in it imports this file
+//! (the inspector, above, reads a world).
 
 use glam::Vec3;
 
-use std::time::Instant;
-
-use super::broad_phase::BroadPhase;
-use super::collisions::{ContactGenerator, Scratch};
-use super::contacts::{Contact, ContactResolver, NO_SOURCE, ResolveReport};
-use super::forces::{ForceGenerator, ForceId, ForceRegistry};
-use super::integrator::{Integration, Integrator};
+use super::collision::{BroadPhase, ContactGenerator, Scratch};
+use super::contact::Contact;
+use super::energy::{self, Energy, Ledger};
+pub use super::error::MAX_TIME_STEP;
+use super::error::{PhysicsError, check};
+use super::forces::{Force, ForceId, ForceRegistry};
+use super::hash::StateHasher;
+use super::ids::ContactGeneratorId;
 use super::links::{LinkEnd, LinkState, link_geometry};
 use super::particles::{ParticleDesc, ParticleId, Particles};
-use super::soft_step::SoftStep;
+pub use super::solver::paper::MAX_POSITION_PASSES;
+use super::solver::paper::resolver::ContactResolver;
+use super::solver::paper::{PaperStep, PaperWorld};
+use super::solver::report::{Profile, ResolveReport};
+use super::solver::soft::{NONE, SoftStep};
 use super::solver::{SolverKind, SolverSettings};
-use super::state::{StateHasher, WorldState};
-use super::{PhysicsError, check};
-
-/// Handle to a registered contact generator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-pub struct ContactGeneratorId(pub u32);
-
-/// The energy budget of a world (J).
-///
-/// `kinetic + potential + dissipated + removed - work` would stay at its value before
-/// the first step if the integrator were exact; `error` is how far it is from that,
-/// which is the integrator's (and the solver's numerical) error, shown as such.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Energy {
-    /// `Σ ½ m v²` over movable particles.
-    pub kinetic: f32,
-    /// Gravitational (from each particle's constant acceleration and from gravity
-    /// generators) plus elastic energy stored in springs.
-    pub potential: f32,
-    /// The gravitational part of `potential`; the rest is elastic (springs, bungees,
-    /// stiff springs) and buoyancy's.
-    pub gravitational: f32,
-    /// Taken out since the first step, cumulative: by damping, drag, a damped stiff
-    /// spring, contacts and links (inelastic bounces, friction, the solver's pushes),
-    /// and what was left when particles fell asleep.
-    pub dissipated: f32,
-    /// Put in from outside the step since the first step, cumulative: anything that
-    /// changed the energy between steps (dragging with the mouse, changing g or a mass).
-    pub work: f32,
-    /// Carried out of the world by particles removed since the first step, cumulative:
-    /// the kinetic and potential energy each had (with the springs that went with it)
-    /// when it was removed. A round of the projectile that lands and goes takes its
-    /// energy with it; it is neither lost nor an error.
-    pub removed: f32,
-    /// `kinetic + potential + dissipated + removed - work` minus its value before the
-    /// first step.
-    pub error: f32,
-}
-
-/// Running totals of the energy budget, in f64.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub(crate) struct Ledger {
-    /// `kinetic + potential` before the first step, once stepped.
-    start: Option<f64>,
-    /// `kinetic + potential` at the end of the last step.
-    last: f64,
-    dissipated: f64,
-    work: f64,
-    /// See [`Energy::removed`].
-    #[serde(default)]
-    removed: f64,
-}
-
-/// Wall time of the stages of the last step (ms), for the panel and the benchmarks.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Profile {
-    /// Finding candidate sphere pairs (the grid).
-    pub broad_phase_ms: f32,
-    /// Turning pairs, planes and links into contacts.
-    pub narrow_phase_ms: f32,
-    /// Solving contacts and links (with the paper's resolver: resolving them).
-    pub solve_ms: f32,
-    /// The whole step.
-    pub total_ms: f32,
-}
-
-/// Most extra position passes of the paper's resolver.
-pub const MAX_POSITION_PASSES: usize = 64;
-
-/// Longest step [`World::step`] accepts (s). A longer step is a mistake (a pause
-/// measured in wall time, seconds typed as milliseconds): nothing stays stable over it.
-pub const MAX_TIME_STEP: f32 = 1.0;
+use super::state::{self, WorldState};
 
 /// A mass-aggregate world.
 #[derive(Default)]
@@ -99,22 +35,12 @@ pub struct World {
     contact_generators: Vec<(ContactGeneratorId, ContactGenerator)>,
     broad_phase: BroadPhase,
     scratch: Scratch,
+    /// The soft solver's scratch and warm start.
     soft: SoftStep,
-    /// Buffers of the integrators other than semi-implicit Euler (paper's solver).
-    integration: Integration,
-    /// How far each particle moved in an integration (scratch).
-    moved: Vec<Vec3>,
-    /// How far each particle moved in the last step with the paper's resolver.
-    paper_motion: Vec<Vec3>,
-    /// Positions at the start of a paper step (scratch).
-    paper_start: Vec<Vec3>,
-    /// Velocities at the start of a paper step (scratch, semi-implicit Euler only).
-    paper_velocity: Vec<Vec3>,
+    /// The paper solver's scratch.
+    paper: PaperStep,
     profile: Profile,
     next_contact_generator: u32,
-    contacts: Vec<Contact>,
-    /// Contacts regenerated for the extra position passes.
-    pass_contacts: Vec<Contact>,
     /// Extra rounds of "regenerate contacts from the corrected positions, then remove
     /// interpenetration" after the main resolution. The resolver's position phase is
     /// linearised; these passes see the true geometry, so chains of rods and cables
@@ -171,7 +97,7 @@ impl World {
             self.ledger.last += change;
         }
         // Contact indices refer to the old dense order; drop them until the next step.
-        self.contacts.clear();
+        self.paper.forget();
         self.soft.forget();
         // Island labels are dense indices, which just shifted.
         self.particles.wake_all();
@@ -179,10 +105,12 @@ impl World {
         true
     }
 
-    /// Registers a force generator after checking its settings
-    /// ([`ForceGenerator::validate`]); on an error nothing is added.
-    pub fn add_force(&mut self, generator: impl ForceGenerator + 'static) -> Result<ForceId, PhysicsError> {
-        self.forces.add(Box::new(generator))
+    /// Registers a force generator (gravity, drag, spring, buoyancy, stiff spring)
+    /// after checking its settings
+    /// ([`ForceGenerator::validate`](super::forces::ForceGenerator::validate)); on an
+    /// error nothing is added.
+    pub fn add_force(&mut self, generator: impl Into<Force>) -> Result<ForceId, PhysicsError> {
+        self.forces.add(generator)
     }
 
     /// Registers a contact generator (plane, sphere collisions, rod, cable, ...) after
@@ -206,7 +134,7 @@ impl World {
         let before = self.contact_generators.len();
         self.contact_generators.retain(|(entry, _)| *entry != id);
         self.link_tension.clear();
-        self.contacts.clear();
+        self.paper.forget();
         self.soft.forget();
         before != self.contact_generators.len()
     }
@@ -223,7 +151,7 @@ impl World {
         settings.validate()?;
         if settings.kind != self.solver.kind {
             self.soft.forget();
-            self.contacts.clear();
+            self.paper.forget();
         }
         if settings.kind == SolverKind::Paper || !settings.sleep {
             self.particles.wake_all();
@@ -285,9 +213,9 @@ impl World {
         Ok(self.last_report)
     }
 
-    /// The soft step: see [`super::soft_step`].
+    /// The soft step: see [`SoftStep`].
     fn step_soft(&mut self, dt: f32) -> ResolveReport {
-        self.contacts.clear();
+        self.paper.forget();
         let report = self.soft.step(
             &self.solver,
             &mut self.particles,
@@ -309,130 +237,18 @@ impl World {
         }
     }
 
-    /// The paper's step: clear forces, apply force generators, integrate, generate
-    /// contacts, resolve them worst first, then a few position passes on fresh contacts.
+    /// The paper's step: see [`PaperStep`].
     fn step_paper(&mut self, dt: f32) -> ResolveReport {
-        let started = Instant::now();
-        self.paper_start.clone_from(&self.particles.position);
-        // Before the generators: the stiff spring reads this step's damping factor.
-        self.particles.prepare_damping(dt);
-        let integrator = self.solver.integrator;
-        // Closed-form generators need the integrator's separate moving and end velocities.
-        let fast = integrator == Integrator::SemiImplicitEuler && !self.forces.has_closed_form();
-        if fast {
-            self.paper_velocity.clone_from(&self.particles.velocity);
-            self.particles.clear_forces();
-            self.forces.apply(&mut self.particles, dt);
-            self.particles.integrate(dt);
-        } else {
-            // No constraints inside the paper's integration: move, then take the end
-            // velocity; the resolver works on that afterwards.
-            self.integration.predict(integrator, &mut self.particles, &mut self.forces, dt);
-            let mut moved = std::mem::take(&mut self.moved);
-            moved.clear();
-            moved.resize(self.particles.len(), Vec3::ZERO);
-            self.particles.integrate_positions(dt, &mut moved, false);
-            self.moved = moved;
-            self.integration.finish(&mut self.particles);
-        }
-
-        if self.particles.any_damping() && fast {
-            self.particles.count_damping_loss();
-        }
-
-        let collide = Instant::now();
-        let before = self.mechanical_energy();
-        self.scratch.pair_budget_hit = false;
-        self.generate_paper_contacts(false);
-        let solve = Instant::now();
-        let mut report =
-            self.resolver.resolve(&mut self.contacts, &mut self.particles, dt, &mut self.scratch.resolver);
-        for _ in 0..self.position_passes {
-            self.generate_paper_contacts(true);
-            let (iterations, left) = self.resolver.resolve_positions(
-                &mut self.pass_contacts,
-                &mut self.particles,
-                &mut self.scratch.resolver,
-            );
-            report.position_iterations += iterations;
-            report.max_penetration = left;
-            if iterations == 0 {
-                break;
-            }
-        }
-        report.contacts = self.contacts.len();
-        report.pair_budget_hit = self.scratch.pair_budget_hit;
-        self.paper_motion.clear();
-        let moves = self.particles.position.iter().zip(&self.paper_start);
-        self.paper_motion.extend(moves.map(|(&now, &start)| now - start));
-        // What the resolver's impulses and position corrections added (or took out).
-        self.particles.dissipated -= self.mechanical_energy() - before;
-        if fast {
-            self.particles.dissipated -= self.integration_error_of_constrained(dt);
-        }
-
-        for contact in &self.contacts {
-            if contact.source != NO_SOURCE {
-                let sign = if contact.pulls { 1.0 } else { -1.0 };
-                self.link_tension[contact.source as usize] += sign * contact.impulse / dt;
-            }
-        }
-        let done = Instant::now();
-        let ms = |d: std::time::Duration| d.as_secs_f32() * 1000.0;
-        self.profile = Profile {
-            broad_phase_ms: 0.0,
-            narrow_phase_ms: ms(solve - collide),
-            solve_ms: ms(done - solve),
-            total_ms: ms(done - started),
+        let world = PaperWorld {
+            particles: &mut self.particles,
+            forces: &mut self.forces,
+            generators: &self.contact_generators,
+            broad_phase: &mut self.broad_phase,
+            scratch: &mut self.scratch,
+            link_tension: &mut self.link_tension,
+            profile: &mut self.profile,
         };
-        report
-    }
-
-    /// The integrator's energy error in this paper step (semi-implicit Euler) on the
-    /// particles the resolver changed (J): for each, its change of kinetic energy over
-    /// the integration plus what damping took, less the work of its weight and forces
-    /// along the move the integration made. A particle resting on the ground falls
-    /// `g dt²` in the integration, which loses `½ m g² dt²` (semi-implicit Euler's own
-    /// error in free fall), and the resolver puts it back; measured across the resolver
-    /// alone, the contact would book that as energy it added, and the budget as an
-    /// error, both growing while nothing moves. The constrained motion is the step's
-    /// motion, so this error is the contact's work and is booked with it, as the soft
-    /// solver books each constrained particle's change of energy over its substep. A
-    /// particle nothing touched keeps its error as error.
-    fn integration_error_of_constrained(&self, dt: f32) -> f64 {
-        if self.contacts.is_empty() {
-            return 0.0; // nothing touched (the passes only find what the first found)
-        }
-        let p = &self.particles;
-        let mut error = 0.0;
-        for (i, (&x0, &v0)) in self.paper_start.iter().zip(&self.paper_velocity).enumerate() {
-            let (w, d) = (p.inverse_mass[i], p.damping_per_step[i]);
-            if w <= 0.0 || d <= 0.0 {
-                continue;
-            }
-            // The integration's end, as `Particles::integrate` computed it (same bits).
-            let kicked = (v0 + (p.acceleration[i] + p.force[i] * w) * dt) * d;
-            let moved_to = x0 + kicked * dt;
-            if p.velocity[i] == kicked && p.position[i] == moved_to {
-                continue; // nothing touched it
-            }
-            let (m, d) = (1.0 / f64::from(w), f64::from(d));
-            let (v0, kicked) = (v0.as_dvec3(), kicked.as_dvec3());
-            let push = p.acceleration[i].as_dvec3() * m + p.force[i].as_dvec3();
-            let kinetic = 0.5 * m * (kicked.length_squared() - v0.length_squared());
-            let damping = 0.5 * m * kicked.length_squared() * (1.0 / (d * d) - 1.0);
-            error += kinetic + damping - push.dot((moved_to - x0).as_dvec3());
-        }
-        error
-    }
-
-    /// Fills `contacts` (or, for a position pass, `pass_contacts`) from every generator.
-    fn generate_paper_contacts(&mut self, pass: bool) {
-        let out = if pass { &mut self.pass_contacts } else { &mut self.contacts };
-        out.clear();
-        for (source, (_, generator)) in self.contact_generators.iter().enumerate() {
-            generator.generate(&self.particles, source as u32, &mut self.broad_phase, &mut self.scratch, out);
-        }
+        self.paper.step(&self.resolver, self.position_passes, self.solver.integrator, world, dt)
     }
 
     /// How far each particle moved in the last step (m), by dense index: what a
@@ -442,7 +258,7 @@ impl World {
     pub fn last_motion(&self) -> &[Vec3] {
         let motion = match self.solver.kind {
             SolverKind::Soft => self.soft.motion(),
-            SolverKind::Paper => &self.paper_motion,
+            SolverKind::Paper => self.paper.motion(),
         };
         if motion.len() == self.particles.len() { motion } else { &[] }
     }
@@ -487,7 +303,7 @@ impl World {
             SolverKind::Soft => {
                 let substep = self.last_dt / self.solver.substeps as f32;
                 for c in self.soft.contacts() {
-                    let (a, pair) = (c.a as usize, c.b != super::soft_step::NONE);
+                    let (a, pair) = (c.a as usize, c.b != NONE);
                     let relative = moved(a) - if pair { moved(c.b as usize) } else { Vec3::ZERO };
                     let depth = -(c.separation + relative.dot(c.normal));
                     out.push(ContactPoint {
@@ -502,7 +318,7 @@ impl World {
                 let from_link = |c: &Contact| {
                     self.contact_generators.get(c.source as usize).is_some_and(|(_, g)| g.link().is_some())
                 };
-                for c in self.contacts.iter().filter(|c| !from_link(c)) {
+                for c in self.paper.contacts().iter().filter(|c| !from_link(c)) {
                     out.push(ContactPoint {
                         point: point(c.a, c.normal, c.penetration, c.b.is_some()),
                         normal: c.normal,
@@ -578,13 +394,13 @@ impl World {
             SolverKind::Soft => {
                 for c in self.soft.contacts().iter().filter(|c| c.normal_impulse > 0.0) {
                     mark(c.a as usize);
-                    if c.b != super::soft_step::NONE {
+                    if c.b != NONE {
                         mark(c.b as usize);
                     }
                 }
             }
             SolverKind::Paper => {
-                for c in self.contacts.iter().filter(|c| c.impulse != 0.0 || c.penetration > 0.0) {
+                for c in self.paper.contacts().iter().filter(|c| c.impulse != 0.0 || c.penetration > 0.0) {
                     mark(c.a);
                     c.b.into_iter().for_each(&mut mark);
                 }
@@ -596,7 +412,7 @@ impl World {
     /// solver; see [`World::contact_count`]).
     #[must_use]
     pub fn contacts(&self) -> &[Contact] {
-        &self.contacts
+        self.paper.contacts()
     }
 
     /// What the resolver did in the last step.
@@ -608,21 +424,7 @@ impl World {
     /// Kinetic and potential energy now.
     #[must_use]
     pub fn energy(&self) -> Energy {
-        let (kinetic, gravitational, stored) = self.energies();
-        let potential = gravitational + stored;
-        let ledger = &self.ledger;
-        let start = ledger.start.unwrap_or(kinetic + potential);
-        let error = kinetic + potential + ledger.dissipated + ledger.removed - ledger.work - start;
-        // `+ 0.0` turns a negative zero (an empty sum) into zero: no figure reads "-0".
-        Energy {
-            kinetic: kinetic as f32 + 0.0,
-            potential: potential as f32 + 0.0,
-            gravitational: gravitational as f32 + 0.0,
-            dissipated: ledger.dissipated as f32 + 0.0,
-            work: ledger.work as f32 + 0.0,
-            removed: ledger.removed as f32 + 0.0,
-            error: error as f32 + 0.0,
-        }
+        self.ledger.energy(energy::energies(&self.particles, &self.forces))
     }
 
     /// What measuring gravitational energy from the height `height` (m) instead of
@@ -630,10 +432,7 @@ impl World {
     /// one's constant acceleration (so `-m g height` each under gravity `g`).
     #[must_use]
     pub fn gravity_reference_shift(&self, height: f32) -> f32 {
-        let p = &self.particles;
-        let bodies = p.acceleration.iter().zip(&p.inverse_mass).filter(|(_, w)| **w > 0.0);
-        let sum: f64 = bodies.map(|(a, &w)| f64::from(a.y) / f64::from(w)).sum();
-        (sum * f64::from(height)) as f32 + 0.0
+        energy::gravity_reference_shift(&self.particles, height)
     }
 
     /// One particle's kinetic, gravitational and stored (elastic, buoyancy) energy (J):
@@ -641,59 +440,12 @@ impl World {
     /// two particles counts for both). `None` for an unknown or immovable particle.
     #[must_use]
     pub fn particle_energy(&self, id: ParticleId) -> Option<(f32, f32, f32)> {
-        let p = &self.particles;
-        let i = p.index(id)?;
-        let w = p.inverse_mass[i];
-        if w <= 0.0 {
-            return None;
-        }
-        let kinetic = 0.5 * p.velocity[i].length_squared() / w;
-        let mut gravitational = -p.acceleration[i].dot(p.position[i]) / w;
-        let mut stored = 0.0;
-        for generator in self.forces.iter().filter(|g| g.involves(id)) {
-            if generator.name() == "gravity" {
-                // Only this particle's share of a field acting on many.
-                gravitational -= generator.force_on(p, i).map_or(0.0, |f| f.dot(p.position[i]));
-            } else {
-                stored += generator.potential_energy(p);
-            }
-        }
-        Some((kinetic, gravitational, stored))
-    }
-
-    /// Kinetic and potential energy (J), summed in f64.
-    fn kinetic_and_potential(&self) -> (f64, f64) {
-        let (kinetic, gravitational, stored) = self.energies();
-        (kinetic, gravitational + stored)
-    }
-
-    /// Kinetic, gravitational and other stored (elastic, buoyancy) energy (J), in f64.
-    fn energies(&self) -> (f64, f64, f64) {
-        let p = &self.particles;
-        let mut gravitational = 0.0;
-        for i in 0..p.len() {
-            let inverse_mass = p.inverse_mass[i];
-            if inverse_mass > 0.0 {
-                let mass = 1.0 / f64::from(inverse_mass);
-                gravitational -= mass * p.acceleration[i].as_dvec3().dot(p.position[i].as_dvec3());
-            }
-        }
-        let mut stored = 0.0;
-        for generator in self.forces.iter() {
-            let energy = f64::from(generator.potential_energy(p));
-            if generator.name() == "gravity" {
-                gravitational += energy;
-            } else {
-                stored += energy;
-            }
-        }
-        (p.kinetic_energy(), gravitational, stored)
+        energy::particle_energy(&self.particles, &self.forces, id)
     }
 
     /// Kinetic plus potential energy (J).
     fn mechanical_energy(&self) -> f64 {
-        let (kinetic, potential) = self.kinetic_and_potential();
-        kinetic + potential
+        energy::mechanical_energy(&self.particles, &self.forces)
     }
 
     /// Writes every link (springs, rods, cables, supports) in its current state into
@@ -740,10 +492,11 @@ impl World {
         Ok(())
     }
 
-    /// The world's state apart from its scratch, as a snapshot saves it; refused if a
-    /// force generator is of a kind the snapshot format does not know.
+    /// The world's state apart from its scratch, as a snapshot saves it. Every kind of
+    /// generator can be saved; the `Result` is kept for callers written when some could
+    /// not.
     pub fn state(&self) -> Result<WorldState, PhysicsError> {
-        let (forces, next_force) = self.forces.saved()?;
+        let (forces, next_force) = state::saved_forces(&self.forces);
         Ok(WorldState {
             particles: self.particles.clone(),
             forces,
@@ -782,13 +535,12 @@ impl World {
             generator.validate()?;
         }
         let ledger = state.ledger;
-        let totals = [ledger.start.unwrap_or(0.0), ledger.last, ledger.dissipated, ledger.work];
-        if !totals.iter().all(|x| x.is_finite()) {
+        if !ledger.is_finite() {
             return Err(invalid("the energy ledger holds a number that is not finite".into()));
         }
         let mut world = Self {
             particles: state.particles,
-            forces: ForceRegistry::from_saved(state.forces, state.next_force)?,
+            forces: state::forces_from_saved(state.forces, state.next_force)?,
             resolver: state.resolver,
             solver: state.solver,
             contact_generators: state.contact_generators,

@@ -469,3 +469,17 @@ pub fn all_pairs(positions: &[Vec3], reach: &[f32], out: &mut Vec<(u32, u32)>) {
         }
     }
 }
+
+/// Buffers the contact generators reuse between steps: what they ask the grid and
+/// what it answers.
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    /// Reach of each particle for the broad phase (m).
+    pub reach: Vec<f32>,
+    /// Pairs from the broad phase.
+    pub pairs: Vec<(u32, u32)>,
+    /// Set when a search of the broad phase hit its pair budget (spheres piled onto
+    /// each other: see [`pair_budget`]); the world clears it at the start of a step
+    /// and reports it.
+    pub pair_budget_hit: bool,
+}

@@ -1,4 +1,4 @@
-//! Contacts and the paper's iterative impulse resolver.
+//! The paper's iterative impulse resolver: how it works on [`Contact`]s.
 //!
 //! This is the resolver the paper describes, kept as the `paper` solver so the lab can
 //! show why the soft step exists. It handles one contact at a time, always the worst,
@@ -18,80 +18,12 @@
 
 use glam::Vec3;
 
-use super::particles::Particles;
-use super::{NON_NEGATIVE, PhysicsError, check, non_negative};
-
-/// A contact source value meaning "not from a link" (ground, particle collisions).
-pub const NO_SOURCE: u32 = u32::MAX;
-
-/// One or two particles touching (or a link reaching its limit).
-///
-/// `normal` is the unit direction in which `a` must move to separate; `b` moves the
-/// opposite way. A positive `penetration` is overlap still to remove (m).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Contact {
-    /// Dense index of the first particle.
-    pub a: usize,
-    /// Dense index of the second particle, or `None` against scenery.
-    pub b: Option<usize>,
-    /// Unit contact normal, pointing the way `a` is pushed.
-    pub normal: Vec3,
-    /// Overlap along the normal (m); positive needs resolving.
-    pub penetration: f32,
-    /// Coefficient of restitution in [0, 1].
-    pub restitution: f32,
-    /// Coulomb friction coefficient, >= 0 (one for static and kinetic friction).
-    pub friction: f32,
-    /// Index of the contact generator that made it, or [`NO_SOURCE`].
-    pub source: u32,
-    /// True when the impulse on this contact pulls the ends together (a stretched link):
-    /// it then counts as tension, otherwise as compression.
-    pub pulls: bool,
-    /// Impulse applied along the normal during resolution (N·s), always >= 0.
-    pub impulse: f32,
-    /// Friction impulse applied across the normal during resolution (N·s): on `a`, and
-    /// its opposite on `b`; never longer than `friction * impulse`.
-    pub tangent_impulse: Vec3,
-    /// Separating velocity the resolver aims for (m/s); set by the resolver.
-    pub target: f32,
-}
+use crate::physics::contact::Contact;
+use crate::physics::error::{NON_NEGATIVE, PhysicsError, check, non_negative};
+use crate::physics::particles::Particles;
+use crate::physics::solver::report::ResolveReport;
 
 impl Contact {
-    /// A contact with no source link and no impulse yet.
-    #[must_use]
-    pub fn new(a: usize, b: Option<usize>, normal: Vec3, penetration: f32, restitution: f32) -> Self {
-        Self {
-            a,
-            b,
-            normal,
-            penetration,
-            restitution,
-            friction: 0.0,
-            source: NO_SOURCE,
-            pulls: false,
-            impulse: 0.0,
-            tangent_impulse: Vec3::ZERO,
-            target: 0.0,
-        }
-    }
-
-    /// The same contact with Coulomb friction `friction` (>= 0).
-    #[must_use]
-    pub fn with_friction(self, friction: f32) -> Self {
-        Self { friction, ..self }
-    }
-
-    /// Velocity of separation along the normal (m/s); negative means closing.
-    #[inline]
-    #[must_use]
-    pub fn separating_velocity(&self, particles: &Particles) -> f32 {
-        let mut relative = particles.velocity[self.a];
-        if let Some(b) = self.b {
-            relative -= particles.velocity[b];
-        }
-        relative.dot(self.normal)
-    }
-
     fn total_inverse_mass(&self, particles: &Particles) -> f32 {
         particles.inverse_mass[self.a] + self.b.map_or(0.0, |b| particles.inverse_mass[b])
     }
@@ -203,34 +135,6 @@ impl Contact {
             None => Vec3::ZERO,
         };
         (move_a, move_b)
-    }
-}
-
-/// What one call of [`ContactResolver::resolve`] did.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ResolveReport {
-    /// Contacts handled in the velocity phase.
-    pub velocity_iterations: usize,
-    /// Contacts handled in the interpenetration phase.
-    pub position_iterations: usize,
-    /// Largest penetration left after resolution (m); 0 if none.
-    pub max_penetration: f32,
-    /// Contacts handled (with the soft solver, speculative ones included).
-    pub contacts: usize,
-    /// Particles asleep after the step (soft solver).
-    pub asleep: usize,
-    /// True when spheres overlapped so much that the broad phase made only its budget
-    /// of pairs ([`super::broad_phase::pair_budget`]: 32 per sphere) and left the rest
-    /// out: the step went on with those contacts alone, and the UI or command line
-    /// should say so.
-    pub pair_budget_hit: bool,
-}
-
-impl ResolveReport {
-    /// Total iterations used, both phases.
-    #[must_use]
-    pub fn iterations(&self) -> usize {
-        self.velocity_iterations + self.position_iterations
     }
 }
 

@@ -1,19 +1,19 @@
 //! Which solver a world uses, and its settings: one struct, documented once, validated.
 
-use super::PhysicsError;
-use super::integrator::Integrator;
+use crate::physics::error::PhysicsError;
+use crate::physics::integrator::Integrator;
 
 /// The constraint solvers a world can use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum SolverKind {
     /// Substepped soft-constraint solver (the default): contacts with friction and
     /// restitution, rods, cables and springs all inside substeps. See
-    /// [`super::soft_step`].
+    /// [`soft`](super::soft).
     #[default]
     Soft,
     /// The paper's resolver: one contact at a time, worst first (with Coulomb friction
     /// clamped by each contact's normal impulse), then interpenetration.
-    /// Kept to show why the soft solver exists; see [`super::contacts`].
+    /// Kept to show why the soft solver exists; see [`paper`](super::paper).
     Paper,
 }
 
@@ -60,7 +60,7 @@ pub struct SolverSettings {
     /// Which solver. Default [`SolverKind::Soft`].
     pub kind: SolverKind,
     /// How motion is advanced each (sub)step. Default [`Integrator::SemiImplicitEuler`],
-    /// the paper's; see [`super::integrator`] for what the others do with contacts.
+    /// the paper's; see [`integrator`](crate::physics::integrator) for what the others do with contacts.
     pub integrator: Integrator,
     /// Substeps per step for the soft solver, 1 to 64. Default 4: each substep
     /// integrates, solves every contact and link once with position feedback, and once

@@ -1,16 +1,14 @@
-//! Contact generators: planes (the ground, walls), sphere-sphere collisions found
-//! through the broad phase, and the links that act like contacts (rods and cables).
-//!
-//! A world holds a list of [`ContactGenerator`]s, a closed set of kinds so that every
-//! solver can match on them and a snapshot can name them.
+//! The narrow phase: planes (the ground, walls) and sphere pairs turned into the
+//! paper resolver's contacts. (The soft solver makes its own, swept contacts from the
+//! same generators: `solver/soft/collide.rs`.)
 
 use glam::Vec3;
 
-use super::broad_phase::BroadPhase;
-use super::contacts::{Contact, ResolverScratch};
-use super::links::{Constraint, LinkSpec, direction_or_zero};
-use super::particles::{ParticleId, Particles};
-use super::{NON_NEGATIVE, PhysicsError, UNIT, check, non_negative};
+use super::broad_phase::{BroadPhase, Scratch};
+use crate::physics::contact::Contact;
+use crate::physics::error::{NON_NEGATIVE, PhysicsError, UNIT, check, non_negative};
+use crate::physics::links::direction_or_zero;
+use crate::physics::particles::Particles;
 
 /// An infinite plane that particles rest on by their radius: the ground, or a wall.
 /// Points `p` with `normal · p > offset` are on the free side.
@@ -52,7 +50,7 @@ impl Plane {
         self.normal.dot(p) - self.offset
     }
 
-    fn generate(&self, particles: &Particles, out: &mut Vec<Contact>) {
+    pub(super) fn generate(&self, particles: &Particles, out: &mut Vec<Contact>) {
         let positions = particles.position.iter().zip(&particles.radius);
         for (i, ((&p, &r), &inverse_mass)) in positions.zip(&particles.inverse_mass).enumerate() {
             let penetration = r - self.distance(p);
@@ -98,7 +96,7 @@ impl SphereCollisions {
         Self { restitution, friction: 0.0 }
     }
 
-    fn generate(
+    pub(super) fn generate(
         &self,
         particles: &Particles,
         broad_phase: &mut BroadPhase,
@@ -123,107 +121,5 @@ impl SphereCollisions {
                     .with_friction(self.friction),
             );
         }
-    }
-}
-
-/// Buffers the generators reuse between steps.
-#[derive(Clone, Debug, Default)]
-pub struct Scratch {
-    /// Reach of each particle for the broad phase (m).
-    pub reach: Vec<f32>,
-    /// Pairs from the broad phase.
-    pub pairs: Vec<(u32, u32)>,
-    /// Set when a search of the broad phase hit its pair budget (spheres piled onto
-    /// each other: see [`super::broad_phase::pair_budget`]); the world clears it at
-    /// the start of a step and reports it.
-    pub pair_budget_hit: bool,
-    /// The paper resolver's buffers.
-    pub resolver: ResolverScratch,
-}
-
-/// Something that looks at the particles each step and makes contacts.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub enum ContactGenerator {
-    /// A plane: ground or wall.
-    Plane(Plane),
-    /// Sphere-sphere collisions between all particles with a radius.
-    Spheres(SphereCollisions),
-    /// A rod or cable, between particles or to an anchor.
-    Link(Constraint),
-}
-
-impl ContactGenerator {
-    /// Checks every setting; the error names the field and its valid range. The world
-    /// calls it before accepting the generator.
-    pub fn validate(&self) -> Result<(), PhysicsError> {
-        match self {
-            Self::Plane(plane) => {
-                let unit = plane.normal.is_finite() && (plane.normal.length() - 1.0).abs() < 1e-4;
-                check(unit, "plane normal", plane.normal, "a unit vector")?;
-                check(plane.offset.is_finite(), "plane offset", plane.offset, "a finite distance (m)")?;
-                check_surface(plane.restitution, plane.friction)
-            }
-            Self::Spheres(spheres) => check_surface(spheres.restitution, spheres.friction),
-            Self::Link(link) => link.validate(),
-        }
-    }
-
-    /// Appends the paper resolver's contacts (overlaps only). `source` is this
-    /// generator's index in the world, stored in contacts that belong to a link.
-    pub fn generate(
-        &self,
-        particles: &Particles,
-        source: u32,
-        broad_phase: &mut BroadPhase,
-        scratch: &mut Scratch,
-        out: &mut Vec<Contact>,
-    ) {
-        match self {
-            Self::Plane(plane) => plane.generate(particles, out),
-            Self::Spheres(spheres) => spheres.generate(particles, broad_phase, scratch, out),
-            Self::Link(link) => link.generate(particles, source, out),
-        }
-    }
-
-    /// Whether this generator refers to the particle (and must go with it).
-    #[must_use]
-    pub fn involves(&self, id: ParticleId) -> bool {
-        match self {
-            Self::Link(link) => link.involves(id),
-            Self::Plane(_) | Self::Spheres(_) => false,
-        }
-    }
-
-    /// The generator seen as a link, if it is one.
-    #[must_use]
-    pub fn link(&self) -> Option<LinkSpec> {
-        match self {
-            Self::Link(link) => Some(link.spec()),
-            Self::Plane(_) | Self::Spheres(_) => None,
-        }
-    }
-}
-
-impl From<Plane> for ContactGenerator {
-    fn from(plane: Plane) -> Self {
-        Self::Plane(plane)
-    }
-}
-
-impl From<GroundPlane> for ContactGenerator {
-    fn from(ground: GroundPlane) -> Self {
-        Self::Plane(Plane::ground(ground.height, ground.restitution, 0.0))
-    }
-}
-
-impl From<SphereCollisions> for ContactGenerator {
-    fn from(spheres: SphereCollisions) -> Self {
-        Self::Spheres(spheres)
-    }
-}
-
-impl From<Constraint> for ContactGenerator {
-    fn from(link: Constraint) -> Self {
-        Self::Link(link)
     }
 }

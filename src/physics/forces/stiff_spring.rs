@@ -19,10 +19,11 @@
 
 use glam::{DVec3, Vec3};
 
-use super::forces::{ClosedStep, ForceGenerator};
-use super::links::{LinkEnd, LinkKind, LinkSpec};
-use super::particles::{ParticleId, Particles};
-use super::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
+use super::generator::{ClosedStep, ForceGenerator};
+use crate::physics::error::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
+use crate::physics::ids::ParticleId;
+use crate::physics::links::{LinkEnd, LinkKind, LinkSpec};
+use crate::physics::particles::Particles;
 
 /// An anchored spring of zero rest length whose motion is integrated analytically.
 /// Register it after the particle's other force generators: their forces this step are
@@ -73,10 +74,6 @@ pub fn damped_oscillator(y0: DVec3, v0: DVec3, omega: f64, zeta: f64, t: f64) ->
 }
 
 impl ForceGenerator for StiffSpring {
-    fn saved(&self) -> Option<super::state::SavedForce> {
-        Some(super::state::SavedForce::StiffSpring(self.clone()))
-    }
-
     fn validate(&self) -> Result<(), PhysicsError> {
         check(positive(self.k), "stiff spring k", self.k, POSITIVE)?;
         check(

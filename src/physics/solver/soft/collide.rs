@@ -1,0 +1,253 @@
+//! Stage 1, collide: contacts from every generator once a step, with speculative
+//! margins; sphere pairs are swept over the step so that a pair passing by is never
+//! stopped by a ghost; rods and cables join the step as links.
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::warm::key;
+use super::{NONE, SoftContact, SoftLink, SoftStep, ms};
+use crate::physics::collision::{BroadPhase, ContactGenerator, Plane, Scratch, SphereCollisions};
+use crate::physics::ids::ContactGeneratorId;
+use crate::physics::links::{Constraint, LinkEnd, direction_or_zero};
+use crate::physics::particles::{AWAKE, Particles};
+use crate::physics::solver::report::Profile;
+use crate::physics::solver::settings::SolverSettings;
+
+impl SoftStep {
+    /// Stage 1: contacts from every generator, with speculative margins.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn collide(
+        &mut self,
+        settings: &SolverSettings,
+        particles: &Particles,
+        generators: &[(ContactGeneratorId, ContactGenerator)],
+        broad_phase: &mut BroadPhase,
+        scratch: &mut Scratch,
+        dt: f32,
+        profile: &mut Profile,
+    ) {
+        // How far each particle can move this step, plus the fixed margin.
+        self.margin.clear();
+        self.margin.extend(
+            particles
+                .velocity
+                .iter()
+                .zip(&particles.acceleration)
+                .map(|(v, a)| settings.speculative_distance + (v.length() + a.length() * dt) * dt),
+        );
+        self.fresh.clear();
+        self.fresh_keys.clear();
+        self.fresh_groups.clear();
+        self.links.clear();
+        self.sleeping_links.clear();
+        self.to_wake.clear();
+        self.asleep.clear();
+        self.asleep.extend(particles.sleep.iter().map(|s| s.island != AWAKE));
+        let any_asleep = self.asleep.contains(&true);
+        // With every sphere asleep there is nobody to query the grid: skip building it.
+        let any_awake_sphere =
+            particles.radius.iter().zip(&self.asleep).any(|(&r, &asleep)| r > 0.0 && !asleep);
+        profile.broad_phase_ms = 0.0;
+        scratch.pair_budget_hit = false;
+        let started = Instant::now();
+        for (source, (id, generator)) in generators.iter().enumerate() {
+            let start = self.fresh.len();
+            match generator {
+                ContactGenerator::Plane(plane) => self.collide_plane(plane, particles),
+                ContactGenerator::Spheres(_) if !any_awake_sphere => {}
+                ContactGenerator::Spheres(spheres) => {
+                    let broad = Instant::now();
+                    scratch.reach.clear();
+                    scratch.reach.extend(
+                        particles.radius.iter().zip(&self.margin).map(
+                            |(&r, &m)| {
+                                if r > 0.0 { r + m } else { 0.0 }
+                            },
+                        ),
+                    );
+                    let asleep = any_asleep.then_some(self.asleep.as_slice());
+                    broad_phase.find_pairs_awake(
+                        &particles.position,
+                        &scratch.reach,
+                        asleep,
+                        &mut scratch.pairs,
+                    );
+                    scratch.pair_budget_hit |= broad_phase.budget_hit();
+                    profile.broad_phase_ms += ms(broad.elapsed());
+                    let slack = 2.0 * settings.speculative_distance;
+                    self.collide_spheres(spheres, particles, &scratch.pairs, slack, dt);
+                }
+                ContactGenerator::Link(link) => self.add_link(link, particles, source as u32),
+            }
+            if self.fresh.len() > start {
+                self.fresh_groups.push((*id, start..self.fresh.len()));
+            }
+        }
+        profile.narrow_phase_ms = ms(started.elapsed()) - profile.broad_phase_ms;
+    }
+
+    fn collide_plane(&mut self, plane: &Plane, particles: &Particles) {
+        let positions = particles.position.iter().zip(&particles.radius);
+        let bodies = particles.inverse_mass.iter().zip(&self.margin);
+        for (i, (((&p, &r), (&w, &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
+            let separation = plane.distance(p) - r;
+            if w > 0.0 && !asleep && separation < margin {
+                self.fresh_keys.push(key(i as u32, NONE));
+                self.fresh.push(SoftContact {
+                    a: i as u32,
+                    b: NONE,
+                    normal: plane.normal,
+                    separation,
+                    restitution: plane.restitution,
+                    friction: plane.friction,
+                    mass: 1.0 / w,
+                    ..SoftContact::default()
+                });
+            }
+        }
+    }
+
+    /// Contacts of the broad phase's pairs that can come within `slack` of touching in
+    /// the step `dt` (see [`swept_contact`]: a pair that only passes by gets none).
+    fn collide_spheres(
+        &mut self,
+        spheres: &SphereCollisions,
+        particles: &Particles,
+        pairs: &[(u32, u32)],
+        slack: f32,
+        dt: f32,
+    ) {
+        let (p, w, r) = (&particles.position, &particles.inverse_mass, &particles.radius);
+        let (v, acceleration) = (&particles.velocity, &particles.acceleration);
+        for &(a, b) in pairs {
+            let (i, j) = (a as usize, b as usize);
+            let total = w[i] + w[j];
+            if total <= 0.0 {
+                continue;
+            }
+            if self.asleep[j] {
+                // An awake particle reached a sleeping one: wake its island.
+                if w[j] > 0.0 {
+                    self.to_wake.push(particles.sleep[j].island);
+                }
+                continue;
+            }
+            // Gravity moves both alike; any difference in constant acceleration may
+            // close the gap by up to |a_i - a_j| dt² / 2 (counted twice, as the margins do).
+            let slack = slack + (acceleration[i].length() + acceleration[j].length()) * dt * dt;
+            let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
+            let Some((normal, separation)) = swept else { continue };
+            self.fresh_keys.push(key(a, b));
+            self.fresh.push(SoftContact {
+                a,
+                b,
+                normal,
+                separation,
+                restitution: spheres.restitution,
+                friction: spheres.friction,
+                mass: 1.0 / total,
+                ..SoftContact::default()
+            });
+        }
+    }
+
+    fn add_link(&mut self, link: &Constraint, particles: &Particles, generator: u32) {
+        let Some(a) = particles.index(link.a) else { return };
+        let (b, anchor) = match link.b {
+            LinkEnd::Particle(id) => match particles.index(id) {
+                Some(b) if b != a => (b as u32, Vec3::ZERO),
+                _ => return, // gone, or a link to itself, which constrains nothing
+            },
+            LinkEnd::Anchor(point) => (NONE, point),
+        };
+        let w = particles.inverse_mass[a] + if b == NONE { 0.0 } else { particles.inverse_mass[b as usize] };
+        if w <= 0.0 {
+            return;
+        }
+        let asleep_b = b != NONE && self.asleep[b as usize];
+        match (self.asleep[a], asleep_b) {
+            (true, true) => {
+                self.sleeping_links.push(generator);
+                return;
+            }
+            (true, false) if b != NONE && particles.inverse_mass[b as usize] > 0.0 => {
+                self.to_wake.push(particles.sleep[a].island);
+            }
+            (false, true) if particles.inverse_mass[a] > 0.0 => {
+                self.to_wake.push(particles.sleep[b as usize].island)
+            }
+            (true, false) => {
+                // Asleep on an anchor or an immovable particle.
+                self.sleeping_links.push(generator);
+                return;
+            }
+            _ => {}
+        }
+        self.links.push(SoftLink {
+            a: a as u32,
+            b,
+            anchor,
+            length: link.length,
+            rigid: link.rigid,
+            restitution: link.restitution,
+            mass: 1.0 / w,
+            impulse: 0.0,
+            generator,
+        });
+    }
+}
+
+/// The contact of two spheres `offset = p_a - p_b` apart, closing with relative velocity
+/// `velocity = v_a - v_b`, whose radii sum to `reach`: its unit normal (pointing the way
+/// `a` is pushed) and its gap along that normal at the start of the step, or `None` when
+/// the swept spheres come no closer than `slack` to touching within `dt`.
+///
+/// The relative path `d(t) = offset + velocity·t` is a straight line over the step.
+/// The solver keeps a contact's gap along a fixed normal, `d(t)·n - reach`, from going
+/// negative, so the normal decides what the contact does:
+/// - overlapping at the start: the line of centres now (the overlap is pushed out);
+/// - meeting within the step: the line of centres at the time of impact, the smallest
+///   `t` in `[0, dt]` with `|d(t)| = reach` (the quadratic of PHYSICS.md). Along it the
+///   gap is positive before `t` and zero at `t`, so the pair is stopped where it
+///   touches and pushed the way it really touches (a glancing hit goes sideways);
+/// - only passing near: the line of centres at the closest approach `t*`. As `t*`
+///   minimises `|d|` over `[0, dt]`, `d(t*)·velocity·(t - t*) >= 0` for every `t` in the
+///   step, so `d(t)·n >= |d(t*)| > reach`: the contact cannot act on the motion it was
+///   made for. It is there for pushes from other contacts within the step (a pile).
+///
+/// A normal from the start separation alone would stop two spheres passing at a clear
+/// gap as soon as their start-of-step line of centres closed: a ghost collision.
+#[inline]
+fn swept_contact(offset: Vec3, velocity: Vec3, reach: f32, dt: f32, slack: f32) -> Option<(Vec3, f32)> {
+    let unit_or_up = |d: Vec3| {
+        // Coincident centres have no direction: separate them vertically.
+        let (n, length) = direction_or_zero(d);
+        (if n == Vec3::ZERO { Vec3::Y } else { n }, length)
+    };
+    let squared = offset.length_squared();
+    if squared <= reach * reach {
+        let (normal, distance) = unit_or_up(offset);
+        return Some((normal, distance - reach));
+    }
+    let closing = offset.dot(velocity);
+    let speed_squared = velocity.length_squared();
+    let closest_time = if speed_squared > 0.0 { (-closing / speed_squared).clamp(0.0, dt) } else { 0.0 };
+    let closest = offset + velocity * closest_time;
+    let closest_distance = closest.length();
+    if closest_distance - reach >= slack {
+        return None;
+    }
+    let at = if closest_distance < reach {
+        // |offset + velocity t|² = reach²: the earlier root (the pair closes, so the
+        // discriminant is positive and `closing` negative).
+        let c = squared - reach * reach;
+        let root = (closing * closing - speed_squared * c).max(0.0).sqrt();
+        offset + velocity * (c / (-closing + root))
+    } else {
+        closest
+    };
+    let (normal, _) = unit_or_up(at);
+    Some((normal, offset.dot(normal) - reach))
+}

@@ -1,0 +1,200 @@
+//! Stage 2, colour: no two contacts of one colour share a movable particle, so a colour
+//! is solved in parallel with the same result as in order. The colouring depends on the
+//! contacts alone, never on the thread count.
+
+use std::marker::PhantomData;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
+use crate::physics::particles::Particles;
+
+/// A colour with at least this many contacts is split across threads.
+const PARALLEL_CONTACTS: usize = 2048;
+/// Contacts per parallel task.
+const TASK: usize = 512;
+
+/// The velocity array, shared by the tasks solving one colour at once: each task reads
+/// and writes the velocities of its own contacts' particles through this handle.
+///
+/// It holds the array's exclusive borrow (`'a`) for as long as it lives, so nothing
+/// else touches the array meanwhile; the tasks' accesses never overlap because of the
+/// colouring, as the `SAFETY` note below states.
+#[derive(Clone, Copy)]
+pub(super) struct SharedVelocities<'a> {
+    ptr: *mut Vec3,
+    len: usize,
+    /// The exclusive borrow of the array the pointer came from.
+    _borrow: PhantomData<&'a mut [Vec3]>,
+}
+
+// SAFETY: the tasks that use one `SharedVelocities` at the same time solve the
+// contacts of one colour (`for_each_contact`), and the invariant is: *within one
+// colour, each movable particle belongs to at most one contact* (`SoftStep::color`
+// builds it; debug builds check it after every colouring, `colours_are_disjoint`). A
+// task writes only the velocities of its contact's movable particles (`apply`,
+// `solve_contact` skip particles of zero inverse mass), so no element is written by
+// two tasks or written by one while another reads it; immovable particles' velocities
+// are only read. The overflow colour, which may repeat a particle, is solved in order
+// on one thread. Sending the handle to the tasks is then sound for as long as `'a`,
+// the exclusive borrow of the array, lasts.
+unsafe impl Send for SharedVelocities<'_> {}
+unsafe impl Sync for SharedVelocities<'_> {}
+
+impl<'a> SharedVelocities<'a> {
+    /// Shares `velocities` for the duration of its borrow.
+    pub(super) fn new(velocities: &'a mut [Vec3]) -> Self {
+        Self { ptr: velocities.as_mut_ptr(), len: velocities.len(), _borrow: PhantomData }
+    }
+
+    /// The velocity of particle `i` (m/s).
+    #[inline]
+    pub(super) fn get(&self, i: usize) -> Vec3 {
+        assert!(i < self.len);
+        // SAFETY: in bounds (checked above), within the borrow `'a`; no other task
+        // writes element `i` meanwhile (the invariant above).
+        unsafe { *self.ptr.add(i) }
+    }
+
+    /// Sets the velocity of particle `i` (m/s); `i` must be a movable particle.
+    #[inline]
+    pub(super) fn set(&self, i: usize, v: Vec3) {
+        assert!(i < self.len);
+        // SAFETY: in bounds (checked above), within the borrow `'a`; `i` is movable, so
+        // by the invariant above no other task of this colour reads or writes it.
+        unsafe { *self.ptr.add(i) = v }
+    }
+}
+
+impl SoftStep {
+    /// Stage 2: greedy colouring in generation order, then a counting sort into
+    /// `contacts`. Depends on the contacts alone, never on the thread count.
+    pub(super) fn color(&mut self, particles: &Particles) {
+        let w = &particles.inverse_mass;
+        self.masks.clear();
+        self.masks.resize(particles.len(), 0);
+        self.colors.clear();
+        let mut counts = [0usize; COLORS + 1];
+        for contact in &self.fresh {
+            let (a, b) = (contact.a as usize, contact.b as usize);
+            let movable_a = w[a] > 0.0;
+            let movable_b = contact.b != NONE && w[b] > 0.0;
+            let mut used = if movable_a { self.masks[a] } else { 0 };
+            if movable_b {
+                used |= self.masks[b];
+            }
+            let color = (!used).trailing_zeros() as usize;
+            let color = if color < COLORS {
+                let bit = 1u32 << color;
+                if movable_a {
+                    self.masks[a] |= bit;
+                }
+                if movable_b {
+                    self.masks[b] |= bit;
+                }
+                color
+            } else {
+                OVERFLOW
+            };
+            self.colors.push(color as u8);
+            counts[color] += 1;
+        }
+        self.color_starts[0] = 0;
+        for (c, &count) in counts.iter().enumerate() {
+            self.color_starts[c + 1] = self.color_starts[c] + count;
+        }
+        let mut cursor = self.color_starts;
+        self.contacts.clear();
+        self.contacts.resize(self.fresh.len(), SoftContact::default());
+        for (origin, (contact, &color)) in self.fresh.iter().zip(&self.colors).enumerate() {
+            let slot = &mut cursor[color as usize];
+            self.contacts[*slot] = SoftContact { origin: origin as u32, ..*contact };
+            *slot += 1;
+        }
+        debug_assert!(
+            colours_are_disjoint(&self.contacts, &self.color_starts, w),
+            "a colour holds two contacts of one movable particle"
+        );
+    }
+
+    /// Runs `f` on every contact, colour by colour; large colours across threads.
+    pub(super) fn for_each_contact(&mut self, f: impl Fn(&mut SoftContact) + Sync) {
+        for_each_contact(&mut self.contacts, &self.color_starts, f);
+    }
+}
+
+/// Runs `f` on every contact, colour by colour; a large colour is split across threads
+/// (its contacts share no movable particle, so the order within it does not matter).
+pub(super) fn for_each_contact(
+    contacts: &mut [SoftContact],
+    starts: &[usize; COLORS + 2],
+    f: impl Fn(&mut SoftContact) + Sync,
+) {
+    for color in 0..=COLORS {
+        let slice = &mut contacts[starts[color]..starts[color + 1]];
+        if color != OVERFLOW && slice.len() >= PARALLEL_CONTACTS {
+            slice.par_chunks_mut(TASK).for_each(|chunk| chunk.iter_mut().for_each(&f));
+        } else {
+            slice.iter_mut().for_each(&f);
+        }
+    }
+}
+
+/// Whether every colour but the overflow holds each movable particle at most once: the
+/// invariant [`SharedVelocities`] rests on. Allocates; debug builds and tests only.
+fn colours_are_disjoint(contacts: &[SoftContact], starts: &[usize; COLORS + 2], w: &[f32]) -> bool {
+    // Per particle, the last colour it was seen in plus one (0: not yet).
+    let mut seen = vec![0usize; w.len()];
+    for color in 0..COLORS {
+        for contact in &contacts[starts[color]..starts[color + 1]] {
+            let ends = if contact.b == NONE { [contact.a, NONE] } else { [contact.a, contact.b] };
+            for i in ends.into_iter().filter(|&i| i != NONE && w[i as usize] > 0.0) {
+                if seen[i as usize] == color + 1 {
+                    return false;
+                }
+                seen[i as usize] = color + 1;
+            }
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::particles::ParticleDesc;
+
+    fn contact(a: u32, b: u32) -> SoftContact {
+        SoftContact { a, b, ..SoftContact::default() }
+    }
+
+    /// A fan of contacts on particle 0 and a chain through the rest, with an immovable
+    /// particle (1) in many: every colour keeps each movable particle once, and a
+    /// colouring that breaks that is caught.
+    #[test]
+    fn each_movable_particle_appears_once_per_colour() {
+        let mut particles = Particles::new();
+        for i in 0..40 {
+            let desc = ParticleDesc { immovable: i == 1, ..ParticleDesc::default() };
+            particles.add(desc).expect("a valid particle");
+        }
+        let mut step = SoftStep::default();
+        step.fresh.extend((2..40).map(|i| contact(0, i)));
+        step.fresh.extend((2..39).map(|i| contact(i, i + 1)));
+        step.fresh.extend((2..40).map(|i| contact(1, i)));
+        step.fresh.extend((0..40).map(|i| contact(i, NONE)));
+        step.color(&particles);
+        let w = &particles.inverse_mass;
+        assert!(colours_are_disjoint(&step.contacts, &step.color_starts, w));
+        // Particle 0 has 38 contacts, more than the colours: the rest overflowed.
+        assert!(step.color_starts[OVERFLOW + 1] > step.color_starts[OVERFLOW]);
+
+        let mut starts = [0; COLORS + 2];
+        starts[1..].fill(2);
+        let both_on_three = [contact(3, 4), contact(5, 3)];
+        assert!(!colours_are_disjoint(&both_on_three, &starts, w));
+        let both_on_the_immovable = [contact(1, 4), contact(5, 1)];
+        assert!(colours_are_disjoint(&both_on_the_immovable, &starts, w));
+    }
+}

@@ -1,0 +1,225 @@
+//! The soft step: a substepped solver with soft contacts, friction and restitution.
+//!
+//! The shape is Box2D v3's "soft step" (Erin Catto, "Solver2D", 2024) applied to
+//! particles, with the substepping argument of Macklin et al. 2019 ("Small Steps in
+//! Physics Simulation"): many small steps of one iteration beat one big step of many.
+//!
+//! Stages, each finished before the next begins:
+//! 1. **Collide** once per step: the broad phase's pairs and the planes give contacts
+//!    whose gap is below a speculative margin (a pair that may touch within the step
+//!    gets its contact now). A sphere pair's contact is swept: it is made only if the
+//!    pair's straight relative path comes near touching within the step, along the
+//!    line of centres at the time of impact (see `swept_contact`), so spheres passing
+//!    each other are never stopped by a ghost. Each contact stores its separation at
+//!    the start of the step, and picks up last step's impulses (warm starting).
+//! 2. **Colour** the contacts so that no two of one colour share a movable particle;
+//!    a colour is then solved in parallel with the same result as in order.
+//! 3. **Substeps**, `n` of them, each of `h = dt / n`: apply force generators (springs
+//!    too) and integrate velocities; bounce the pairs that meet within the substep
+//!    (the impact stage, one pair at a time, so a blow passes down a row of balls);
+//!    warm start; solve every contact and link with soft position feedback; integrate
+//!    positions; relax (solve again without feedback, so pushing overlaps apart adds
+//!    no energy).
+//! 4. **Store** impulses for the next step's warm start.
+//!
+//! A contact's separation during the substeps is its start separation plus how far its
+//! two particles have moved along the normal since, so contacts are found once a step.
+//! Rods and cables are few and are solved on their exact geometry every substep.
+//!
+//! One file per stage, as Box2D v3 keeps them: `step.rs` (the order above, and the
+//! energy the constraints add), `collide.rs` (1), `color.rs` (2, and the velocities the
+//! parallel tasks share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
+//! start, contacts and links) and `contact.rs` (one contact's impulse), `warm.rs` (4,
+//! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking).
+//! This file holds the data every stage shares.
+
+mod collide;
+mod color;
+mod contact;
+mod impact;
+mod sleep;
+mod solve;
+mod step;
+mod warm;
+
+use glam::Vec3;
+
+use crate::physics::ids::ContactGeneratorId;
+use crate::physics::integrator::Integration;
+use crate::physics::solver::settings::Softness;
+
+/// "No second particle" (a plane contact, or a link to an anchor).
+pub const NONE: u32 = u32::MAX;
+
+/// Colours solved in parallel; contacts that find no free colour go to one more,
+/// solved in order.
+const COLORS: usize = 24;
+const OVERFLOW: usize = COLORS;
+
+/// Particles from which the integration loops run on several threads.
+pub(crate) const PARALLEL_PARTICLES: usize = 16_384;
+
+/// A contact between a particle and another particle or a plane, as the soft solver
+/// keeps it over one step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SoftContact {
+    /// Dense index of the particle pushed along `normal`.
+    pub a: u32,
+    /// Dense index of the other particle, or [`NONE`] for a plane.
+    pub b: u32,
+    /// Unit normal, pointing the way `a` is pushed.
+    pub normal: Vec3,
+    /// Gap at the start of the step (m); negative is overlap.
+    pub separation: f32,
+    /// Coefficient of restitution.
+    pub restitution: f32,
+    /// Coulomb friction coefficient.
+    pub friction: f32,
+    /// Effective mass along any direction, `1 / (1/m_a + 1/m_b)` (kg).
+    pub mass: f32,
+    /// Normal impulse of the current substep (N·s), >= 0.
+    pub normal_impulse: f32,
+    /// Friction impulse of the current substep (N·s), in the tangent plane.
+    pub tangent_impulse: Vec3,
+    /// Index in generation order, for storing the warm start.
+    origin: u32,
+}
+
+/// A rod or cable as the soft solver keeps it over one step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SoftLink {
+    a: u32,
+    b: u32,
+    anchor: Vec3,
+    length: f32,
+    rigid: bool,
+    restitution: f32,
+    mass: f32,
+    impulse: f32,
+    generator: u32,
+}
+
+/// A contact or cable that may bounce within the current substep, as the impact stage
+/// sees it. Positions do not move during the stage, so the normal and gap are fixed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Impact {
+    a: u32,
+    b: u32,
+    /// Unit normal, pointing the way `a` is pushed.
+    normal: Vec3,
+    /// Gap at the start of the substep (m); negative is overlap.
+    gap: f32,
+    restitution: f32,
+    mass: f32,
+    /// How fast forces alone made the closing speed grow this substep (m/s²).
+    closing_acceleration: f32,
+}
+
+/// What the soft solver keeps of a contact for the next step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+struct Warm {
+    key: u64,
+    normal_impulse: f32,
+    tangent_impulse: Vec3,
+}
+
+/// The part of the soft solver that carries from one step to the next (see
+/// [`SoftStep::memory`]); everything else in [`SoftStep`] is scratch.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SoftMemory {
+    warm: Vec<Warm>,
+    warm_groups: Vec<(ContactGeneratorId, std::ops::Range<usize>)>,
+    warm_links: Vec<(u32, f32)>,
+    last_tension: Vec<f32>,
+}
+
+impl SoftMemory {
+    /// The contact generator (by index) each kept link impulse belongs to, for a
+    /// loaded state to check against its generators.
+    pub(crate) fn link_generators(&self) -> impl Iterator<Item = u32> + '_ {
+        self.warm_links.iter().map(|&(generator, _)| generator)
+    }
+}
+
+/// Scratch and warm-start memory of the soft solver. Only [`SoftMemory`] needs saving:
+/// without it a new one starts cold, which changes the next step's bits.
+#[derive(Clone, Debug, Default)]
+pub struct SoftStep {
+    /// Contacts in generation order (per generator, sorted by particle pair).
+    fresh: Vec<SoftContact>,
+    /// Keys of `fresh`, for warm starting.
+    fresh_keys: Vec<u64>,
+    /// Generator id and range of `fresh` each generator made.
+    fresh_groups: Vec<(ContactGeneratorId, std::ops::Range<usize>)>,
+    /// Contacts in colour order: what the substeps solve.
+    contacts: Vec<SoftContact>,
+    /// Start of each colour in `contacts`, and the end.
+    color_starts: [usize; COLORS + 2],
+    colors: Vec<u8>,
+    masks: Vec<u32>,
+    links: Vec<SoftLink>,
+    /// Last step's contacts, in generation order, with their groups.
+    warm: Vec<Warm>,
+    warm_groups: Vec<(ContactGeneratorId, std::ops::Range<usize>)>,
+    /// Last step's link impulses by generator index (cleared by [`SoftStep::forget`]
+    /// whenever indices shift).
+    warm_links: Vec<(u32, f32)>,
+    /// `warm_links` looked up by generator index (scratch).
+    warm_link_by_generator: Vec<Option<f32>>,
+    /// Links skipped this step because their particles sleep (by generator index).
+    sleeping_links: Vec<u32>,
+    /// Each link's tension as last reported (N), by generator index.
+    last_tension: Vec<f32>,
+    /// Movement of each particle since the start of the step (m).
+    delta: Vec<Vec3>,
+    /// Speculative margin of each particle (m).
+    margin: Vec<f32>,
+    /// Contacts and cables with restitution this step, refreshed every substep.
+    impacts: Vec<Impact>,
+    /// Buffers of the integrators other than semi-implicit Euler.
+    integration: Integration,
+    /// Velocities after the substep's kick, before the solve (energy budget).
+    kicked: Vec<Vec3>,
+    /// Velocities at the start of the substep, kept while anything can bounce.
+    substep_velocity: Vec<Vec3>,
+    /// Per particle: asleep at the start of this collide pass.
+    asleep: Vec<bool>,
+    /// Labels of sleeping islands to wake.
+    to_wake: Vec<u32>,
+    /// Union-find parents and each island's shortest rest time, for sleeping.
+    parent: Vec<u32>,
+    island_timer: Vec<f32>,
+}
+
+/// Per-substep constants handed to every contact (Box2D's step context).
+#[derive(Clone, Copy)]
+struct Context {
+    inv_h: f32,
+    max_push: f32,
+    soft: Softness,
+    use_bias: bool,
+}
+
+impl SoftStep {
+    /// The contacts of the last step, as solved (speculative ones too).
+    pub(crate) fn contacts(&self) -> &[SoftContact] {
+        &self.contacts
+    }
+
+    /// How far each particle moved in the last step (m), by dense index.
+    pub(crate) fn motion(&self) -> &[Vec3] {
+        &self.delta
+    }
+
+    /// Forgets warm-start memory (after particles or generators were removed, when
+    /// dense indices no longer mean what they did).
+    pub fn forget(&mut self) {
+        self.warm.clear();
+        self.warm_groups.clear();
+        self.warm_links.clear();
+    }
+}
+
+fn ms(duration: std::time::Duration) -> f32 {
+    duration.as_secs_f32() * 1000.0
+}

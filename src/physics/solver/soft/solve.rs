@@ -1,0 +1,89 @@
+//! The solve of a substep: warm start, then every contact (colour by colour) and every
+//! rod and cable on its exact geometry.
+
+use super::color::{SharedVelocities, for_each_contact};
+use super::contact::{apply, contact_terms, solve_contact};
+use super::{Context, NONE, SoftLink, SoftStep};
+use crate::physics::links::direction_or_zero;
+use crate::physics::particles::Particles;
+use glam::Vec3;
+
+impl SoftStep {
+    pub(super) fn warm_start(&mut self, particles: &mut Particles) {
+        let velocities = SharedVelocities::new(&mut particles.velocity);
+        let w = &particles.inverse_mass;
+        self.for_each_contact(|c| {
+            let impulse = c.normal * c.normal_impulse + c.tangent_impulse;
+            apply(velocities, w, c.a, c.b, impulse);
+        });
+        let velocities = &mut particles.velocity;
+        for link in &self.links {
+            // Warm start along the link's start-of-step direction is close enough; the
+            // solve corrects it on the exact geometry.
+            let (u, _, _) = link.geometry(&particles.position, |i| velocities[i]);
+            let p = u * link.impulse * if link.rigid { 1.0 } else { -1.0 };
+            velocities[link.a as usize] += p * w[link.a as usize];
+            if link.b != NONE {
+                velocities[link.b as usize] -= p * w[link.b as usize];
+            }
+        }
+    }
+
+    pub(super) fn solve(&mut self, particles: &mut Particles, contacts: Context, joints: Context) {
+        let velocities = SharedVelocities::new(&mut particles.velocity);
+        let (w, delta) = (&particles.inverse_mass, &self.delta);
+        for_each_contact(&mut self.contacts, &self.color_starts, |c| {
+            solve_contact(c, velocities, w, delta, contacts)
+        });
+        for link in &mut self.links {
+            link.solve(&particles.position, &mut particles.velocity, w, joints);
+        }
+    }
+}
+
+impl SoftLink {
+    /// Direction from the far end to `a` (unit), length, and the rate the length grows.
+    pub(super) fn geometry(&self, positions: &[Vec3], velocity: impl Fn(usize) -> Vec3) -> (Vec3, f32, f32) {
+        let (pb, vb) = if self.b == NONE {
+            (self.anchor, Vec3::ZERO)
+        } else {
+            (positions[self.b as usize], velocity(self.b as usize))
+        };
+        let (u, length) = direction_or_zero(positions[self.a as usize] - pb);
+        // Coincident ends: any fixed axis will do to push them apart.
+        let u = if u == Vec3::ZERO { Vec3::Y } else { u };
+        (u, length, (velocity(self.a as usize) - vb).dot(u))
+    }
+
+    fn solve(&mut self, positions: &[Vec3], velocities: &mut [Vec3], w: &[f32], context: Context) {
+        let (u, length, vrel) = self.geometry(positions, |i| velocities[i]);
+        let applied = if self.rigid {
+            // Bilateral: drive C = length - rest to zero; a negative impulse pulls.
+            let error = length - self.length;
+            let (bias, mass_scale, impulse_scale) = if context.use_bias {
+                (context.soft.bias_rate * error, context.soft.mass_scale, context.soft.impulse_scale)
+            } else {
+                (0.0, 1.0, 0.0)
+            };
+            let impulse = -self.mass * mass_scale * (vrel + bias) - impulse_scale * self.impulse;
+            self.impulse += impulse;
+            impulse
+        } else {
+            // A cable is a contact whose normal is -u and whose gap is the slack.
+            let slack = self.length - length;
+            if !context.use_bias && slack > 0.0 && self.impulse == 0.0 {
+                return; // slack and not pulling: as for a contact, see `solve_contact`
+            }
+            let (bias, mass_scale, impulse_scale) = contact_terms(slack, context);
+            let impulse = -self.mass * mass_scale * (-vrel + bias) - impulse_scale * self.impulse;
+            let total = (self.impulse + impulse).max(0.0);
+            let applied = total - self.impulse;
+            self.impulse = total;
+            -applied
+        };
+        velocities[self.a as usize] += u * (applied * w[self.a as usize]);
+        if self.b != NONE {
+            velocities[self.b as usize] -= u * (applied * w[self.b as usize]);
+        }
+    }
+}

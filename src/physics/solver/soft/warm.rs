@@ -1,0 +1,147 @@
+//! Warm starting: what the solver keeps of a step for the next (impulses by contact key
+//! and by link), how it picks it up again, and how a snapshot saves it.
+
+use super::{SoftMemory, SoftStep, Warm};
+use crate::physics::hash::StateHasher;
+
+impl SoftStep {
+    /// What the next step reads of this one: the warm-start impulses and each link's
+    /// last tension. A snapshot holds it, so a loaded world steps on with the same bits.
+    pub(crate) fn memory(&self) -> SoftMemory {
+        SoftMemory {
+            warm: self.warm.clone(),
+            warm_groups: self.warm_groups.clone(),
+            warm_links: self.warm_links.clone(),
+            last_tension: self.last_tension.clone(),
+        }
+    }
+
+    /// Takes back what [`SoftStep::memory`] gave, after checking that its ranges fit
+    /// (a hand-edited snapshot must not make the next step index out of bounds).
+    pub(crate) fn restore(&mut self, memory: SoftMemory, generators: usize) -> Result<(), String> {
+        // One group and one link impulse per generator at most: the step looks them up.
+        if memory.warm_groups.len() > generators || memory.warm_links.len() > generators {
+            return Err("more warm-start groups or link impulses than contact generators".into());
+        }
+        for (id, range) in &memory.warm_groups {
+            if range.start > range.end || range.end > memory.warm.len() {
+                return Err(format!(
+                    "warm-start group of contact generator {} covers {}..{} of {} contacts",
+                    id.0,
+                    range.start,
+                    range.end,
+                    memory.warm.len()
+                ));
+            }
+        }
+        let impulses =
+            memory.warm.iter().all(|w| w.normal_impulse.is_finite() && w.tangent_impulse.is_finite());
+        let links = memory
+            .warm_links
+            .iter()
+            .map(|l| l.1)
+            .chain(memory.last_tension.iter().copied())
+            .all(f32::is_finite);
+        if !(impulses && links) {
+            return Err("a warm-start impulse or a link's last tension is not finite".into());
+        }
+        self.warm = memory.warm;
+        self.warm_groups = memory.warm_groups;
+        self.warm_links = memory.warm_links;
+        self.last_tension = memory.last_tension;
+        Ok(())
+    }
+
+    /// Feeds the warm-start impulses to a state hash, without copying them.
+    pub(crate) fn memory_hash_into(&self, hasher: &mut StateHasher) {
+        for warm in &self.warm {
+            hasher.u64(warm.key);
+            hasher.f32(warm.normal_impulse);
+            hasher.vec3(warm.tangent_impulse);
+        }
+        for &(generator, impulse) in &self.warm_links {
+            hasher.u64(u64::from(generator));
+            hasher.f32(impulse);
+        }
+    }
+
+    /// Copies last step's impulses into this step's matching contacts and links;
+    /// `generators` is how many contact generators the world has.
+    pub(super) fn warm_start_from_last_step(&mut self, generators: usize) {
+        for (id, range) in &self.fresh_groups {
+            let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else { continue };
+            let (old_keys, new_keys) = (&self.warm[old.clone()], &self.fresh_keys[range.clone()]);
+            let contacts = &mut self.fresh[range.clone()];
+            // Both runs are sorted by key: walk them together.
+            let mut j = 0;
+            for (contact, &k) in contacts.iter_mut().zip(new_keys) {
+                while j < old_keys.len() && old_keys[j].key < k {
+                    j += 1;
+                }
+                if j < old_keys.len() && old_keys[j].key == k {
+                    let warm = old_keys[j];
+                    contact.normal_impulse = warm.normal_impulse;
+                    // The normal turned a little since: keep the tangential part.
+                    let t = warm.tangent_impulse;
+                    contact.tangent_impulse = t - contact.normal * t.dot(contact.normal);
+                }
+            }
+        }
+        // Last step's impulses by generator index, so each link finds its own at once
+        // (searching the list per link made a chain of 200,000 rods cost 7 s a step).
+        // Filled from the back so that, as a search from the front would, the first
+        // entry for a generator wins (a restored snapshot may hold one twice).
+        let by_generator = &mut self.warm_link_by_generator;
+        by_generator.clear();
+        by_generator.resize(generators, None);
+        for &(generator, impulse) in self.warm_links.iter().rev() {
+            if let Some(slot) = by_generator.get_mut(generator as usize) {
+                *slot = Some(impulse);
+            }
+        }
+        for link in &mut self.links {
+            if let Some(Some(impulse)) = by_generator.get(link.generator as usize) {
+                link.impulse = *impulse;
+            }
+        }
+    }
+
+    /// Stage 4: keep impulses for the next step; report link tensions.
+    pub(super) fn store(&mut self, h: f32, link_tension: &mut [f32]) {
+        self.warm.clear();
+        self.warm.resize(self.fresh.len(), Warm::default());
+        for contact in &self.contacts {
+            let origin = contact.origin as usize;
+            self.warm[origin] = Warm {
+                key: self.fresh_keys[origin],
+                normal_impulse: contact.normal_impulse,
+                tangent_impulse: contact.tangent_impulse,
+            };
+        }
+        std::mem::swap(&mut self.warm_groups, &mut self.fresh_groups);
+        self.warm_links.clear();
+        for link in &self.links {
+            self.warm_links.push((link.generator, link.impulse));
+            // Rods pull with a negative impulse, cables with a positive one.
+            let tension = if link.rigid { -link.impulse } else { link.impulse } / h;
+            if let Some(slot) = link_tension.get_mut(link.generator as usize) {
+                *slot = tension;
+            }
+        }
+        // A sleeping link carries what it carried when it fell asleep: a bridge at rest
+        // still holds its load.
+        self.last_tension.resize(link_tension.len(), 0.0);
+        for &generator in &self.sleeping_links {
+            if let Some(slot) = link_tension.get_mut(generator as usize) {
+                *slot = self.last_tension[generator as usize];
+            }
+        }
+        self.last_tension.copy_from_slice(link_tension);
+    }
+}
+
+/// Sort key of a contact within its generator's run.
+#[inline]
+pub(super) fn key(a: u32, b: u32) -> u64 {
+    (u64::from(a) << 32) | u64::from(b)
+}
