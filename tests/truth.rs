@@ -70,7 +70,7 @@ fn an_undamped_pendulum_on_a_support_rod_keeps_its_energy() {
 
 #[test]
 fn the_paper_resolver_keeps_its_known_losses() {
-    // The paper's resolver is kept as the paper has it (see `contacts.rs`): its rods
+    // The paper's resolver is kept as the paper has it (see `solver/paper/resolver.rs`): its rods
     // eat a pendulum's swing, which is what the test above would catch.
     let loss = pendulum_loss_on(SolverKind::Paper, 1, true, 240.0, 10.0);
     assert!(loss > 0.1, "{:.3}% lost", loss * 100.0);
