@@ -227,11 +227,11 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         return record::record(&mut lab, &plan, &args.out, args.size, args.ui, args.steps);
     }
     // The GPU before the steps: a missing driver is said before a long run.
-    let mut snapshotter = crate::snapshot::Snapshotter::new().map_err(|e| (1, e))?;
+    let mut capture = crate::capture::FrameCapture::new().map_err(|e| (1, e))?;
     let mut progress = progress::Progress::new(args.steps, "steps", progress::Progress::for_terminal(true));
     record::step(&mut lab, args.steps, &mut progress, 0);
     drop(progress);
-    let pixels = snapshotter.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
+    let pixels = capture.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
     record::write_png(&args.out, args.size, &pixels).map_err(|e| (1, e))?;
     let (out, name) = (crate::messages::path(&args.out), lab.scene.info().name);
     // A run that blew up (or whose step failed) fails, as `simulate` does; the frame
