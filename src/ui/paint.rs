@@ -502,7 +502,9 @@ fn height_scale(painter: &egui::Painter, lab: &Lab, rect: egui::Rect) -> Vec<egu
     painter.line_segment([egui::pos2(line_x, top), egui::pos2(line_x, bottom)], stroke);
     covered.push(egui::Rect::from_min_max(egui::pos2(line_x - 2.0, top), egui::pos2(line_x + 8.0, bottom)));
     let font = egui::FontId::proportional(11.0);
-    for k in 0..=1000 {
+    // From the lowest mark in view: the ground may be far below it.
+    let first = (((ground - bottom) / per_metre / step).floor().max(0.0)) as u32;
+    for k in first..=first + 1000 {
         let height = k as f32 * step;
         let y = ground - height * per_metre;
         if y < top {
