@@ -8,17 +8,17 @@
 //! - `pile_frame_data/<count>`: building the instance data alone (CPU).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use particle_lab::capture::FrameCapture;
 use particle_lab::render::FrameBuilder;
 use particle_lab::scenes::SCENES;
-use particle_lab::snapshot::Snapshotter;
 use particle_lab::ui::Lab;
 
-fn snapshotter() -> Option<Snapshotter> {
-    Snapshotter::new().map_err(|error| eprintln!("skipping the render benchmark: {error}")).ok()
+fn capture() -> Option<FrameCapture> {
+    FrameCapture::new().map_err(|error| eprintln!("skipping the render benchmark: {error}")).ok()
 }
 
 fn scenes(c: &mut Criterion) {
-    let Some(mut snapshotter) = snapshotter() else { return };
+    let Some(mut capture) = capture() else { return };
     for msaa in [true, false] {
         let name = if msaa { "frame_1280x720_ui_msaa4" } else { "frame_1280x720_ui_no_msaa" };
         let mut group = c.benchmark_group(name);
@@ -28,7 +28,7 @@ fn scenes(c: &mut Criterion) {
             lab.view.msaa = msaa;
             lab.run_steps_recorded(120);
             group.bench_function(entry.info.name, |b| {
-                b.iter(|| snapshotter.render(&mut lab, [1280, 720], true).expect("frame renders"))
+                b.iter(|| capture.render(&mut lab, [1280, 720], true).expect("frame renders"))
             });
         }
         group.finish();
@@ -45,14 +45,14 @@ fn pile_lab(count: u32) -> Lab {
 }
 
 fn pile(c: &mut Criterion) {
-    let Some(mut snapshotter) = snapshotter() else { return };
+    let Some(mut capture) = capture() else { return };
     let counts = [2_000, 100_000];
     let mut group = c.benchmark_group("pile_1280x720_ui");
     group.sample_size(10);
     for count in counts {
         let mut lab = pile_lab(count);
         group.bench_function(BenchmarkId::from_parameter(count), |b| {
-            b.iter(|| snapshotter.render(&mut lab, [1280, 720], true).expect("frame renders"))
+            b.iter(|| capture.render(&mut lab, [1280, 720], true).expect("frame renders"))
         });
     }
     group.finish();

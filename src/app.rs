@@ -281,11 +281,14 @@ impl WindowState {
         if size.width != self.config.width || size.height != self.config.height {
             self.resize(size.width, size.height);
         }
+        // Step first, then lay out the panel and the labels, then draw: the labels
+        // (and the follow camera) then show the positions the frame draws, not the
+        // ones a step before.
+        lab.advance();
         let input = self.egui_winit.take_egui_input(&self.window);
         let mut rect = egui::Rect::NOTHING;
         let output = self.egui.run_ui(input, |ui| rect = ui::show(ui, lab));
         self.egui_winit.handle_platform_output(&self.window, output.platform_output);
-        lab.advance();
 
         let ppp = output.pixels_per_point;
         let primitives = self.egui.tessellate(output.shapes, ppp);

@@ -2,10 +2,12 @@
 //!
 //! - [`physics`]: the engine (particles, forces, contacts, links, world). No graphics.
 //! - [`scenes`]: the demos as data: each builds a world and declares its parameters.
-//! - [`cli`]: the command line (`scenes`, `simulate`).
+//! - [`cli`]: the command line (`scenes`, `simulate`, `render`).
+//! - [`capture`]: off-screen frames of the lab, with or without the panel (`render`, the image tests).
 //! - [`settings`]: what the window remembers from one launch to the next.
 
 pub mod app;
+pub mod capture;
 pub mod cli;
 pub mod messages;
 pub mod physics;
@@ -13,5 +15,4 @@ pub mod reading;
 pub mod render;
 pub mod scenes;
 pub mod settings;
-pub mod snapshot;
 pub mod ui;

@@ -11,8 +11,8 @@
 
 use std::process::Command;
 
+use particle_lab::capture::FrameCapture;
 use particle_lab::scenes::{self, SCENES, SceneEntry};
-use particle_lab::snapshot::Snapshotter;
 use particle_lab::ui::Lab;
 use particle_lab::ui::compare::Change;
 use proptest::prelude::*;
@@ -101,7 +101,7 @@ fn simulate_runs_every_parameter_at_its_ends_its_default_and_minus_zero() {
 /// The doors of the window for one value: the slider moved on a running lab (the panel
 /// drawn and a frame rendered after it), a lab opened on the value, and Compare with
 /// the value as the change.
-fn window_doors(gpu: &mut Snapshotter, entry: &'static SceneEntry, name: &'static str, value: f32) {
+fn window_doors(gpu: &mut FrameCapture, entry: &'static SceneEntry, name: &'static str, value: f32) {
     let scene = entry.info.name;
     let steps = steps_for(scene, name, f64::from(value));
     // The slider: the scene runs a little, then the value is set, as a drag does.
@@ -122,7 +122,7 @@ fn window_doors(gpu: &mut Snapshotter, entry: &'static SceneEntry, name: &'stati
 
 #[test]
 fn the_window_and_render_take_every_parameter_at_its_ends_its_default_and_minus_zero() {
-    let mut gpu = Snapshotter::new().expect("headless rendering needs a GPU adapter (bash scripts/test.sh)");
+    let mut gpu = FrameCapture::new().expect("headless rendering needs a GPU adapter (bash scripts/test.sh)");
     let mut tried = 0;
     for entry in entries() {
         for param in entry.info.params {

@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use glam::Vec2;
+use particle_lab::capture::FrameCapture;
 use particle_lab::render::offscreen::{read_png, write_png};
 use particle_lab::scenes::SCENES;
-use particle_lab::snapshot::Snapshotter;
 use particle_lab::ui::Lab;
 
 /// Not a multiple of 64 wide, so read-back has to unpad rows.
@@ -21,8 +21,8 @@ const CHANNEL_TOLERANCE: u8 = 24;
 /// Share of pixels allowed to differ.
 const PIXEL_TOLERANCE: f64 = 0.005;
 
-fn snapshotter() -> Snapshotter {
-    Snapshotter::new().unwrap_or_else(|e| {
+fn capture() -> FrameCapture {
+    FrameCapture::new().unwrap_or_else(|e| {
         panic!("headless rendering needs a GPU adapter: {e}; 'bash scripts/test.sh' installs Mesa's lavapipe")
     })
 }
@@ -81,11 +81,11 @@ fn compare_with_golden(name: &str, actual: &[u8], size: [u32; 2]) {
 
 #[test]
 fn every_scene_matches_its_reference_image() {
-    let mut snapshotter = snapshotter();
+    let mut capture = capture();
     for entry in SCENES {
         let mut lab = Lab::new(entry.info.name, &[]).unwrap();
         lab.run_steps_recorded(STEPS);
-        let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        let image = capture.render(&mut lab, SIZE, false).unwrap();
         assert_eq!(image.len(), (SIZE[0] * SIZE[1] * 4) as usize);
         compare_with_golden(entry.info.name, &image, SIZE);
     }
@@ -93,12 +93,12 @@ fn every_scene_matches_its_reference_image() {
 
 #[test]
 fn the_falling_pile_is_coloured_by_speed() {
-    let mut snapshotter = snapshotter();
+    let mut capture = capture();
     let mut lab = Lab::new("pile", &[]).unwrap();
     assert!(lab.view.color_by_speed, "the pile opens coloured by speed");
     // Mid-fall: spheres from rest at the bottom to several m/s at the top.
     lab.run_steps_recorded(45);
-    let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+    let image = capture.render(&mut lab, SIZE, false).unwrap();
     compare_with_golden("pile-falling", &image, SIZE);
     // The highest sphere falls fastest: drawn at the hot end of the ramp.
     let particles = &lab.scene.world().particles;
@@ -115,7 +115,7 @@ fn the_falling_pile_is_coloured_by_speed() {
 
 #[test]
 fn each_particle_is_drawn_where_the_camera_projects_it() {
-    let mut snapshotter = snapshotter();
+    let mut capture = capture();
     for entry in SCENES {
         let mut lab = Lab::new(entry.info.name, &[]).unwrap();
         lab.run_steps_recorded(STEPS);
@@ -135,9 +135,9 @@ fn each_particle_is_drawn_where_the_camera_projects_it() {
         assert!(x < SIZE[0] && y < SIZE[1], "{}: particle {i} is off screen at {screen}", entry.info.name);
         // Only the particle's own colour changes when it is highlighted (yellow), so a
         // pixel that turns yellow at its projected centre is the sphere itself.
-        let plain = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        let plain = capture.render(&mut lab, SIZE, false).unwrap();
         lab.hovered = Some(id);
-        let lit = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        let lit = capture.render(&mut lab, SIZE, false).unwrap();
         lab.hovered = None;
         let (before, after) = (pixel(&plain, SIZE, x, y), pixel(&lit, SIZE, x, y));
         assert!(differs(before, after, 30), "{}: ({x}, {y}) is {before:?} either way", entry.info.name);
@@ -158,12 +158,12 @@ fn each_particle_is_drawn_where_the_camera_projects_it() {
 
 #[test]
 fn the_ui_draws_a_panel_over_the_scene() {
-    let mut snapshotter = snapshotter();
+    let mut capture = capture();
     let size = [900, 600];
     let mut lab = Lab::new("bridge", &[]).unwrap();
     lab.run_steps_recorded(STEPS);
-    let bare = snapshotter.render(&mut lab, size, false).unwrap();
-    let with_ui = snapshotter.render(&mut lab, size, true).unwrap();
+    let bare = capture.render(&mut lab, size, false).unwrap();
+    let with_ui = capture.render(&mut lab, size, true).unwrap();
     // The left panel and the menu bar cover what the bare frame shows there.
     let mut covered = 0;
     let mut total = 0;
@@ -281,7 +281,7 @@ fn swept_paths_show_how_far_a_fast_round_went_in_the_last_step() {
 fn the_lab_tools_match_their_reference_images() {
     use particle_lab::physics::Integrator;
     use particle_lab::ui::compare::Change;
-    let mut snapshotter = snapshotter();
+    let mut capture = capture();
     let cases: [(&str, &str, &[&str], u64); 5] = [
         ("tools-forces", "springForces", &["forces"], 120),
         ("tools-contacts", "cradle", &["contacts"], 60),
@@ -298,14 +298,14 @@ fn the_lab_tools_match_their_reference_images() {
             lab.select(Some(particle_lab::physics::ParticleId(0)));
         }
         lab.run_steps_recorded(steps);
-        let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+        let image = capture.render(&mut lab, SIZE, false).unwrap();
         compare_with_golden(name, &image, SIZE);
     }
 
     let mut lab = Lab::new("springForces", &["k=80".into()]).unwrap();
     lab.start_compare(Change::Integrator(Integrator::ExplicitEuler));
     lab.run_steps_recorded(600);
-    let image = snapshotter.render(&mut lab, SIZE, false).unwrap();
+    let image = capture.render(&mut lab, SIZE, false).unwrap();
     compare_with_golden("tools-compare", &image, SIZE);
     // The copy's free spring, whose ends explicit Euler swings ever wider (11 cm apart
     // from the original's after 2.5 s), is a magenta ghost. (The stiff spring takes its

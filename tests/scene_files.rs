@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
+use particle_lab::capture::FrameCapture;
 use particle_lab::physics::{LinkKind, SolverSettings};
 use particle_lab::render::offscreen::{read_png, write_png};
 use particle_lab::scenes::{self, Scene, file};
-use particle_lab::snapshot::Snapshotter;
 use particle_lab::ui::Lab;
 use proptest::prelude::*;
 
@@ -476,11 +476,11 @@ const PIXEL_TOLERANCE: f64 = 0.005;
 
 /// Renders a shipped scene after `steps` and compares it with `tests/golden/NAME.png`
 /// (`UPDATE_GOLDEN=1` rewrites it; a mismatch writes `-actual` and `-difference`).
-fn matches_golden(snapshotter: &mut Snapshotter, scene: &str, set: &[&str], steps: u64, golden: &str) {
+fn matches_golden(capture: &mut FrameCapture, scene: &str, set: &[&str], steps: u64, golden: &str) {
     let set: Vec<String> = set.iter().map(|s| (*s).to_string()).collect();
     let mut lab = Lab::new(scene, &set).unwrap();
     lab.run_steps_recorded(steps);
-    let actual = snapshotter.render(&mut lab, SIZE, false).unwrap();
+    let actual = capture.render(&mut lab, SIZE, false).unwrap();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
     let reference = dir.join(format!("{golden}.png"));
     if std::env::var_os("UPDATE_GOLDEN").is_some() {
@@ -508,13 +508,13 @@ fn matches_golden(snapshotter: &mut Snapshotter, scene: &str, set: &[&str], step
 
 #[test]
 fn every_shipped_scene_file_matches_its_reference_image() {
-    let mut snapshotter =
-        Snapshotter::new().unwrap_or_else(|e| panic!("headless rendering needs a GPU adapter: {e}"));
-    matches_golden(&mut snapshotter, "chain", &[], 240, "file-chain");
-    matches_golden(&mut snapshotter, "cloth", &[], 480, "file-cloth");
-    matches_golden(&mut snapshotter, "cloth", &["tear=10"], 200, "file-cloth-torn");
-    matches_golden(&mut snapshotter, "platform", &[], 300, "file-platform");
-    matches_golden(&mut snapshotter, "blob", &[], 165, "file-blob");
+    let mut capture =
+        FrameCapture::new().unwrap_or_else(|e| panic!("headless rendering needs a GPU adapter: {e}"));
+    matches_golden(&mut capture, "chain", &[], 240, "file-chain");
+    matches_golden(&mut capture, "cloth", &[], 480, "file-cloth");
+    matches_golden(&mut capture, "cloth", &["tear=10"], 200, "file-cloth-torn");
+    matches_golden(&mut capture, "platform", &[], 300, "file-platform");
+    matches_golden(&mut capture, "blob", &[], 165, "file-blob");
 
     // The same through the command line, from the file.
     let out = std::env::temp_dir().join(format!("particle-lab-scene-file-{}.png", std::process::id()));

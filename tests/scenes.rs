@@ -354,3 +354,55 @@ fn projectile_flights_mark_apex_and_landing_and_score_the_target() {
         }
     }
 }
+
+/// Issue 19: a round was removed 5 s after firing or 200 m from the launcher, so a long
+/// shot vanished in mid-air. Now it flies until it lands, however far.
+#[test]
+fn a_far_round_is_kept_until_it_lands() {
+    // 150 m/s at 45° under 20 m/s²: 1,125 m downrange after 10.6 s.
+    let settings = ["speed=150", "angle=45", "g=20", "damping=1"].map(String::from);
+    let mut scene = scenes::build("projectile", &settings).unwrap();
+    let round = scene.world().particles.id(0).unwrap();
+    let dt = scene.info().dt;
+    let (mut furthest, mut flown) = (0.0_f32, 0.0_f64);
+    while let Some(i) = scene.world().particles.index(round) {
+        let p = scene.world().particles.positions()[i];
+        assert!(p.y >= 0.0 || flown > 0.0, "below the ground before landing: {p}");
+        furthest = furthest.max(p.x);
+        scene.step(dt).unwrap();
+        flown += f64::from(dt);
+        assert!(flown < 20.0, "the round flew for 20 s and never landed");
+    }
+    let (vx, vy) = (150.0 * 45f32.to_radians().cos(), 150.0 * 45f32.to_radians().sin());
+    let range = vx * (vy + (vy * vy + 2.0 * 20.0 * 1.5).sqrt()) / 20.0;
+    assert!(flown > 10.0, "gone after {flown:.2} s, before it landed");
+    assert!(range - furthest < 5.0, "gone at x = {furthest:.1} m, short of its landing at {range:.1} m");
+    let readouts = scene.readouts(dt);
+    let landing = readouts.iter().find(|(name, _)| name == "last landing");
+    assert!(landing.is_some(), "no landing recorded: {readouts:?}");
+}
+
+/// A round that can never come down (no gravity) still goes, by Cyclone's limits.
+#[test]
+fn a_round_that_cannot_land_is_still_removed() {
+    let settings = ["speed=100", "angle=0", "g=0"].map(String::from);
+    let mut scene = scenes::build("projectile", &settings).unwrap();
+    let dt = scene.info().dt;
+    for _ in 0..(10.0 / dt) as usize {
+        scene.step(dt).unwrap();
+    }
+    assert!(scene.world().particles.is_empty(), "a level round with g = 0 stays for ever");
+}
+
+/// The points a camera should frame reach the predicted landing, however far.
+#[test]
+fn the_projectile_frames_its_predicted_landing() {
+    let settings = ["speed=150", "angle=45", "g=20"].map(String::from);
+    let scene = scenes::build("projectile", &settings).unwrap();
+    let mut points = Vec::new();
+    scene.framing_points(&mut points);
+    let furthest = points.iter().map(|p| p.x).fold(0.0, f32::max);
+    let (vx, vy) = (150.0 * 45f32.to_radians().cos(), 150.0 * 45f32.to_radians().sin());
+    let range = vx * (vy + (vy * vy + 2.0 * 20.0 * 1.5).sqrt()) / 20.0;
+    assert!(range - furthest < 0.1 * range && furthest <= range + 1.0, "frames to {furthest} m of {range} m");
+}

@@ -23,8 +23,8 @@ use std::path::{Path, PathBuf};
 
 use super::clock::Step;
 use super::progress::Progress;
+use crate::capture::FrameCapture;
 use crate::messages;
-use crate::snapshot::Snapshotter;
 use crate::ui::Lab;
 
 /// Most frames one recording takes.
@@ -202,7 +202,7 @@ pub fn record(
     warm_up: u64,
 ) -> Result<String, (u8, String)> {
     // The GPU and the file first: a missing driver or directory is said before a long run.
-    let mut snapshotter = Snapshotter::new().map_err(|e| (1, e))?;
+    let mut capture = FrameCapture::new().map_err(|e| (1, e))?;
     let mut sink = Sink::create(out, size, plan).map_err(|e| (1, e))?;
     let mut progress = Progress::new(warm_up + plan.span(), "steps", Progress::for_terminal(true));
     let mut done = step(lab, warm_up, &mut progress, 0);
@@ -215,7 +215,7 @@ pub fn record(
                 frozen_from = Some(index);
             }
         }
-        let pixels = snapshotter.render(lab, size, with_ui).map_err(|e| (1, e))?;
+        let pixels = capture.render(lab, size, with_ui).map_err(|e| (1, e))?;
         sink.push(index, pixels).map_err(|e| (1, e))?;
     }
     let written = sink.finish()?;

@@ -373,13 +373,13 @@ impl FrameBuilder {
                 });
             }
             if options.contacts {
-                link_limit(link, &mut frame.trails, &mut frame.spheres);
+                link_limit(link, &mut frame.trails, &mut frame.segments);
             }
         }
         if options.contacts {
             world.contact_points_into(&mut self.contact_points);
             for contact in self.contact_points.iter().take(CONTACT_DRAW_LIMIT) {
-                contact_marker(contact, &mut frame.segments, &mut frame.spheres);
+                contact_marker(contact, &mut frame.segments);
             }
         }
 
@@ -495,14 +495,11 @@ fn coil(from: Vec3, to: Vec3, color: [f32; 4], out: &mut Vec<SegmentInstance>) {
 /// Most contacts drawn in one frame (a pile has tens of thousands).
 pub const CONTACT_DRAW_LIMIT: usize = 20_000;
 
-/// A contact as Box2D's debug drawing shows it: a dot where the surfaces meet and a
-/// short line along the normal; red where they overlap by more than 1 mm, yellow where
-/// they touch, grey for a gap the soft solver keeps in case they meet.
-fn contact_marker(
-    contact: &crate::physics::ContactPoint,
-    segments: &mut Vec<SegmentInstance>,
-    spheres: &mut Vec<SphereInstance>,
-) {
+/// A contact as Box2D's debug drawing shows it: a short line along the normal standing
+/// on a small cross in the contact plane (a pin, never a ball that could pass for a
+/// particle); red where the surfaces overlap by more than 1 mm, yellow where they touch,
+/// grey for a gap the soft solver keeps in case they meet.
+fn contact_marker(contact: &crate::physics::ContactPoint, segments: &mut Vec<SegmentInstance>) {
     let color = if contact.depth > 1e-3 {
         [1.0, 0.15, 0.1, 1.0]
     } else if contact.depth > -1e-3 {
@@ -510,26 +507,35 @@ fn contact_marker(
     } else {
         [0.6, 0.6, 0.65, 1.0]
     };
-    let tip = contact.point + contact.normal * CONTACT_NORMAL_LENGTH;
-    segments.push(SegmentInstance {
-        from: contact.point.to_array(),
-        width: 2.0,
-        to: tip.to_array(),
-        pad: 0.0,
-        color,
-    });
-    spheres.push(SphereInstance { center: contact.point.to_array(), radius: 0.03, color });
+    let mut push = |from: Vec3, to: Vec3| {
+        segments.push(SegmentInstance {
+            from: from.to_array(),
+            width: 2.0,
+            to: to.to_array(),
+            pad: 0.0,
+            color,
+        });
+    };
+    push(contact.point, contact.point + contact.normal * CONTACT_NORMAL_LENGTH);
+    let (u, w) = contact.normal.any_orthonormal_pair();
+    for across in [u, w] {
+        push(contact.point - across * CONTACT_CROSS_HALF, contact.point + across * CONTACT_CROSS_HALF);
+    }
 }
+
+/// Half the width of the cross a contact's normal stands on (m).
+pub const CONTACT_CROSS_HALF: f32 = 0.05;
 
 /// Length of a drawn contact normal (m).
 pub const CONTACT_NORMAL_LENGTH: f32 = 0.25;
 
-/// A link's limit: a small white ball at the length it may not exceed (a cable) or
-/// rests at (a spring or bungee), measured from its second end (the anchor, for a link
-/// to a fixed point) along the link, and a translucent band from there to the first
-/// end: a spring's stretch or squeeze, a cable's slack. A taut cable's ball sits on its
+/// A link's limit: a white collar (a ring around the link, not a ball, so it is never
+/// taken for a particle) at the length it may not exceed (a cable) or rests at (a
+/// spring or bungee), measured from its second end (the anchor, for a link to a fixed
+/// point) along the link, and a translucent band from there to the first end: a
+/// spring's stretch or squeeze, a cable's slack. A taut cable's collar sits on its
 /// particle.
-fn link_limit(link: &LinkState, bands: &mut Vec<SegmentInstance>, spheres: &mut Vec<SphereInstance>) {
+fn link_limit(link: &LinkState, bands: &mut Vec<SegmentInstance>, segments: &mut Vec<SegmentInstance>) {
     let limit = match link.spec.kind {
         LinkKind::Cable | LinkKind::SupportCable | LinkKind::Spring | LinkKind::Bungee => link.spec.rest,
         LinkKind::Rod | LinkKind::SupportRod | LinkKind::StiffSpring => return,
@@ -543,7 +549,31 @@ fn link_limit(link: &LinkState, bands: &mut Vec<SegmentInstance>, spheres: &mut 
         pad: 0.0,
         color: [0.95, 0.95, 0.95, 0.35],
     });
-    spheres.push(SphereInstance { center: end.to_array(), radius: 0.05, color: [0.95, 0.95, 0.95, 1.0] });
+    ring(end, direction, LIMIT_COLLAR_RADIUS, [0.95, 0.95, 0.95, 1.0], segments);
+}
+
+/// Radius of the collar marking a link's limit (m): wider than a drawn coil.
+pub const LIMIT_COLLAR_RADIUS: f32 = 0.16;
+/// Sides of a drawn ring.
+const RING_SIDES: usize = 12;
+
+/// A ring of `radius` (m) around `center` in the plane across `axis` (unit): edge-on
+/// a bar across the axis, from an angle an ellipse; never a ball.
+fn ring(center: Vec3, axis: Vec3, radius: f32, color: [f32; 4], out: &mut Vec<SegmentInstance>) {
+    let (u, w) = axis.any_orthonormal_pair();
+    let at = |k: usize| {
+        let angle = std::f32::consts::TAU * k as f32 / RING_SIDES as f32;
+        center + (u * angle.cos() + w * angle.sin()) * radius
+    };
+    for k in 0..RING_SIDES {
+        out.push(SegmentInstance {
+            from: at(k).to_array(),
+            width: 2.5,
+            to: at(k + 1).to_array(),
+            pad: 0.0,
+            color,
+        });
+    }
 }
 
 /// Most swept paths drawn in one frame: enough for any scene a student fires rounds

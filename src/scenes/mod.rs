@@ -196,6 +196,10 @@ pub trait Scene: Send {
     /// points and its launch, apex and landing, with time, range and height.
     fn hover_points(&self, _out: &mut Vec<(Vec3, String)>) {}
 
+    /// Points (m) a camera framing the scene should keep in view besides its particles:
+    /// the projectile's predicted path down to its landing, and its target.
+    fn framing_points(&self, _out: &mut Vec<Vec3>) {}
+
     /// The height (m) the energy bars and plot measure gravitational energy from, and
     /// what stands there, where the ground (y = 0) would hide the exchange the scene
     /// shows: a cradle's balls swap a joule of height while hanging 0.6 m up, 30 J

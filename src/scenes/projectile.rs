@@ -12,10 +12,20 @@ use super::{
 use crate::physics::exact::damping_rate;
 use crate::physics::{Drag, ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions, World};
 
-/// Rounds older than this are removed (s), as in Cyclone's ballistic demo.
+/// A round that can never land ([`can_land`]) is removed this old (s), as in Cyclone's
+/// ballistic demo; one that can is kept until it lands, however long it flies.
 pub const MAX_AGE: f64 = 5.0;
-/// Rounds further than this from the launcher are removed (m).
+/// A round that can never land is removed this far from the launcher (m); one that can
+/// is kept until it lands, however far it flies.
 pub const MAX_DISTANCE: f32 = 200.0;
+/// Slowest fall (m/s) that still counts as falling when gravity does not pull a round
+/// down: drag alone slows such a round's fall for ever without stopping it.
+pub const LANDING_FALL_SPEED: f32 = 1e-3;
+/// Most dots drawn of the next round's predicted path; a long flight gets them further
+/// apart than the usual [`PATH_INTERVAL`].
+pub const PREDICTED_DOTS: usize = 200;
+/// How much of a never-landing round's predicted flight is drawn (s).
+pub const UNLANDED_SHOWN: f32 = 8.0;
 /// Drawn and collision radius of a round (m).
 pub const ROUND_RADIUS: f32 = 0.3;
 /// Half the width of the target (m): a round landing this close to its centre hits.
@@ -197,6 +207,29 @@ impl Projectile {
         }
     }
 
+    /// Where the next round would fly without drag (m): the launcher, then a point
+    /// every [`PATH_INTERVAL`] of flight (further apart when more than
+    /// [`PREDICTED_DOTS`] would be needed) until it lands, however far. A round that
+    /// never lands (gravity off or upwards) is followed for [`UNLANDED_SHOWN`] or to
+    /// [`MAX_DISTANCE`], whichever comes first.
+    fn predicted_path(&self, out: &mut Vec<Vec3>) {
+        let g = self.params.get("g");
+        let angle = self.params.get("angle").to_radians();
+        let launcher = self.launcher();
+        let v = Vec3::new(angle.cos(), angle.sin(), 0.0) * self.params.get("speed");
+        let flight = if g > 0.0 { ground_range_time(v.y, launcher.y, g) } else { UNLANDED_SHOWN };
+        let interval = (PATH_INTERVAL as f32).max(flight / PREDICTED_DOTS as f32);
+        out.push(launcher);
+        for k in 1..=PREDICTED_DOTS {
+            let t = k as f32 * interval;
+            let p = launcher + v * t + Vec3::new(0.0, -0.5 * g * t * t, 0.0);
+            if p.y < 0.0 || (g <= 0.0 && p.distance(launcher) > MAX_DISTANCE) {
+                break;
+            }
+            out.push(p);
+        }
+    }
+
     /// The closed form of a round of mass `m` with linear drag `k1` and damping.
     fn motion(&self, k1: f32, m: f32, damping: f32) -> Motion {
         Motion::Projectile { g: self.gravity().as_dvec3(), lambda: f64::from(k1 / m) + damping_rate(damping) }
@@ -263,11 +296,15 @@ impl Scene for Projectile {
         self.record_flights();
         let now = self.world.time();
         let launcher = self.launcher();
+        let g = self.params.get("g");
         let world = &mut self.world;
         self.rounds.retain(|&(id, fired)| {
             let Some(i) = world.particles.index(id) else { return false };
-            let p = world.particles.position[i];
-            let expired = p.y < 0.0 || now - fired > MAX_AGE || p.distance(launcher) > MAX_DISTANCE;
+            let (p, v) = (world.particles.position[i], world.particles.velocity[i]);
+            // A round goes when it lands, however far and long it flew; only one that
+            // can never come down goes by Cyclone's age and distance limits.
+            let lost = !can_land(g, v.y) && (now - fired > MAX_AGE || p.distance(launcher) > MAX_DISTANCE);
+            let expired = p.y < 0.0 || lost;
             if expired {
                 world.remove_particle(id);
             }
@@ -359,18 +396,17 @@ impl Scene for Projectile {
             let position = launcher + barrel * (0.15 * k as f32);
             out.push(Marker { position, radius: 0.16, color: [0.42, 0.44, 0.48] });
         }
-        // Where the next round would go without drag: dots every 0.1 s of flight.
-        let g = self.params.get("g");
-        let angle = self.params.get("angle").to_radians();
-        let v = Vec3::new(angle.cos(), angle.sin(), 0.0) * self.params.get("speed");
-        for k in 1..=80 {
-            let t = k as f32 * 0.1;
-            let p = launcher + v * t + Vec3::new(0.0, -0.5 * g * t * t, 0.0);
-            if p.y < 0.0 || p.distance(launcher) > MAX_DISTANCE {
-                break;
-            }
-            out.push(Marker { position: p, radius: 0.1, color: [0.55, 0.6, 0.7] });
+        // Where the next round would go without drag, to its landing.
+        let mut path = Vec::new();
+        self.predicted_path(&mut path);
+        for &position in &path[1..] {
+            out.push(Marker { position, radius: 0.1, color: [0.55, 0.6, 0.7] });
         }
+    }
+
+    fn framing_points(&self, out: &mut Vec<Vec3>) {
+        self.predicted_path(out);
+        out.push(self.target());
     }
 
     fn camera(&self) -> CameraHint {
@@ -417,6 +453,21 @@ impl Scene for Projectile {
         }
         out
     }
+}
+
+/// Whether a round moving up at `vy` (m/s) under gravity `g` (m/s², downwards) can
+/// still reach the ground: always while gravity pulls down; with gravity off or
+/// upwards only while it falls (faster than [`LANDING_FALL_SPEED`]).
+#[must_use]
+pub fn can_land(g: f32, vy: f32) -> bool {
+    g > 0.0 || vy < -LANDING_FALL_SPEED
+}
+
+/// Time (s) a round launched upwards at `vy` (m/s) from height `h` (m) flies before reaching the
+/// ground under gravity `g > 0`, without drag: `(vy + √(vy² + 2 g h)) / g`.
+#[must_use]
+pub fn ground_range_time(vy: f32, h: f32, g: f32) -> f32 {
+    (vy + (vy * vy + 2.0 * g * h).sqrt()) / g
 }
 
 /// Horizontal distance (m) a round launched at `(vx, vy)` from height `h` flies before

@@ -246,6 +246,14 @@ impl Scene for SpringForces {
     }
 
     fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+        // The objects first: where labels crowd, the view keeps the earlier ones.
+        let p = self.world.particles.positions();
+        let named = [(0, "bob"), (1, "free spring"), (3, "bungee"), (4, "float"), (5, "stiff spring")];
+        for (i, name) in named {
+            if let Some(&position) = p.get(i) {
+                out.push((position + Vec3::Y * (RADIUS + 0.25), name));
+            }
+        }
         let (natural, equilibrium) = self.bob_lines();
         // Beside the lines' right ends, so they do not cover the bob.
         // The natural length's name above its line, the equilibrium's below its own, so
@@ -255,13 +263,6 @@ impl Scene for SpringForces {
         let x = BOB_ANCHOR.x - RULER_OFFSET - 0.35;
         for (metres, text) in RULER_LABELS.iter().enumerate().take(BOB_ANCHOR.y as usize + 1) {
             out.push((Vec3::new(x, metres as f32 + 0.05, 0.0), text));
-        }
-        let p = self.world.particles.positions();
-        let named = [(0, "bob"), (1, "free spring"), (3, "bungee"), (4, "float"), (5, "stiff spring")];
-        for (i, name) in named {
-            if let Some(&position) = p.get(i) {
-                out.push((position + Vec3::Y * (RADIUS + 0.25), name));
-            }
         }
     }
 

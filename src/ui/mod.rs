@@ -1033,57 +1033,6 @@ fn help(ui: &mut egui::Ui) {
 /// How near the pointer must be to a path point to show its tooltip (points).
 const HOVER_RADIUS: f32 = 10.0;
 
-/// Above this many particles the view has no metre ticks.
-const TICK_PARTICLE_LIMIT: usize = 500;
-
-/// Links looked at for labels (a scene of thousands of links is not searched).
-const LINK_LABEL_LIMIT: usize = 200;
-
-/// Writes names over the 3D view: the scene's objects (bob, launcher, load), each kind
-/// of link once at the middle of its first link, and metre ticks along the x axis.
-fn labels(ui: &egui::Ui, lab: &Lab, rect: Rect) {
-    let size = Vec2::new(rect.width(), rect.height());
-    let painter = ui.painter_at(rect);
-    let at = |point: Vec3| lab.camera.project(point, size).map(|p| rect.min + egui::vec2(p.x, p.y));
-    // Object names sit above their point, link kinds and ticks below theirs, so the
-    // two do not cover each other where a short link ends at a named object.
-    let write = |point: Vec3, text: &str, color: Color32, font: f32, above: bool| {
-        if let Some(screen) = at(point) {
-            let align = if above { egui::Align2::CENTER_BOTTOM } else { egui::Align2::CENTER_TOP };
-            painter.text(screen, align, text, egui::FontId::proportional(font), color);
-        }
-    };
-    let mut names = Vec::new();
-    lab.scene.labels(&mut names);
-    for (point, name) in names {
-        write(point, name, Color32::WHITE, 14.0, true);
-    }
-    // One label per kind of link, on the first of its kind: a key, not clutter.
-    let mut named_kinds = Vec::new();
-    for link in lab.scene.world().links().iter().take(LINK_LABEL_LIMIT) {
-        if !named_kinds.contains(&link.spec.kind) {
-            named_kinds.push(link.spec.kind);
-            let middle = (link.from + link.to) * 0.5;
-            let name = link.spec.kind.name().replace('_', " ");
-            write(middle, &name, Color32::from_gray(170), 11.0, false);
-        }
-    }
-    // Metre ticks along x on the ground, every 1, 5 or 10 m as the view widens; not
-    // in a crowd (a pile), where they would be written over the spheres.
-    if lab.scene.world().particles.len() > TICK_PARTICLE_LIMIT {
-        return;
-    }
-    let spacing = match lab.camera.distance {
-        d if d < 15.0 => 1.0,
-        d if d < 60.0 => 5.0,
-        _ => 10.0,
-    };
-    for k in -10..=20 {
-        let x = k as f32 * spacing;
-        write(Vec3::new(x, 0.0, 0.0), &format!("{x} m"), Color32::from_gray(150), 11.0, false);
-    }
-}
-
 /// The 3D view's input: drag particles, orbit, pan and zoom. Only input that reached
 /// this area (not the panels) moves anything.
 fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
@@ -1160,7 +1109,7 @@ fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
         }
     }
     if lab.view.labels {
-        labels(ui, lab, rect);
+        paint::labels(ui, lab, rect);
     }
     if lab.scene.world().particles.is_empty()
         && lab.entry.info.actions.iter().any(|a| a.action == SceneAction::Fire)

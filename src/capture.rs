@@ -1,12 +1,13 @@
-//! Off-screen frames of a lab, with or without the panel: the `render` command, the
-//! render tests and the render benchmark all use this.
+//! Off-screen captures of a lab, with or without the panel: the `render` command, the
+//! render tests and the render benchmark all use this. (Saving a run's state is
+//! [`crate::scenes::snapshot`]; this only draws it.)
 
 use crate::render::{Gpu, OffscreenTarget, offscreen};
 use crate::ui::paint::{Painter, UiFrame};
 use crate::ui::{self, Lab};
 
 /// Renders lab frames off-screen with one device and one set of renderers.
-pub struct Snapshotter {
+pub struct FrameCapture {
     /// The device.
     pub gpu: Gpu,
     painter: Painter,
@@ -16,7 +17,7 @@ pub struct Snapshotter {
     settled: bool,
 }
 
-impl Snapshotter {
+impl FrameCapture {
     /// Finds an adapter (no display needed) and builds the renderers.
     pub fn new() -> Result<Self, String> {
         let gpu = Gpu::headless().map_err(|e| e.to_string())?;

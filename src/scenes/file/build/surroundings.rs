@@ -1,0 +1,143 @@
+//! What surrounds the particles: force fields (drag, buoyancy), the ground and walls,
+//! and the camera.
+
+use glam::Vec3;
+
+use super::{ANY, Bounds, Builder, Located, NON_NEGATIVE, POSITIVE, UNIT, spend};
+use crate::physics::{Buoyancy, Drag, ForceId, Plane, SphereCollisions};
+use crate::scenes::CameraHint;
+use crate::scenes::file::format::Document;
+
+impl Builder<'_> {
+    pub(super) fn forces(
+        &mut self,
+        doc: &'static Document,
+        g: f32,
+    ) -> Result<Vec<(ForceId, Buoyancy)>, Located> {
+        let mut applications = 0;
+        for table in &doc.drag {
+            let span = table.span();
+            let t = table.get_ref();
+            let k1 = self.compile_or(t.k1.as_ref(), 0.0, &[])?;
+            let k2 = self.compile_or(t.k2.as_ref(), 0.0, &[])?;
+            let targets = match &t.targets {
+                Some(list) => {
+                    let mut out = Vec::new();
+                    for field in list {
+                        let members = self.resolve(field)?;
+                        spend(&mut applications, members.len(), "[[drag]]", &span)?;
+                        out.extend(members.into_iter().map(|k| self.ids[k]));
+                    }
+                    out
+                }
+                None => {
+                    spend(&mut applications, self.ids.len(), "[[drag]]", &span)?;
+                    self.ids.clone()
+                }
+            };
+            let drag = Drag {
+                k1: self.eval(&k1, &[], "k1", NON_NEGATIVE)?,
+                k2: self.eval(&k2, &[], "k2", NON_NEGATIVE)?,
+                targets,
+            };
+            self.world.add_force(drag).map_err(|e| Located::at(&span, e.to_string()))?;
+        }
+        let mut floats = Vec::new();
+        for table in &doc.buoyancy {
+            let span = table.span();
+            let t = table.get_ref();
+            let targets = self.resolve(&t.particle)?;
+            spend(&mut applications, targets.len(), "[[buoyancy]]", &span)?;
+            let surface = self.compile(&t.surface, &[])?;
+            let half_height = self.compile(&t.half_height, &[])?;
+            let volume = self.compile(&t.volume, &[])?;
+            let density = self.compile_or(t.density.as_ref(), 1000.0, &[])?;
+            let (surface, half_height, volume, density) = (
+                self.eval(&surface, &[], "surface", ANY)?,
+                self.eval(&half_height, &[], "half_height", NON_NEGATIVE)?,
+                self.eval(&volume, &[], "volume", NON_NEGATIVE)?,
+                self.eval(&density, &[], "density", NON_NEGATIVE)?,
+            );
+            for k in targets {
+                let float =
+                    Buoyancy { target: self.ids[k], surface, half_height, volume, density, g: g.max(0.0) };
+                let id =
+                    self.world.add_force(float.clone()).map_err(|e| Located::at(&span, e.to_string()))?;
+                floats.push((id, float));
+            }
+        }
+        Ok(floats)
+    }
+    pub(super) fn surfaces(&mut self, doc: &'static Document) -> Result<(), Located> {
+        if let Some(ground) = &doc.ground {
+            let height = self.compile_or(ground.height.as_ref(), 0.0, &[])?;
+            let restitution = self.compile_or(ground.restitution.as_ref(), 0.3, &[])?;
+            let friction = self.compile_or(ground.friction.as_ref(), 0.5, &[])?;
+            let plane = Plane::ground(
+                self.eval(&height, &[], "height", ANY)?,
+                self.eval(&restitution, &[], "restitution", UNIT)?,
+                self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+            );
+            self.world.add_contact_generator(plane).map_err(|e| Located::at(&height.span, e.to_string()))?;
+        }
+        for wall in &doc.wall {
+            let normal = self.compile_vec(&wall.normal, &[])?;
+            let point = self.compile_vec(&wall.point, &[])?;
+            let restitution = self.compile_or(wall.restitution.as_ref(), 0.3, &[])?;
+            let friction = self.compile_or(wall.friction.as_ref(), 0.5, &[])?;
+            let plane = Plane::new(
+                self.eval_vec(&normal, &[], "normal")?,
+                self.eval_vec(&point, &[], "point")?,
+                self.eval(&restitution, &[], "restitution", UNIT)?,
+                self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+            )
+            .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?;
+            self.world
+                .add_contact_generator(plane)
+                .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?;
+        }
+        if let Some(collisions) = &doc.collisions {
+            let restitution = self.compile_or(collisions.restitution.as_ref(), 0.5, &[])?;
+            let friction = self.compile_or(collisions.friction.as_ref(), 0.3, &[])?;
+            let spheres = SphereCollisions {
+                restitution: self.eval(&restitution, &[], "restitution", UNIT)?,
+                friction: self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+            };
+            self.world
+                .add_contact_generator(spheres)
+                .map_err(|e| Located::at(&restitution.span, e.to_string()))?;
+        }
+        Ok(())
+    }
+
+    /// The `[camera]` table, with what it leaves out framing every particle.
+    pub(super) fn camera(&mut self, doc: &'static Document) -> Result<CameraHint, Located> {
+        let positions = self.world.particles.positions();
+        let (lo, hi) = positions
+            .iter()
+            .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let (centre, size) =
+            if positions.is_empty() { (Vec3::ZERO, 1.0) } else { ((lo + hi) * 0.5, (hi - lo).max_element()) };
+        let framing =
+            CameraHint { target: centre, distance: 1.8 * size.max(0.5) + 1.0, yaw: 0.0, pitch: 0.2 };
+        let Some(camera) = &doc.camera else { return Ok(framing) };
+        let target = match &camera.target {
+            Some(field) => {
+                let value = self.compile_vec(field, &[])?;
+                self.eval_vec(&value, &[], "target")?
+            }
+            None => framing.target,
+        };
+        let distance = self.compile_or(camera.distance.as_ref(), f64::from(framing.distance), &[])?;
+        let yaw = self.compile_or(camera.yaw.as_ref(), 0.0, &[])?;
+        let pitch = self.compile_or(camera.pitch.as_ref(), f64::from(framing.pitch.to_degrees()), &[])?;
+        Ok(CameraHint {
+            target,
+            distance: self.eval(&distance, &[], "distance", POSITIVE)?,
+            yaw: self.eval(&yaw, &[], "yaw", ANY)?.to_radians(),
+            pitch: self
+                .eval(&pitch, &[], "pitch", Bounds { min: -89.0, max: 89.0, text: "-89 to 89 degrees" })?
+                .to_radians(),
+        })
+    }
+}
