@@ -8,9 +8,8 @@
 
 use clap::{Parser, Subcommand};
 
-use crate::physics::{Integrator, SolverKind, SolverSettings, solver::SUBSTEP_RANGE};
-
 pub mod clock;
+pub mod flags;
 pub mod list;
 pub mod progress;
 pub mod record;
@@ -19,6 +18,7 @@ pub mod setup;
 pub mod simulate;
 pub mod usage;
 
+pub use flags::{MAX_STEPS, SolverArgs};
 pub use list::{Format, list_scenes};
 pub use render::{MAX_IMAGE_SIDE, RenderArgs, render};
 pub use simulate::{CSV_HEADER, RunPlan, SimulateArgs, StateFormat, prepare, simulate};
@@ -56,39 +56,6 @@ pub struct Cli {
     pub from: Option<std::path::PathBuf>,
 }
 
-/// The solver flags shared by the window, `simulate` and `render`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct SolverArgs {
-    /// Constraint solver: soft (substepped soft contacts with friction, the default) or
-    /// paper (the paper's worst-first resolver, with Coulomb friction).
-    #[arg(long, value_name = "NAME", default_value = "soft")]
-    pub solver: String,
-    /// Substeps per physics step for the soft solver, 1 to 64.
-    #[arg(long, value_name = "N", default_value_t = 4)]
-    pub substeps: u32,
-    /// Integrator: explicit-euler, semi-implicit-euler (the paper's, the default),
-    /// verlet or rk4.
-    #[arg(long, value_name = "NAME", default_value = "semi-implicit-euler")]
-    pub integrator: String,
-}
-
-impl SolverArgs {
-    /// The settings these flags ask for, or a one-line reason they are refused.
-    pub fn settings(&self) -> Result<SolverSettings, String> {
-        let kind = SolverKind::parse(&self.solver)?;
-        if !SUBSTEP_RANGE.contains(&self.substeps) {
-            return Err(format!(
-                "--substeps {} is out of range; valid range: {} to {}",
-                self.substeps,
-                SUBSTEP_RANGE.start(),
-                SUBSTEP_RANGE.end()
-            ));
-        }
-        let integrator = Integrator::parse(&self.integrator)?;
-        Ok(SolverSettings { kind, substeps: self.substeps, integrator, ..SolverSettings::default() })
-    }
-}
-
 /// Subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -103,9 +70,6 @@ pub enum Command {
     /// Step a scene and write one off-screen frame to a PNG (needs no display).
     Render(RenderArgs),
 }
-
-/// Most steps `simulate` accepts in one run.
-pub const MAX_STEPS: u64 = 100_000_000;
 
 /// Parses the command line; on bad flags prints clap's error on one line, with its
 /// suggestions, and exits 2.

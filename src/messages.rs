@@ -137,6 +137,49 @@ pub fn signed(value: f32, decimals: usize) -> String {
     if text.starts_with('-') { text } else { format!("+{text}") }
 }
 
+/// `text` for a one-line message: [`quote`]d (control characters escaped) and cut so
+/// that the quoted form holds at most `room` characters, with the count of what was
+/// left out.
+pub fn clip(text: &str, room: usize) -> String {
+    let mut out = String::new();
+    let mut used = 0;
+    let mut rest = text.chars();
+    for c in rest.by_ref() {
+        // One character at a time, so the cut is at `room`, not at `quote`'s own.
+        let shown = quote(c.encode_utf8(&mut [0; 4]));
+        let width = shown.chars().count();
+        if used + width > room {
+            let left = 1 + rest.count();
+            out.push_str(&format!("… ({left} more characters)"));
+            break;
+        }
+        used += width;
+        out.push_str(&shown);
+    }
+    out
+}
+
+/// Names for a one-line message: joined with commas, cut after a few.
+pub fn name_list<'a>(names: impl Iterator<Item = &'a str>) -> String {
+    const ROOM: usize = 60;
+    let mut out = String::new();
+    let mut left = 0;
+    for name in names {
+        if left > 0 || out.chars().count() + name.chars().count() > ROOM {
+            left += 1;
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(", ");
+        }
+        out.push_str(&quote(name));
+    }
+    if left > 0 {
+        out.push_str(&format!(" and {left} more"));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

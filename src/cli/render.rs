@@ -1,7 +1,8 @@
 //! `render`: builds a lab, steps it and writes one off-screen frame as a PNG (or hands
 //! `--frames` to [`super::record`]).
 
-use super::{MAX_STEPS, SolverArgs, progress, record};
+use super::flags::{MAX_STEPS, SolverArgs};
+use super::{progress, record};
 use crate::scenes::{self, snapshot::Snapshot};
 
 /// Arguments of `render`.

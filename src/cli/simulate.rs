@@ -7,7 +7,8 @@ use clap::ValueEnum;
 use glam::Vec3;
 use serde::Serialize;
 
-use super::{MAX_STEPS, SolverArgs, clock, progress};
+use super::flags::{MAX_STEPS, SolverArgs};
+use super::{clock, progress};
 use crate::physics::broad_phase::BUDGET_HIT_MESSAGE;
 use crate::physics::inspect::{self, ConstraintMeter};
 use crate::physics::{LinkEnd, LinkState, ParticleId, World};

@@ -5,7 +5,8 @@
 use glam::Vec3;
 
 use super::{
-    ActionInfo, CameraHint, Marker, Param, ParamError, ParamValues, Scene, SceneAction, SceneEntry, SceneInfo,
+    ActionInfo, CameraHint, LOAD_STEP, Marker, Param, ParamError, ParamValues, Scene, SceneAction,
+    SceneEntry, SceneInfo,
 };
 use crate::physics::{
     Constraint, ContactGenerator, GroundPlane, ParticleDesc, ParticleId, PhysicsError, ResolveReport, World,
@@ -15,8 +16,6 @@ use crate::physics::{
 pub const BASE_MASS: f32 = 1.0;
 /// Maximum lengths of the support cables, particle by particle (m).
 pub const SUPPORT_LENGTHS: [f32; 12] = [3.0, 3.0, 3.5, 3.5, 4.0, 4.0, 4.0, 4.0, 3.5, 3.5, 3.0, 3.0];
-/// How far one key press moves the load, in load coordinates.
-pub const LOAD_STEP: f32 = 0.1;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[

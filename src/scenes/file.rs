@@ -134,7 +134,7 @@ use self::format::Document;
 use super::{
     CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water,
 };
-use crate::messages::{self, quote};
+use crate::messages::{self, clip, quote};
 use crate::physics::{LinkState, PhysicsError, ResolveReport, World};
 use crate::reading;
 
@@ -284,49 +284,6 @@ pub fn load_path(path: &Path) -> Result<&'static SceneEntry, FileError> {
 /// user text there), `path` is where it lives on disk, if anywhere.
 pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
     load_shown(text, quote(shown), path)
-}
-
-/// `text` for a one-line message: [`quote`]d (control characters escaped) and cut so
-/// that the quoted form holds at most `room` characters, with the count of what was
-/// left out.
-fn clip(text: &str, room: usize) -> String {
-    let mut out = String::new();
-    let mut used = 0;
-    let mut rest = text.chars();
-    for c in rest.by_ref() {
-        // One character at a time, so the cut is at `room`, not at `quote`'s own.
-        let shown = quote(c.encode_utf8(&mut [0; 4]));
-        let width = shown.chars().count();
-        if used + width > room {
-            let left = 1 + rest.count();
-            out.push_str(&format!("… ({left} more characters)"));
-            break;
-        }
-        used += width;
-        out.push_str(&shown);
-    }
-    out
-}
-
-/// Names for a one-line message: joined with commas, cut after a few.
-fn list<'a>(names: impl Iterator<Item = &'a str>) -> String {
-    const ROOM: usize = 60;
-    let mut out = String::new();
-    let mut left = 0;
-    for name in names {
-        if left > 0 || out.chars().count() + name.chars().count() > ROOM {
-            left += 1;
-            continue;
-        }
-        if !out.is_empty() {
-            out.push_str(", ");
-        }
-        out.push_str(&quote(name));
-    }
-    if left > 0 {
-        out.push_str(&format!(" and {left} more"));
-    }
-    out
 }
 
 /// A number for a message: as Rust writes it, but with an exponent where that would

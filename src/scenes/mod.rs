@@ -41,8 +41,10 @@ use glam::{Vec2, Vec3};
 
 use crate::physics::{PhysicsError, ResolveReport, World};
 
-pub use bridge::LOAD_STEP;
 pub use params::{Param, ParamError, ParamValues, Preset};
+
+/// How far one key press moves the bridge's load, in load coordinates (m).
+pub const LOAD_STEP: f32 = 0.1;
 
 /// Surface gravity of a few worlds (m/s²), as presets that set `g` alone.
 #[rustfmt::skip]

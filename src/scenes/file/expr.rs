@@ -7,8 +7,8 @@
 //! reported with its column before anything is built; it is evaluated every time the
 //! scene is built, with the parameters' current values.
 
-use super::{clip, list};
 use crate::messages::quote;
+use crate::messages::{clip, name_list as list};
 
 /// A parsed expression.
 #[derive(Clone, Debug, PartialEq)]

@@ -9,9 +9,9 @@ use super::{
     Builder, End, Handle, Kind, LinkPlan, LinkRecord, Located, MAX_EVALUATIONS, MAX_LINKS, NON_NEGATIVE,
     POSITIVE, UNIT, kind_name,
 };
+use crate::messages::{clip, name_list as list};
 use crate::physics::{Constraint, ForceGenerator, LinkEnd, Spring, StiffSpring};
 use crate::scenes::file::format::{Document, LinkProps, Ref};
-use crate::scenes::file::{clip, list};
 
 impl Builder<'_> {
     /// Plans links between members `first + a` and `first + b` of a group.

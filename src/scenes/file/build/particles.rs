@@ -7,8 +7,8 @@ use glam::Vec3;
 use super::{
     ANY, Builder, Group, KINDS, Kind, Located, MASS, MAX_PARTICLES, NON_NEGATIVE, Placement, UNIT, size,
 };
+use crate::messages::clip;
 use crate::physics::ParticleDesc;
-use crate::scenes::file::clip;
 use crate::scenes::file::format::{Document, SNum};
 
 impl Builder<'_> {

@@ -4,9 +4,10 @@
 use glam::Vec3;
 
 use super::{ANY, Bounds, Builder, Located, MAX_PARTICLES, Value};
+use crate::messages::clip;
 use crate::scenes::file::expr::Expr;
 use crate::scenes::file::format::{Document, Num, SNum, SVec};
-use crate::scenes::file::{clip, number};
+use crate::scenes::file::number;
 
 impl Builder<'_> {
     pub(super) fn gravity(&mut self, doc: &'static Document) -> Result<f32, Located> {

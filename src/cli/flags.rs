@@ -1,0 +1,39 @@
+//! The flags more than one command takes: the solver's, and the bound on steps.
+
+use crate::physics::{Integrator, SolverKind, SolverSettings, solver::SUBSTEP_RANGE};
+
+/// The solver flags shared by the window, `simulate` and `render`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SolverArgs {
+    /// Constraint solver: soft (substepped soft contacts with friction, the default) or
+    /// paper (the paper's worst-first resolver, with Coulomb friction).
+    #[arg(long, value_name = "NAME", default_value = "soft")]
+    pub solver: String,
+    /// Substeps per physics step for the soft solver, 1 to 64.
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    pub substeps: u32,
+    /// Integrator: explicit-euler, semi-implicit-euler (the paper's, the default),
+    /// verlet or rk4.
+    #[arg(long, value_name = "NAME", default_value = "semi-implicit-euler")]
+    pub integrator: String,
+}
+
+impl SolverArgs {
+    /// The settings these flags ask for, or a one-line reason they are refused.
+    pub fn settings(&self) -> Result<SolverSettings, String> {
+        let kind = SolverKind::parse(&self.solver)?;
+        if !SUBSTEP_RANGE.contains(&self.substeps) {
+            return Err(format!(
+                "--substeps {} is out of range; valid range: {} to {}",
+                self.substeps,
+                SUBSTEP_RANGE.start(),
+                SUBSTEP_RANGE.end()
+            ));
+        }
+        let integrator = Integrator::parse(&self.integrator)?;
+        Ok(SolverSettings { kind, substeps: self.substeps, integrator, ..SolverSettings::default() })
+    }
+}
+
+/// Most steps `simulate` accepts in one run.
+pub const MAX_STEPS: u64 = 100_000_000;
