@@ -1,5 +1,7 @@
 //! The window: winit events in, egui and the 3D view out. A thin shell around
-//! [`Lab`], [`ui::show`] and [`Painter`].
+//! [`Lab`], [`LabUi`] and [`Painter`]. It redraws while the physics runs, and
+//! otherwise only when egui asks (input, an animation): a paused, untouched window
+//! burns no CPU.
 
 use crate::scenes::snapshot::Snapshot;
 use std::path::PathBuf;
@@ -9,13 +11,13 @@ use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::LogicalSize;
 use winit::event::WindowEvent;
-use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
 use crate::render::{Gpu, GpuError, OffscreenTarget};
 use crate::settings::{self, Launch, Settings, Store};
 use crate::ui::paint::{Painter, UiFrame};
-use crate::ui::{self, Lab};
+use crate::ui::{Lab, LabUi};
 
 /// Why the window could not run.
 #[derive(Debug)]
@@ -34,7 +36,7 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
         eprintln!("{warning}");
     }
     log::info!("{}", opened.summary);
-    let settings::Opened { mut lab, window: window_size, store, .. } = opened;
+    let settings::Opened { mut lab, layout, window: window_size, store, .. } = opened;
     if let Some(path) = &launch.from {
         // Read before any window opens: a bad file is a usage error, said in one line.
         let snapshot = Snapshot::load(path).map_err(AppError::Usage)?;
@@ -46,7 +48,15 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
     lab.watch_scene_file();
     let event_loop =
         EventLoop::new().map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
-    let mut app = App { lab, window: None, error: None, timing_logged: Instant::now(), store, window_size };
+    let mut app = App {
+        lab,
+        ui: LabUi::new(layout),
+        window: None,
+        error: None,
+        timing_logged: Instant::now(),
+        store,
+        window_size,
+    };
     event_loop.run_app(&mut app).map_err(|e| {
         AppError::Fatal(format!("the window's event loop failed: {}", crate::messages::plain(&e.to_string())))
     })?;
@@ -58,6 +68,8 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
 
 struct App {
     lab: Lab,
+    /// The interface: its views and the panel's layout.
+    ui: LabUi,
     window: Option<WindowState>,
     error: Option<String>,
     /// When the frame timings last went to the debug log.
@@ -72,6 +84,9 @@ struct App {
 /// for measuring the window where its panel cannot be read.
 const TIMING_LOG_INTERVAL: Duration = Duration::from_secs(2);
 
+/// How often a still window wakes to look for a change of the watched scene file.
+const SCENE_FILE_POLL: Duration = Duration::from_millis(250);
+
 /// Everything that exists once the window does.
 struct WindowState {
     window: Arc<Window>,
@@ -82,6 +97,10 @@ struct WindowState {
     egui: egui::Context,
     egui_winit: egui_winit::State,
     screenshot_target: Option<OffscreenTarget>,
+    /// When egui asked to draw again (none: only on input).
+    next_repaint: Option<Instant>,
+    /// Frames drawn so far (the log gives it with the timings).
+    frames: u64,
     /// False while minimised (size 0) or hidden: no frames are drawn or requested then,
     /// so the loop waits for events instead of spinning.
     visible: bool,
@@ -97,7 +116,7 @@ impl App {
 
     /// Writes the settings now, as the window closes.
     fn save_settings(&mut self) {
-        if self.store.save_reporting(&Settings::of(&self.lab, self.window_size))
+        if self.store.save_reporting(&Settings::of(&self.lab, &self.ui.layout, self.window_size))
             && let Some(path) = self.store.path()
         {
             log::info!("settings saved to {}", path.display());
@@ -147,7 +166,7 @@ impl ApplicationHandler for App {
                 state.window.request_redraw();
             }
             WindowEvent::RedrawRequested => {
-                if let Err(message) = state.frame(&mut self.lab) {
+                if let Err(message) = state.frame(&mut self.lab, &mut self.ui) {
                     self.fail(event_loop, message);
                     return;
                 }
@@ -156,13 +175,14 @@ impl ApplicationHandler for App {
                     let stats = self.lab.stats;
                     log::debug!(
                         "timing: {:.1} fps, {:.1} ms a frame, {:.2} ms a physics step, {} steps a frame, \
-                         sim speed {:.2}x, {} particles",
+                         sim speed {:.2}x, {} particles, {} frames drawn",
                         stats.fps,
                         stats.frame_ms,
                         stats.step_ms,
                         stats.steps_last_frame,
                         stats.sim_speed,
-                        self.lab.scene.world().particles.len()
+                        self.lab.scene.world().particles.len(),
+                        state.frames
                     );
                 }
                 if self.lab.requests.quit {
@@ -171,17 +191,35 @@ impl ApplicationHandler for App {
                     event_loop.exit();
                     return;
                 }
-                self.store.autosave(|| Settings::of(&self.lab, self.window_size));
+                self.store.autosave(|| Settings::of(&self.lab, &self.ui.layout, self.window_size));
             }
             _ => {}
         }
     }
 
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
-        if let Some(state) = &self.window
-            && state.visible
-        {
-            state.window.request_redraw();
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(state) = &self.window else { return };
+        if !state.visible {
+            event_loop.set_control_flow(ControlFlow::Wait);
+            return;
+        }
+        let mut wake = state.next_repaint;
+        if self.lab.scene_file.is_some() {
+            // A watched scene file is polled for changes even while nothing moves.
+            let poll = Instant::now() + SCENE_FILE_POLL;
+            wake = Some(wake.map_or(poll, |at| at.min(poll)));
+        }
+        match wake {
+            _ if self.lab.needs_animation() => {
+                event_loop.set_control_flow(ControlFlow::Poll);
+                state.window.request_redraw();
+            }
+            Some(at) if at <= Instant::now() => {
+                event_loop.set_control_flow(ControlFlow::Poll);
+                state.window.request_redraw();
+            }
+            Some(at) => event_loop.set_control_flow(ControlFlow::WaitUntil(at)),
+            None => event_loop.set_control_flow(ControlFlow::Wait),
         }
     }
 }
@@ -258,6 +296,8 @@ impl WindowState {
             egui,
             egui_winit,
             screenshot_target: None,
+            next_repaint: Some(Instant::now()),
+            frames: 0,
             visible: true,
         })
     }
@@ -273,7 +313,7 @@ impl WindowState {
         self.surface.configure(&self.gpu.device, &self.config);
     }
 
-    fn frame(&mut self, lab: &mut Lab) -> Result<(), String> {
+    fn frame(&mut self, lab: &mut Lab, shell: &mut LabUi) -> Result<(), String> {
         let size = self.window.inner_size();
         if size.width == 0 || size.height == 0 {
             return Ok(()); // minimised
@@ -287,7 +327,12 @@ impl WindowState {
         lab.advance();
         let input = self.egui_winit.take_egui_input(&self.window);
         let mut rect = egui::Rect::NOTHING;
-        let output = self.egui.run_ui(input, |ui| rect = ui::show(ui, lab));
+        let output = self.egui.run_ui(input, |ui| rect = shell.show(ui, lab));
+        // When egui wants the next frame (at once for an animation, later for a
+        // tooltip's delay, never for a still picture).
+        let delay = output.viewport_output.get(&egui::ViewportId::ROOT).map(|v| v.repaint_delay);
+        self.next_repaint = delay.and_then(|d| Instant::now().checked_add(d));
+        self.frames += 1;
         self.egui_winit.handle_platform_output(&self.window, output.platform_output);
 
         let ppp = output.pixels_per_point;

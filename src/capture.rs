@@ -4,7 +4,7 @@
 
 use crate::render::{Gpu, OffscreenTarget, offscreen};
 use crate::ui::paint::{Painter, UiFrame};
-use crate::ui::{self, Lab};
+use crate::ui::{Lab, LabUi};
 
 /// Renders lab frames off-screen with one device and one set of renderers.
 pub struct FrameCapture {
@@ -12,6 +12,8 @@ pub struct FrameCapture {
     pub gpu: Gpu,
     painter: Painter,
     egui: egui::Context,
+    /// The interface drawn with `with_ui`: its layout, drafts and sections.
+    pub ui: LabUi,
     target: Option<OffscreenTarget>,
     /// egui passes already run at the current size: its layout needs a few to settle.
     settled: bool,
@@ -22,7 +24,14 @@ impl FrameCapture {
     pub fn new() -> Result<Self, String> {
         let gpu = Gpu::headless().map_err(|e| e.to_string())?;
         let painter = Painter::new(&gpu.device, offscreen::FORMAT);
-        Ok(Self { gpu, painter, egui: egui::Context::default(), target: None, settled: false })
+        Ok(Self {
+            gpu,
+            painter,
+            egui: egui::Context::default(),
+            ui: LabUi::default(),
+            target: None,
+            settled: false,
+        })
     }
 
     /// Renders the lab's current state at `size` pixels and returns RGBA bytes.
@@ -56,8 +65,9 @@ impl FrameCapture {
                 )),
                 ..Default::default()
             };
+            let shell = &mut self.ui;
             let full_output = self.egui.run_ui(input, |ui| {
-                let rect = ui::show(ui, lab);
+                let rect = shell.show(ui, lab);
                 viewport = [rect.left(), rect.top(), rect.width(), rect.height()];
             });
             self.painter.update_textures(device, queue, &full_output.textures_delta);

@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3};
 use particle_lab::physics::SolverSettings;
 use particle_lab::scenes::{self, SCENES, SceneAction};
 use particle_lab::ui::paint::{self, LabelKind, PlacedLabel};
-use particle_lab::ui::{self, Lab};
+use particle_lab::ui::{Lab, LabUi};
 
 /// Runs the panel and the view at `size` points as the window does (a few passes so
 /// egui's layout settles) and returns the labels the last pass wrote and the view's
@@ -14,13 +14,14 @@ fn written(lab: &mut Lab, size: [f32; 2]) -> (Vec<PlacedLabel>, egui::Rect) {
     let ctx = egui::Context::default();
     let mut placed = Vec::new();
     let mut view = egui::Rect::NOTHING;
+    let mut shell = LabUi::default();
     for _ in 0..3 {
         let input = egui::RawInput {
             screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size[0], size[1]))),
             ..Default::default()
         };
         let _ = ctx.run_ui(input, |ui| {
-            view = ui::show(ui, lab);
+            view = shell.show(ui, lab);
             placed = paint::labels(ui, lab, view);
         });
     }
@@ -118,13 +119,14 @@ fn the_side_view_has_a_height_scale() {
     lab.scene.act(SceneAction::Fire);
     lab.set_view_option("side").unwrap();
     let mut texts = Vec::new();
+    let mut shell = LabUi::default();
     for _ in 0..3 {
         let input = egui::RawInput {
             screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 720.0))),
             ..Default::default()
         };
         let output = ctx.run_ui(input, |ui| {
-            ui::show(ui, &mut lab);
+            shell.show(ui, &mut lab);
         });
         texts = output
             .shapes

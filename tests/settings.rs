@@ -10,7 +10,7 @@ use glam::Vec3;
 use particle_lab::physics::{Integrator, SolverKind, SolverSettings};
 use particle_lab::render::ViewOptions;
 use particle_lab::settings::{self, FILE_NAME, Launch, Loaded, Settings, Store};
-use particle_lab::ui::Lab;
+use particle_lab::ui::{Lab, PanelLayout};
 use proptest::prelude::*;
 
 /// A fresh, empty directory for one test's settings.
@@ -48,15 +48,29 @@ fn changed_lab() -> Lab {
     lab.camera.yaw = 0.75;
     lab.camera.pitch = 0.25;
     lab.camera_moved = true;
-    lab.panel_open = false;
-    lab.show_help = true;
-    lab.compare_open = true;
     lab
+}
+
+/// A panel with every saved part changed: hidden, help open, sections flipped.
+fn changed_panel() -> PanelLayout {
+    PanelLayout {
+        open: false,
+        help: true,
+        compare: true,
+        energy: false,
+        stats: false,
+        run: false,
+        ..PanelLayout::default()
+    }
 }
 
 /// What a window opened with no settings and no flags shows.
 fn defaults() -> Settings {
-    Settings::of(&Lab::new(settings::DEFAULT_SCENE, &[]).unwrap(), settings::DEFAULT_WINDOW)
+    Settings::of(
+        &Lab::new(settings::DEFAULT_SCENE, &[]).unwrap(),
+        &PanelLayout::default(),
+        settings::DEFAULT_WINDOW,
+    )
 }
 
 fn open(launch: &Launch, dir: &Path) -> settings::Opened {
@@ -66,12 +80,16 @@ fn open(launch: &Launch, dir: &Path) -> settings::Opened {
 #[test]
 fn everything_saved_comes_back_at_the_next_launch() {
     let dir = temp_dir("round-trip");
-    let saved = Settings::of(&changed_lab(), [1000, 650]);
+    let saved = Settings::of(&changed_lab(), &changed_panel(), [1000, 650]);
     assert!(Store::in_dir(&dir).save(&saved).unwrap(), "a first save writes the file");
 
     let opened = open(&Launch::default(), &dir);
     assert_eq!(opened.warning, None);
-    assert_eq!(Settings::of(&opened.lab, opened.window), saved, "every saved field comes back");
+    assert_eq!(
+        Settings::of(&opened.lab, &opened.layout, opened.window),
+        saved,
+        "every saved field comes back"
+    );
     let lab = &opened.lab;
     assert_eq!(lab.entry.info.name, "bridge");
     assert_eq!(lab.scene.params().get("g"), 5.0);
@@ -88,7 +106,7 @@ fn everything_saved_comes_back_at_the_next_launch() {
     assert_eq!(lab.camera.distance, 7.5);
     assert_eq!((lab.camera.yaw, lab.camera.pitch), (0.75, 0.25));
     assert!(lab.camera_moved, "a restored camera is not reframed when the window's shape is first seen");
-    assert!(!lab.panel_open && lab.show_help && lab.compare_open);
+    assert_eq!(opened.layout, changed_panel(), "the panel and its sections come back");
     assert_eq!(opened.window, [1000, 650]);
     assert!(opened.summary.starts_with("settings restored from "), "{}", opened.summary);
     assert!(
@@ -104,7 +122,7 @@ fn everything_saved_comes_back_at_the_next_launch() {
 fn the_file_is_pretty_versioned_json_and_unchanged_settings_are_not_rewritten() {
     let dir = temp_dir("format");
     let mut store = Store::in_dir(&dir);
-    let saved = Settings::of(&changed_lab(), [800, 600]);
+    let saved = Settings::of(&changed_lab(), &changed_panel(), [800, 600]);
     assert!(store.save(&saved).unwrap());
     let text = std::fs::read_to_string(dir.join(FILE_NAME)).unwrap();
     let json: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -124,13 +142,18 @@ fn the_file_is_pretty_versioned_json_and_unchanged_settings_are_not_rewritten() 
 fn a_first_launch_and_fresh_start_from_the_defaults_and_fresh_does_not_read_the_file() {
     let dir = temp_dir("fresh");
     let first = open(&Launch::default(), &dir);
-    assert_eq!(Settings::of(&first.lab, first.window), defaults());
+    assert_eq!(Settings::of(&first.lab, &first.layout, first.window), defaults());
     assert!(first.summary.starts_with("settings none saved yet at "), "{}", first.summary);
 
-    std::fs::write(dir.join(FILE_NAME), Settings::of(&changed_lab(), [900, 700]).to_text()).unwrap();
+    std::fs::write(dir.join(FILE_NAME), Settings::of(&changed_lab(), &changed_panel(), [900, 700]).to_text())
+        .unwrap();
     let before = std::fs::read(dir.join(FILE_NAME)).unwrap();
     let fresh = open(&Launch { fresh: true, ..Launch::default() }, &dir);
-    assert_eq!(Settings::of(&fresh.lab, fresh.window), defaults(), "--fresh ignores the saved bridge");
+    assert_eq!(
+        Settings::of(&fresh.lab, &fresh.layout, fresh.window),
+        defaults(),
+        "--fresh ignores the saved bridge"
+    );
     assert!(fresh.summary.starts_with("settings --fresh: starting from the defaults"), "{}", fresh.summary);
     assert_eq!(std::fs::read(dir.join(FILE_NAME)).unwrap(), before, "--fresh leaves the file alone");
 
@@ -144,7 +167,7 @@ fn a_first_launch_and_fresh_start_from_the_defaults_and_fresh_does_not_read_the_
 #[test]
 fn typed_flags_win_over_the_saved_settings_each_on_its_own() {
     let dir = temp_dir("flags");
-    Store::in_dir(&dir).save(&Settings::of(&changed_lab(), [1000, 650])).unwrap();
+    Store::in_dir(&dir).save(&Settings::of(&changed_lab(), &changed_panel(), [1000, 650])).unwrap();
 
     // --solver soft: the saved integrator and substeps stay.
     let opened = open(&Launch { solver: Some(SolverKind::Soft), ..Launch::default() }, &dir);
@@ -177,7 +200,7 @@ fn typed_flags_win_over_the_saved_settings_each_on_its_own() {
     assert!(!lab.camera_moved, "the bridge's camera is not put on the pendulum");
     assert!(lab.view.trails, "the pendulum's own trails");
     assert_eq!(lab.solver().kind, SolverKind::Paper, "the saved solver still applies");
-    assert!(lab.view.tension_colors && !lab.view.grid && !lab.panel_open);
+    assert!(lab.view.tension_colors && !lab.view.grid && !opened.layout.open);
 
     // A bad flag is still a usage error, and the file stays.
     let error =
@@ -210,7 +233,7 @@ fn a_saved_side_view_comes_back_orthographic_with_its_camera() {
     lab.camera.target.x = 12.0;
     lab.camera.distance = 30.0;
     lab.camera_moved = true;
-    Store::in_dir(&dir).save(&Settings::of(&lab, [1280, 720])).unwrap();
+    Store::in_dir(&dir).save(&Settings::of(&lab, &PanelLayout::default(), [1280, 720])).unwrap();
     let opened = open(&Launch::default(), &dir);
     assert!(opened.lab.side_view && opened.lab.follow, "{}", opened.summary);
     assert!(opened.lab.camera.orthographic);
@@ -234,7 +257,6 @@ fn restore_defaults_resets_parameters_solver_rate_and_view_and_keeps_the_scene_a
     assert_eq!(lab.view, ViewOptions { trails: false, ..ViewOptions::default() }, "the bridge has no trails");
     assert!(!lab.follow && !lab.side_view);
     assert_eq!(lab.camera, camera, "the camera stays");
-    assert!(!lab.panel_open && lab.compare_open, "the panel's state stays");
     assert_eq!(lab.scene.world().steps(), 0, "the scene starts again");
     assert!(lab.status.starts_with("Defaults restored for bridge"), "{}", lab.status);
 
@@ -248,7 +270,7 @@ fn restore_defaults_resets_parameters_solver_rate_and_view_and_keeps_the_scene_a
 /// A valid file's text with `field` (a JSON pointer) replaced by `value`.
 fn with(pointer: &str, value: serde_json::Value) -> String {
     let mut json: serde_json::Value =
-        serde_json::to_value(Settings::of(&changed_lab(), [1000, 650])).unwrap();
+        serde_json::to_value(Settings::of(&changed_lab(), &changed_panel(), [1000, 650])).unwrap();
     *json.pointer_mut(pointer).unwrap_or_else(|| panic!("no {pointer}")) = value;
     serde_json::to_string_pretty(&json).unwrap()
 }
@@ -273,7 +295,11 @@ fn assert_set_aside(bytes: &[u8], reason: &str) {
     assert!(!warning.contains('\n'), "one line: {warning}");
     assert!(!file.exists(), "the unusable file is moved away");
     assert_eq!(std::fs::read(dir.join("settings.json.bad")).unwrap(), bytes, "moved as it was");
-    assert_eq!(Settings::of(&opened.lab, opened.window), defaults(), "the lab starts from the defaults");
+    assert_eq!(
+        Settings::of(&opened.lab, &opened.layout, opened.window),
+        defaults(),
+        "the lab starts from the defaults"
+    );
     assert!(opened.summary.contains("was unusable; starting from the defaults"), "{}", opened.summary);
 }
 
@@ -305,7 +331,7 @@ fn every_kind_of_unusable_file_is_set_aside_with_one_warning() {
             "solver.substeps = 0 is out of range; valid range: 1 to 64",
         ),
         (with("/physics_rate", json!(5000.0)).into_bytes(), "physics_rate = 5000 is out of range"),
-        (with("/physics_rate", json!(1e300)).into_bytes(), "number out of range at line 24"),
+        (with("/physics_rate", json!(1e300)).into_bytes(), "number out of range at line 30"),
         (with("/time_scale", json!(0.0)).into_bytes(), "time_scale = 0 is out of range"),
         (with("/camera/pitch", json!(3.0)).into_bytes(), "camera.pitch = 3 is out of range"),
         (with("/camera/distance", json!(-1.0)).into_bytes(), "camera.distance = -1 is out of range"),
@@ -346,7 +372,7 @@ fn an_older_bad_file_is_replaced_and_a_new_one_is_written_after_it() {
     assert!(opened.warning.is_some());
     assert_eq!(std::fs::read_to_string(dir.join("settings.json.bad")).unwrap(), "garbage");
     // The session's settings are written as usual after that.
-    assert!(opened.store.save(&Settings::of(&opened.lab, opened.window)).unwrap());
+    assert!(opened.store.save(&Settings::of(&opened.lab, &opened.layout, opened.window)).unwrap());
     assert!(matches!(Store::in_dir(&dir).load(), Loaded::Restored(s) if s == defaults()));
 }
 
@@ -369,7 +395,7 @@ fn a_settings_file_that_cannot_be_written_is_an_error_message_not_a_panic() {
     assert!(warning.starts_with("particle-lab: the settings file "), "{warning}");
     assert!(warning.contains("is unusable (it is a directory, not a regular file)"), "{warning}");
     assert!(dir.join("settings.json.bad").is_dir(), "moved aside");
-    assert_eq!(Settings::of(&opened.lab, opened.window), defaults());
+    assert_eq!(Settings::of(&opened.lab, &opened.layout, opened.window), defaults());
 }
 
 #[test]
@@ -402,7 +428,7 @@ proptest! {
     /// Any truncation of a valid file is refused with a reason, never a panic.
     #[test]
     fn a_truncated_file_is_refused(cut in 0usize..10_000) {
-        let text = Settings::of(&changed_lab(), [1000, 650]).to_text();
+        let text = Settings::of(&changed_lab(), &changed_panel(), [1000, 650]).to_text();
         let body = text.trim_end();
         let cut = cut % body.len();
         let error = Settings::parse(&body[..cut]).unwrap_err();
@@ -415,7 +441,7 @@ proptest! {
     fn a_mutated_file_parses_to_valid_settings_or_is_refused(
         edits in prop::collection::vec((0usize..10_000, 0u8..3, any::<u8>()), 1..6)
     ) {
-        let mut bytes = Settings::of(&changed_lab(), [1000, 650]).to_text().into_bytes();
+        let mut bytes = Settings::of(&changed_lab(), &changed_panel(), [1000, 650]).to_text().into_bytes();
         for (at, kind, byte) in edits {
             let at = at % bytes.len();
             match kind {
@@ -445,7 +471,7 @@ proptest! {
     ) {
         let dir = temp_dir("prop");
         let file = dir.join(FILE_NAME);
-        let mut bytes = Settings::of(&changed_lab(), [1000, 650]).to_text().into_bytes();
+        let mut bytes = Settings::of(&changed_lab(), &changed_panel(), [1000, 650]).to_text().into_bytes();
         // A changed digit (a value that may leave its range) and maybe a truncation.
         let digits: Vec<usize> = (0..bytes.len()).filter(|i| bytes[*i].is_ascii_digit()).collect();
         bytes[digits[digit_at % digits.len()]] = digit;
@@ -458,13 +484,13 @@ proptest! {
             None => {
                 prop_assert!(file.exists());
                 let expected = Settings::parse(std::str::from_utf8(&bytes).unwrap()).unwrap();
-                prop_assert_eq!(Settings::of(&opened.lab, opened.window), expected);
+                prop_assert_eq!(Settings::of(&opened.lab, &opened.layout, opened.window), expected);
             }
             Some(warning) => {
                 prop_assert!(warning.starts_with("particle-lab: the settings file "), "{}", warning);
                 prop_assert!(!warning.contains('\n'));
                 prop_assert!(!file.exists() && dir.join("settings.json.bad").exists());
-                prop_assert_eq!(Settings::of(&opened.lab, opened.window), defaults());
+                prop_assert_eq!(Settings::of(&opened.lab, &opened.layout, opened.window), defaults());
             }
         }
         std::fs::remove_dir_all(&dir).ok();
@@ -495,7 +521,9 @@ fn startup_line(dir: &Path, args: &[&str]) -> String {
 fn the_binary_tells_typed_flags_from_their_defaults() {
     let dir = temp_dir("typed");
     std::fs::create_dir_all(dir.join("particle-lab")).unwrap();
-    Store::in_dir(&dir.join("particle-lab")).save(&Settings::of(&changed_lab(), [1000, 650])).unwrap();
+    Store::in_dir(&dir.join("particle-lab"))
+        .save(&Settings::of(&changed_lab(), &changed_panel(), [1000, 650]))
+        .unwrap();
     let line = startup_line(&dir, &[]);
     assert!(
         line.contains("settings restored from ") && line.contains("solver paper, integrator rk4"),
@@ -533,10 +561,10 @@ fn save_on_scene_file(dir: &Path, scene_file: &Path) -> Settings {
     lab.set_param("links", 8.0);
     lab.camera.distance = 6.5;
     lab.camera_moved = true;
-    lab.panel_open = false;
     lab.view.grid = false;
     lab.time_scale = 0.25;
-    let saved = Settings::of(&lab, [900, 600]);
+    let panel = PanelLayout { open: false, ..PanelLayout::default() };
+    let saved = Settings::of(&lab, &panel, [900, 600]);
     assert!(Store::in_dir(dir).save(&saved).unwrap());
     saved
 }
@@ -556,7 +584,7 @@ fn a_scene_file_is_saved_by_its_path_and_opened_again_with_its_values_and_watche
 
     let opened = open(&Launch::default(), &dir);
     assert_eq!(opened.warning, None);
-    assert_eq!(Settings::of(&opened.lab, opened.window), saved, "everything comes back");
+    assert_eq!(Settings::of(&opened.lab, &opened.layout, opened.window), saved, "everything comes back");
     let mut lab = opened.lab;
     assert_eq!(lab.entry.info.name, "hanging");
     let definition = particle_lab::scenes::file::definition(lab.entry).expect("a file scene");
@@ -564,7 +592,7 @@ fn a_scene_file_is_saved_by_its_path_and_opened_again_with_its_values_and_watche
     assert_eq!(lab.scene.params().get("links"), 8.0);
     assert_eq!(lab.scene.params().get("span"), 3.0);
     assert_eq!(lab.camera.distance, 6.5, "the scene's camera comes back with it");
-    assert!(!lab.panel_open && !lab.view.grid && lab.time_scale == 0.25);
+    assert!(!opened.layout.open && !lab.view.grid && lab.time_scale == 0.25);
     assert!(
         opened.summary.contains(&format!("scene hanging (file {}) [", scene_file.display())),
         "{}",
@@ -603,11 +631,12 @@ fn a_scene_file_is_saved_by_its_path_and_opened_again_with_its_values_and_watche
 #[test]
 fn a_shipped_scene_file_is_saved_by_its_name_only() {
     let dir = temp_dir("shipped-file");
-    let saved = Settings::of(&Lab::new("chain", &[]).unwrap(), [900, 600]);
+    let saved = Settings::of(&Lab::new("chain", &[]).unwrap(), &PanelLayout::default(), [900, 600]);
     assert_eq!((saved.scene.as_str(), &saved.scene_file), ("chain", &None));
     Store::in_dir(&dir).save(&saved).unwrap();
     assert!(!std::fs::read_to_string(dir.join(FILE_NAME)).unwrap().contains("scene_file"));
-    assert_eq!(Settings::of(&open(&Launch::default(), &dir).lab, [900, 600]), saved);
+    let reopened = open(&Launch::default(), &dir);
+    assert_eq!(Settings::of(&reopened.lab, &reopened.layout, [900, 600]), saved);
 }
 
 /// Opens on settings saved on a scene file after `break_it` did something to the
@@ -637,7 +666,7 @@ fn assert_starts_on_the_default_scene(tag: &str, break_it: impl Fn(&Path), reaso
     assert_eq!(lab.entry.info.name, "projectile");
     assert_eq!(lab.scene.params(), Lab::new("projectile", &[]).unwrap().scene.params());
     assert!(!lab.camera_moved, "the chain's camera is not put on the projectile");
-    assert!(!lab.panel_open && !lab.view.grid && lab.time_scale == 0.25, "the rest of the settings stay");
+    assert!(!opened.layout.open && !lab.view.grid && lab.time_scale == 0.25, "the rest of the settings stay");
     assert_eq!(opened.window, [900, 600]);
     assert!(opened.summary.starts_with("settings restored from "), "{}", opened.summary);
     assert_eq!(std::fs::read(dir.join(FILE_NAME)).unwrap(), before, "the settings file stays as it was");

@@ -6,7 +6,53 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
+use particle_lab::ui::{Lab, LabUi};
+
 const TIMEOUT: Duration = Duration::from_secs(30);
+
+/// The panel as a 1280x720 window lays it out on `scene` with the default settings:
+/// the same interface run headless, so the test presses where the window draws a
+/// control instead of at numbers copied from a screenshot.
+fn panel_on(scene: &str) -> LabUi {
+    let mut lab = Lab::new(scene, &[]).unwrap();
+    let mut shell = LabUi::default();
+    let ctx = egui::Context::default();
+    for _ in 0..3 {
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 720.0))),
+            ..Default::default()
+        };
+        let _ = ctx.run_ui(input, |ui| {
+            shell.show(ui, &mut lab);
+        });
+    }
+    shell
+}
+
+/// Where a hand takes hold of `scene`'s slider for `param` (window pixels): near the
+/// slider's left end, halfway down it.
+fn slider_grip(scene: &str, param: &str) -> (i32, i32) {
+    let shell = panel_on(scene);
+    let (_, rect) = shell.params.sliders.iter().find(|(name, _)| *name == param).expect("the scene has it");
+    (rect.left() as i32 + 20, rect.center().y as i32)
+}
+
+/// The solver menu's button on `scene` (window pixels).
+fn solver_menu(scene: &str) -> (i32, i32) {
+    let rect = panel_on(scene).run.solver_menu.expect("the run section is open by default");
+    (rect.center().x as i32, rect.center().y as i32)
+}
+
+/// Drags from `(x, y)` to the right in small steps, like a hand.
+fn drag_right(display: &Display, window: &str, (x, y): (i32, i32)) {
+    let y = y.to_string();
+    display.xdotool(&["mousemove", "--window", window, &x.to_string(), &y, "mousedown", "1"]);
+    for step in 1..=6 {
+        std::thread::sleep(Duration::from_millis(100));
+        display.xdotool(&["mousemove", "--window", window, &(x + step * 8).to_string(), &y]);
+    }
+    display.xdotool(&["mouseup", "1"]);
+}
 
 /// A private X display with a window manager; both are killed on drop.
 struct Display {
@@ -224,14 +270,8 @@ fn a_person_switches_scene_drags_a_slider_pauses_resizes_minimises_and_closes() 
     display.xdotool(&["mousemove", "--window", &window, "68", "85", "click", "1"]);
     app.expect_log("scene: bridge");
 
-    // Drag the g slider (4th parameter, under the solver and integrator rows) to the right, in small
-    // steps like a hand.
-    display.xdotool(&["mousemove", "--window", &window, "41", "314", "mousedown", "1"]);
-    for step in 1..=6 {
-        std::thread::sleep(Duration::from_millis(100));
-        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "314"]);
-    }
-    display.xdotool(&["mouseup", "1"]);
+    // Drag the g slider to the right, in small steps like a hand.
+    drag_right(&display, &window, slider_grip("bridge", "g"));
     app.expect_log("set bridge.g = ");
     pause();
     let log = app.log();
@@ -311,9 +351,12 @@ fn opens_on_the_scene_and_settings_given_picks_the_pile_and_its_solver_and_quits
     app.expect_log("scene: pile");
     // The solver menu under the run controls -> paper (the second entry).
     pause();
-    display.xdotool(&["mousemove", "--window", &window, "40", "172", "click", "1"]);
+    let (x, y) = solver_menu("pile");
+    display.xdotool(&["mousemove", "--window", &window, &x.to_string(), &y.to_string(), "click", "1"]);
     pause();
-    display.xdotool(&["mousemove", "--window", &window, "40", "222", "click", "1"]);
+    // The menu opens under its button, an entry a row each: paper is the second.
+    let entry = (y + 50).to_string();
+    display.xdotool(&["mousemove", "--window", &window, &x.to_string(), &entry, "click", "1"]);
     app.expect_log("solver: paper");
 
     display.xdotool(&["key", "ctrl+q"]);
@@ -370,12 +413,7 @@ fn the_window_comes_back_as_it_was_left_and_fresh_starts_from_the_defaults() {
     pause();
     display.xdotool(&["mousemove", "--window", &window, "68", "85", "click", "1"]);
     app.expect_log("scene: bridge");
-    display.xdotool(&["mousemove", "--window", &window, "41", "314", "mousedown", "1"]);
-    for step in 1..=6 {
-        std::thread::sleep(Duration::from_millis(100));
-        display.xdotool(&["mousemove", "--window", &window, &(41 + step * 8).to_string(), "314"]);
-    }
-    display.xdotool(&["mouseup", "1"]);
+    drag_right(&display, &window, slider_grip("bridge", "g"));
     app.expect_log("set bridge.g = ");
     pause();
     let log = app.log();

@@ -19,10 +19,10 @@ pub const SUPPORT_LENGTHS: [f32; 12] = [3.0, 3.0, 3.5, 3.5, 4.0, 4.0, 4.0, 4.0, 
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "load_x", unit: "", default: 0.0, min: 0.0, max: 5.0, help: "Load position along the bridge, from deck pair 0 to deck pair 5", logarithmic: false },
-    Param { name: "load_z", unit: "", default: 0.5, min: 0.0, max: 1.0, help: "Load position across the bridge, from one side (0) to the other (1)", logarithmic: false },
-    Param { name: "load_mass", unit: "kg", default: 10.0, min: 0.0, max: 50.0, help: "Mass of the load, shared among the four nearest particles", logarithmic: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
+    Param { name: "load_x", unit: "", default: 0.0, min: 0.0, max: 5.0, help: "Load position along the bridge, from deck pair 0 to deck pair 5", logarithmic: false, integer: false },
+    Param { name: "load_z", unit: "", default: 0.5, min: 0.0, max: 1.0, help: "Load position across the bridge, from one side (0) to the other (1)", logarithmic: false, integer: false },
+    Param { name: "load_mass", unit: "kg", default: 10.0, min: 0.0, max: 50.0, help: "Mass of the load, shared among the four nearest particles", logarithmic: false, integer: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
 ];
 
 #[rustfmt::skip]

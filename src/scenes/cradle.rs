@@ -20,11 +20,11 @@ const TOP: f32 = 1.6;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "balls", unit: "", default: 5.0, min: 2.0, max: 9.0, help: "Number of balls in the row (rounded)", logarithmic: false },
-    Param { name: "lifted", unit: "", default: 1.0, min: 1.0, max: 8.0, help: "Balls pulled back and released (rounded; at most balls - 1)", logarithmic: false },
-    Param { name: "angle", unit: "°", default: 30.0, min: 1.0, max: 80.0, help: "How far the lifted balls are pulled back on their cables", logarithmic: false },
-    Param { name: "restitution", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between the balls", logarithmic: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
+    Param { name: "balls", unit: "", default: 5.0, min: 2.0, max: 9.0, help: "Number of balls in the row (rounded)", logarithmic: false, integer: true },
+    Param { name: "lifted", unit: "", default: 1.0, min: 1.0, max: 8.0, help: "Balls pulled back and released (rounded; at most balls - 1)", logarithmic: false, integer: true },
+    Param { name: "angle", unit: "°", default: 30.0, min: 1.0, max: 80.0, help: "How far the lifted balls are pulled back on their cables", logarithmic: false, integer: false },
+    Param { name: "restitution", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between the balls", logarithmic: false, integer: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
 ];
 
 static INFO: SceneInfo = SceneInfo {

@@ -438,6 +438,7 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
             max: max as f32,
             help: p.help.as_str(),
             logarithmic: p.logarithmic,
+            integer: p.integer,
         });
     }
     if !table.iter().any(|p| p.name == "g") {
@@ -449,6 +450,7 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
             max: 30.0,
             help: "Gravitational acceleration, downwards",
             logarithmic: false,
+            integer: false,
         });
     }
     Ok(table)

@@ -22,6 +22,9 @@ pub struct Param {
     pub help: &'static str,
     /// True when a slider should move on a logarithmic scale.
     pub logarithmic: bool,
+    /// True for a count (balls, links): the slider moves in whole numbers and shows
+    /// no decimals; the scene rounds a value typed between them.
+    pub integer: bool,
 }
 
 /// A named set of parameter values, such as an ammo type.

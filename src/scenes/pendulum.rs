@@ -17,11 +17,11 @@ const BOB_RADIUS: f32 = 0.08;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "links", unit: "", default: 1.0, min: 1.0, max: 5.0, help: "Number of rods in the chain (rounded; 2 is the chaotic double pendulum)", logarithmic: false },
-    Param { name: "length", unit: "m", default: 1.0, min: 0.2, max: 3.0, help: "Length of each rod", logarithmic: false },
-    Param { name: "angle", unit: "°", default: 90.0, min: -180.0, max: 180.0, help: "Release angle of the chain from straight down (90 = horizontal)", logarithmic: false },
-    Param { name: "damping", unit: "", default: 1.0, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
+    Param { name: "links", unit: "", default: 1.0, min: 1.0, max: 5.0, help: "Number of rods in the chain (rounded; 2 is the chaotic double pendulum)", logarithmic: false, integer: true },
+    Param { name: "length", unit: "m", default: 1.0, min: 0.2, max: 3.0, help: "Length of each rod", logarithmic: false, integer: false },
+    Param { name: "angle", unit: "°", default: 90.0, min: -180.0, max: 180.0, help: "Release angle of the chain from straight down (90 = horizontal)", logarithmic: false, integer: false },
+    Param { name: "damping", unit: "", default: 1.0, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false, integer: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
 ];
 
 static INFO: SceneInfo = SceneInfo {

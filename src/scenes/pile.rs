@@ -19,13 +19,13 @@ const SEED: u64 = 0x005E_ED0F_911E;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "count", unit: "", default: 2000.0, min: 1.0, max: 200_000.0, help: "Number of spheres (rounded to a whole number)", logarithmic: true },
-    Param { name: "radius", unit: "m", default: 0.5, min: 0.05, max: 2.0, help: "Radius of every sphere", logarithmic: false },
-    Param { name: "mass", unit: "kg", default: 1.0, min: 0.01, max: 100.0, help: "Mass of every sphere", logarithmic: true },
-    Param { name: "width", unit: "m", default: 16.0, min: 1.0, max: 1000.0, help: "Inner width of the box (its walls stand at ±width/2)", logarithmic: true },
-    Param { name: "restitution", unit: "", default: 0.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between spheres, walls and ground", logarithmic: false },
-    Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between spheres, walls and ground", logarithmic: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
+    Param { name: "count", unit: "", default: 2000.0, min: 1.0, max: 200_000.0, help: "Number of spheres (rounded to a whole number)", logarithmic: true, integer: true },
+    Param { name: "radius", unit: "m", default: 0.5, min: 0.05, max: 2.0, help: "Radius of every sphere", logarithmic: false, integer: false },
+    Param { name: "mass", unit: "kg", default: 1.0, min: 0.01, max: 100.0, help: "Mass of every sphere", logarithmic: true, integer: false },
+    Param { name: "width", unit: "m", default: 16.0, min: 1.0, max: 1000.0, help: "Inner width of the box (its walls stand at ±width/2)", logarithmic: true, integer: false },
+    Param { name: "restitution", unit: "", default: 0.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between spheres, walls and ground", logarithmic: false, integer: false },
+    Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between spheres, walls and ground", logarithmic: false, integer: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
 ];
 
 static INFO: SceneInfo = SceneInfo {

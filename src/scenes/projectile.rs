@@ -64,15 +64,15 @@ impl Flight {
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "g", unit: "m/s²", default: 20.0, min: -5.0, max: 50.0, help: "Gravitational acceleration, downwards (negative floats up)", logarithmic: false },
-    Param { name: "speed", unit: "m/s", default: 25.0, min: 0.0, max: 200.0, help: "Launch speed of the next round", logarithmic: false },
-    Param { name: "angle", unit: "°", default: 45.0, min: -90.0, max: 90.0, help: "Launch elevation above the horizontal", logarithmic: false },
-    Param { name: "mass", unit: "kg", default: 200.0, min: 0.1, max: 1000.0, help: "Mass of the next round (matters when rounds collide)", logarithmic: true },
-    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity a round keeps per second (1 = no drag)", logarithmic: false },
-    Param { name: "height", unit: "m", default: 1.5, min: 0.0, max: 50.0, help: "Height of the launcher above the ground", logarithmic: false },
-    Param { name: "k1", unit: "N·s/m", default: 0.0, min: 0.0, max: 100.0, help: "Linear drag of the next round, F = -k1 v (the paper's drag)", logarithmic: false },
-    Param { name: "k2", unit: "N·s²/m²", default: 0.0, min: 0.0, max: 10.0, help: "Quadratic drag of the next round, F = -k2 |v| v", logarithmic: false },
-    Param { name: "target", unit: "m", default: 30.0, min: 1.0, max: 190.0, help: "Distance of the target on the ground from the launcher", logarithmic: false },
+    Param { name: "g", unit: "m/s²", default: 20.0, min: -5.0, max: 50.0, help: "Gravitational acceleration, downwards (negative floats up)", logarithmic: false, integer: false },
+    Param { name: "speed", unit: "m/s", default: 25.0, min: 0.0, max: 200.0, help: "Launch speed of the next round", logarithmic: false, integer: false },
+    Param { name: "angle", unit: "°", default: 45.0, min: -90.0, max: 90.0, help: "Launch elevation above the horizontal", logarithmic: false, integer: false },
+    Param { name: "mass", unit: "kg", default: 200.0, min: 0.1, max: 1000.0, help: "Mass of the next round (matters when rounds collide)", logarithmic: true, integer: false },
+    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity a round keeps per second (1 = no drag)", logarithmic: false, integer: false },
+    Param { name: "height", unit: "m", default: 1.5, min: 0.0, max: 50.0, help: "Height of the launcher above the ground", logarithmic: false, integer: false },
+    Param { name: "k1", unit: "N·s/m", default: 0.0, min: 0.0, max: 100.0, help: "Linear drag of the next round, F = -k1 v (the paper's drag)", logarithmic: false, integer: false },
+    Param { name: "k2", unit: "N·s²/m²", default: 0.0, min: 0.0, max: 10.0, help: "Quadratic drag of the next round, F = -k2 |v| v", logarithmic: false, integer: false },
+    Param { name: "target", unit: "m", default: 30.0, min: 1.0, max: 190.0, help: "Distance of the target on the ground from the launcher", logarithmic: false, integer: false },
 ];
 
 #[rustfmt::skip]

@@ -32,13 +32,13 @@ const RADIUS: f32 = 0.3;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "k", unit: "N/m", default: 20.0, min: 1.0, max: 500.0, help: "Spring constant of the springs and the bungee", logarithmic: true },
-    Param { name: "rest_length", unit: "m", default: 2.0, min: 0.5, max: 4.0, help: "Length at which the springs exert no force", logarithmic: false },
-    Param { name: "mass", unit: "kg", default: 1.0, min: 0.1, max: 10.0, help: "Mass of every particle in the scene", logarithmic: true },
-    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false },
-    Param { name: "stiff_k", unit: "N/m", default: 10_000.0, min: 10.0, max: 1_000_000.0, help: "Stiffness of the closed-form stiff spring (stable at any value)", logarithmic: true },
-    Param { name: "stiff_zeta", unit: "", default: 0.05, min: 0.0, max: 2.0, help: "Damping ratio of the stiff spring (0 rings forever, 1 critical); apart from `damping`", logarithmic: false },
+    Param { name: "k", unit: "N/m", default: 20.0, min: 1.0, max: 500.0, help: "Spring constant of the springs and the bungee", logarithmic: true, integer: false },
+    Param { name: "rest_length", unit: "m", default: 2.0, min: 0.5, max: 4.0, help: "Length at which the springs exert no force", logarithmic: false, integer: false },
+    Param { name: "mass", unit: "kg", default: 1.0, min: 0.1, max: 10.0, help: "Mass of every particle in the scene", logarithmic: true, integer: false },
+    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false, integer: false },
+    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
+    Param { name: "stiff_k", unit: "N/m", default: 10_000.0, min: 10.0, max: 1_000_000.0, help: "Stiffness of the closed-form stiff spring (stable at any value)", logarithmic: true, integer: false },
+    Param { name: "stiff_zeta", unit: "", default: 0.05, min: 0.0, max: 2.0, help: "Damping ratio of the stiff spring (0 rings forever, 1 critical); apart from `damping`", logarithmic: false, integer: false },
 ];
 
 static INFO: SceneInfo = SceneInfo {

@@ -10,7 +10,8 @@ use crate::physics::{Integrator, SolverKind, SolverSettings};
 use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{Scene, SceneEntry};
 
-use super::lab::EnergySample;
+use super::lab::limits::{HISTORY, PHYSICS_RATE_RANGE};
+use super::lab::records::EnergySample;
 
 /// The one setting the copy has changed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,10 +49,10 @@ impl Change {
             "solver" => Ok(Self::Solver(SolverKind::parse(value)?)),
             "rate" => {
                 let rate = number()?;
-                if super::lab::PHYSICS_RATE_RANGE.contains(&rate) {
+                if PHYSICS_RATE_RANGE.contains(&rate) {
                     Ok(Self::Rate(rate))
                 } else {
-                    let range = super::lab::PHYSICS_RATE_RANGE;
+                    let range = PHYSICS_RATE_RANGE;
                     Err(format!(
                         "compare rate {rate} Hz is out of range; valid range: {} to {} Hz",
                         range.start(),
@@ -180,7 +181,7 @@ impl Compare {
         if self.energy.back().is_some_and(|last| last.t == sample.t) {
             return;
         }
-        if self.energy.len() == super::lab::HISTORY {
+        if self.energy.len() == HISTORY {
             self.energy.pop_front();
         }
         self.energy.push_back(sample);

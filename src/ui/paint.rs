@@ -7,7 +7,7 @@ use crate::physics::LinkState;
 use crate::render::frame::{SegmentInstance, SphereInstance};
 use crate::render::renderer::DEFAULT_SAMPLE_COUNT;
 use crate::render::{FrameBuilder, FrameData, Renderer};
-use crate::ui::Lab;
+use crate::ui::lab::{ACCELERATION_ARROW, CONSTRAINT_FORCE, Lab, VELOCITY_ARROW};
 
 /// The egui side of a frame: what to draw and at what scale.
 pub struct UiFrame<'a> {
@@ -169,9 +169,9 @@ pub fn vectors(lab: &Lab, frame: &mut FrameData) {
     for id in ids {
         let Some(i) = particles.index(id) else { continue };
         let p = particles.positions()[i];
-        arrow(p, particles.velocities()[i] * super::VELOCITY_ARROW, VELOCITY_COLOR);
+        arrow(p, particles.velocities()[i] * VELOCITY_ARROW, VELOCITY_COLOR);
         if lab.selected == Some(id) && !lab.view.forces {
-            arrow(p, lab.net_force(id) / particles.mass(i) * super::ACCELERATION_ARROW, ACCELERATION_COLOR);
+            arrow(p, lab.net_force(id) / particles.mass(i) * ACCELERATION_ARROW, ACCELERATION_COLOR);
         }
         if lab.view.forces {
             for (name, force) in lab.free_body(id) {
@@ -231,7 +231,7 @@ pub fn force_color(name: &str) -> [f32; 3] {
         "buoyancy" => [0.2, 0.85, 0.9],
         "drag" => [0.75, 0.75, 0.75],
         "damping" => [0.55, 0.45, 0.4],
-        super::lab::CONSTRAINT_FORCE => [0.95, 0.85, 0.2],
+        CONSTRAINT_FORCE => [0.95, 0.85, 0.2],
         "net force" => [1.0, 1.0, 1.0],
         _ => [0.85, 0.6, 0.75],
     }

@@ -159,6 +159,9 @@ pub struct ParamTable {
     /// Slider on a logarithmic scale.
     #[serde(default)]
     pub logarithmic: bool,
+    /// A count: the slider moves in whole numbers.
+    #[serde(default)]
+    pub integer: bool,
 }
 
 /// `[[particle]]`.

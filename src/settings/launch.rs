@@ -1,0 +1,237 @@
+//! The command line over the saved settings: which typed flags win, and the lab
+//! (and panel layout) the window opens on.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::cli::Cli;
+use crate::physics::{Integrator, SolverKind, SolverSettings};
+use crate::scenes::{self};
+use crate::ui::Lab;
+use crate::ui::layout::PanelLayout;
+
+use super::format::{DEFAULT_SCENE, DEFAULT_WINDOW, Settings, file_reason, scene_file_of};
+use super::store::{Loaded, Store};
+use crate::ui::lab::MSAA_LIMIT;
+
+/// What the command line asked the window for. A solver flag that was not typed is
+/// `None`, so the saved choice is used rather than the flag's default.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Launch {
+    /// `--scene`.
+    pub scene: Option<String>,
+    /// `--scene-file`.
+    pub scene_file: Option<std::path::PathBuf>,
+    /// `--set KEY=VALUE`, in order.
+    pub set: Vec<String>,
+    /// `--solver`.
+    pub solver: Option<SolverKind>,
+    /// `--substeps`.
+    pub substeps: Option<u32>,
+    /// `--integrator`.
+    pub integrator: Option<Integrator>,
+    /// `--fresh`: start from the defaults, without reading the settings file.
+    pub fresh: bool,
+    /// `--from FILE`: open on this snapshot (the saved view and window still apply).
+    pub from: Option<std::path::PathBuf>,
+}
+
+impl Launch {
+    /// The window's flags from the parsed command line. Which solver flags were typed
+    /// is read from the process's arguments again, since clap fills in their defaults.
+    pub fn from_cli(cli: &Cli) -> Result<Self, String> {
+        let solver = cli.solver.settings()?;
+        let typed = typed_solver_flags();
+        Ok(Self {
+            scene: cli.scene.clone(),
+            scene_file: cli.scene_file.clone(),
+            set: cli.set.clone(),
+            solver: typed[0].then_some(solver.kind),
+            substeps: typed[1].then_some(solver.substeps),
+            integrator: typed[2].then_some(solver.integrator),
+            fresh: cli.fresh,
+            from: cli.from.clone(),
+        })
+    }
+
+    /// The solver flags over `base`.
+    fn solver_over(&self, base: SolverSettings) -> SolverSettings {
+        SolverSettings {
+            kind: self.solver.unwrap_or(base.kind),
+            substeps: self.substeps.unwrap_or(base.substeps),
+            integrator: self.integrator.unwrap_or(base.integrator),
+            ..base
+        }
+    }
+
+    /// The flags typed, for the log.
+    fn typed(&self) -> Vec<&'static str> {
+        let flags = [
+            (self.scene.is_some(), "--scene"),
+            (self.scene_file.is_some(), "--scene-file"),
+            (!self.set.is_empty(), "--set"),
+            (self.solver.is_some(), "--solver"),
+            (self.substeps.is_some(), "--substeps"),
+            (self.integrator.is_some(), "--integrator"),
+        ];
+        flags.into_iter().filter(|(typed, _)| *typed).map(|(_, flag)| flag).collect()
+    }
+}
+
+/// Whether `--solver`, `--substeps` and `--integrator` were typed on this process's
+/// command line (as opposed to filled in with their defaults).
+fn typed_solver_flags() -> [bool; 3] {
+    use clap::CommandFactory;
+    use clap::parser::ValueSource;
+    match Cli::command().try_get_matches_from(std::env::args_os()) {
+        Ok(matches) => ["solver", "substeps", "integrator"]
+            .map(|id| matches.value_source(id) == Some(ValueSource::CommandLine)),
+        // Parsed once already, so this does not happen; if it did, the flags win.
+        Err(_) => [true; 3],
+    }
+}
+
+/// The lab the window opens on, and what it needs to keep the settings.
+pub struct Opened {
+    /// The lab, with the settings applied.
+    pub lab: Lab,
+    /// The side panel's layout, as saved (or the default).
+    pub layout: PanelLayout,
+    /// The window's inner size (logical pixels).
+    pub window: [u32; 2],
+    /// The file, for saving.
+    pub store: Store,
+    /// The one warning line for an unusable file, to print.
+    pub warning: Option<String>,
+    /// One line for the log saying where the settings came from and what they are.
+    pub summary: String,
+}
+
+/// Builds the window's lab from the command line and the settings in `store`: the
+/// saved settings (unless `--fresh`, or there are none or they are unusable), with
+/// whatever the command line typed winning. An error is a bad command line.
+pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
+    // A mistyped scene (or a bad scene file) is refused before the settings file is
+    // touched.
+    let typed_entry = match (launch.scene.as_deref(), launch.scene_file.as_deref()) {
+        (None, None) => None,
+        (scene, file) => Some(scenes::file::choose(scene, file)?),
+    };
+    let place =
+        store.path().map_or_else(|| "nowhere (no config directory)".to_string(), crate::messages::path);
+    let (saved, origin, mut warning) = if launch.fresh {
+        (None, format!("--fresh: starting from the defaults; the settings at {place} are not read"), None)
+    } else {
+        match store.load() {
+            Loaded::Missing => (None, format!("none saved yet at {place}; starting from the defaults"), None),
+            Loaded::Restored(settings) => (Some(settings), format!("restored from {place}"), None),
+            Loaded::Unusable { warning } => {
+                (None, format!("the file at {place} was unusable; starting from the defaults"), Some(warning))
+            }
+        }
+    };
+    let resolved = saved.as_ref().map(Settings::resolve).transpose()?;
+    // The saved scene: found by name, or its file opened again (unless the command line
+    // chose another scene or a snapshot, when the file is not read at all).
+    let saved_entry = match (&saved, &resolved) {
+        (Some(saved), Some(resolved)) => match &saved.scene_file {
+            None => resolved.entry,
+            Some(path) => match typed_entry {
+                Some(typed) => (scene_file_of(typed).as_ref() == Some(path)).then_some(typed),
+                None if launch.from.is_some() => None,
+                None => scenes::file::load_path(Path::new(path))
+                    .map_err(|error| {
+                        warning = Some(format!(
+                            "particle-lab: the scene file {} saved in the settings cannot be opened ({}); \
+                             starting on {DEFAULT_SCENE}",
+                            crate::messages::path(Path::new(path)),
+                            file_reason(&error)
+                        ));
+                    })
+                    .ok(),
+            },
+        },
+        _ => None,
+    };
+    let entry = match typed_entry.or(saved_entry) {
+        Some(entry) => entry,
+        None => scenes::find(DEFAULT_SCENE)?,
+    };
+    let same_scene = saved_entry.is_some_and(|saved| std::ptr::eq(saved, entry));
+    // The saved values first, then `--set` over them: the later assignment wins.
+    let mut assignments: Vec<String> = Vec::new();
+    if let (true, Some(saved)) = (same_scene, &saved) {
+        assignments.extend(saved.params.iter().map(|(name, value)| format!("{name}={value}")));
+    }
+    assignments.extend(launch.set.iter().cloned());
+    let base = resolved.as_ref().map_or_else(SolverSettings::default, |r| r.solver);
+    let solver = launch.solver_over(base);
+    let mut layout = PanelLayout::default();
+    let mut lab = match Lab::from_entry(entry, &assignments, solver) {
+        Ok(lab) => lab,
+        // A scene file edited since: the saved values may no longer fit it. It opens
+        // with its own (and `--set` still has to fit).
+        Err(error) if same_scene && saved.as_ref().is_some_and(|s| s.scene_file.is_some()) => {
+            let lab = Lab::from_entry(entry, &launch.set, solver)?;
+            let path = saved.as_ref().and_then(|s| s.scene_file.as_deref()).unwrap_or_default();
+            warning = Some(format!(
+                "particle-lab: the values saved for the scene file {} no longer fit it ({}); opening it \
+                 with its defaults",
+                crate::messages::path(Path::new(path)),
+                crate::messages::one_line(&error)
+            ));
+            lab
+        }
+        Err(error) => return Err(error),
+    };
+    let mut window = DEFAULT_WINDOW;
+    if let Some(saved) = &saved {
+        apply(saved, &mut lab, same_scene);
+        layout = saved.panel;
+        window = [saved.window.width, saved.window.height];
+    }
+    let typed = launch.typed();
+    let overrides = if typed.is_empty() {
+        String::new()
+    } else {
+        format!("; from the command line: {}", typed.join(" "))
+    };
+    let summary = format!("settings {origin}{overrides}: {}", Settings::of(&lab, &layout, window).describe());
+    Ok(Opened { lab, layout, window, store, warning, summary })
+}
+
+/// Applies what the lab was built without: the view and time scale always (the panel
+/// is the caller's); the
+/// physics rate, camera, trails and colour by speed only on the scene they were saved
+/// with (another scene keeps its own).
+fn apply(saved: &Settings, lab: &mut Lab, same_scene: bool) {
+    let mut view = saved.view.options(lab.view);
+    if !same_scene {
+        view.trails = lab.view.trails;
+        view.color_by_speed = lab.view.color_by_speed;
+        // A crowd the command line asked for keeps the lab's choice of MSAA.
+        if lab.scene.world().particles.len() > MSAA_LIMIT {
+            view.msaa = lab.view.msaa;
+        }
+    }
+    lab.view = view;
+    lab.time_scale = saved.time_scale;
+    if same_scene {
+        lab.physics_rate = saved.physics_rate;
+    }
+    if saved.view.side_view {
+        lab.set_side_view(true);
+    }
+    if same_scene && saved.camera.moved {
+        let c = &saved.camera;
+        lab.camera.target = Vec3::from_array(c.target);
+        lab.camera.distance = c.distance;
+        lab.camera.yaw = c.yaw;
+        lab.camera.pitch = c.pitch;
+        lab.camera.orthographic = lab.side_view;
+        lab.camera_moved = true;
+    }
+    lab.follow = saved.view.follow;
+    lab.follow_particle();
+}

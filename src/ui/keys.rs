@@ -1,0 +1,178 @@
+//! The keyboard and mouse controls: one table, [`SHORTCUTS`], that the key handler
+//! reads and the Help window lists, so the two cannot disagree.
+
+use egui::{Key, Modifiers};
+
+use super::lab::Lab;
+use super::layout::PanelLayout;
+use crate::scenes::{LOAD_STEP, SceneAction};
+
+/// What a control does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Command {
+    /// Pause or resume.
+    Pause,
+    /// One physics step (pauses).
+    Step,
+    /// Rebuild the scene with its current parameters.
+    Reset,
+    /// Fire a round (projectile).
+    Fire,
+    /// Keep the state to go back to.
+    QuickSave,
+    /// Go back to the kept state.
+    QuickLoad,
+    /// Hide or show the side panel.
+    Panel,
+    /// The 2D side view on or off.
+    SideView,
+    /// The tape measure on or off.
+    Tape,
+    /// Frame the scene (follow goes off).
+    Frame,
+    /// Save a screenshot.
+    Screenshot,
+    /// Open or close the Controls window.
+    Help,
+    /// Close the window.
+    Quit,
+    /// Move the bridge's load by (dx, dz) deck pairs.
+    MoveLoad(f32, f32),
+}
+
+/// How a control is reached.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Binding {
+    /// Any of these keys, with these modifiers.
+    Keys(Modifiers, &'static [Key]),
+    /// With the mouse in the 3D view (handled by the view, listed for the reader).
+    Mouse,
+}
+
+/// One row of the controls table.
+#[derive(Clone, Copy, Debug)]
+pub struct Shortcut {
+    /// The keys as the Help window writes them.
+    pub keys: &'static str,
+    /// What it does, in a few words.
+    pub meaning: &'static str,
+    /// How it is reached.
+    pub binding: Binding,
+    /// What it does; `None` for the mouse's rows, which the 3D view handles.
+    pub command: Option<Command>,
+}
+
+const fn key(keys: &'static str, meaning: &'static str, key: &'static [Key], command: Command) -> Shortcut {
+    Shortcut { keys, meaning, binding: Binding::Keys(Modifiers::NONE, key), command: Some(command) }
+}
+
+const fn mouse(keys: &'static str, meaning: &'static str) -> Shortcut {
+    Shortcut { keys, meaning, binding: Binding::Mouse, command: None }
+}
+
+/// Every control, in the order the Help window lists them.
+pub const SHORTCUTS: &[Shortcut] = &[
+    key("Space", "pause / resume", &[Key::Space], Command::Pause),
+    key(".", "one physics step", &[Key::Period], Command::Step),
+    key("R", "reset the scene", &[Key::R], Command::Reset),
+    key("F", "fire (projectile)", &[Key::F], Command::Fire),
+    key("F5", "quick save the state", &[Key::F5], Command::QuickSave),
+    key("F9", "back to the quick save", &[Key::F9], Command::QuickLoad),
+    key("P", "hide / show the panel", &[Key::P], Command::Panel),
+    key("V", "2D side view on / off", &[Key::V], Command::SideView),
+    key("M", "tape measure on / off", &[Key::M], Command::Tape),
+    key("Home", "frame the scene (follow off)", &[Key::Home], Command::Frame),
+    key("F12", "save a screenshot", &[Key::F12], Command::Screenshot),
+    key("F1", "this list of controls", &[Key::F1], Command::Help),
+    Shortcut {
+        keys: "Ctrl+Q",
+        meaning: "quit",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::Q]),
+        command: Some(Command::Quit),
+    },
+    key(
+        "Left / A",
+        "move the load left (bridge)",
+        &[Key::ArrowLeft, Key::A],
+        Command::MoveLoad(-LOAD_STEP, 0.0),
+    ),
+    key(
+        "Right / D",
+        "move the load right (bridge)",
+        &[Key::ArrowRight, Key::D],
+        Command::MoveLoad(LOAD_STEP, 0.0),
+    ),
+    key("Up / W", "move the load back (bridge)", &[Key::ArrowUp, Key::W], Command::MoveLoad(0.0, -LOAD_STEP)),
+    key(
+        "Down / S",
+        "move the load forward (bridge)",
+        &[Key::ArrowDown, Key::S],
+        Command::MoveLoad(0.0, LOAD_STEP),
+    ),
+    mouse("Left drag on a particle", "drag it (let go to throw); a hard pull tears cloth"),
+    mouse("Click a particle", "inspect it (click empty space to clear)"),
+    mouse("Left drag elsewhere", "orbit the camera (pan in the side view)"),
+    mouse("Right or middle drag", "pan"),
+    mouse("Wheel", "zoom"),
+];
+
+/// Runs the commands whose keys were pressed this frame (none while a text field
+/// has the keyboard).
+pub fn handle(ctx: &egui::Context, lab: &mut Lab, layout: &mut PanelLayout) {
+    if ctx.egui_wants_keyboard_input() {
+        return;
+    }
+    let pressed: Vec<Command> = ctx.input_mut(|input| {
+        let mut pressed = Vec::new();
+        for shortcut in SHORTCUTS {
+            let (Binding::Keys(modifiers, keys), Some(command)) = (shortcut.binding, shortcut.command) else {
+                continue;
+            };
+            for &key in keys {
+                if input.consume_key(modifiers, key) {
+                    pressed.push(command);
+                }
+            }
+        }
+        pressed
+    });
+    for command in pressed {
+        run(command, lab, layout);
+    }
+}
+
+/// Does what `command` says, as its key or its button would.
+pub fn run(command: Command, lab: &mut Lab, layout: &mut PanelLayout) {
+    match command {
+        Command::Pause => {
+            lab.paused = !lab.paused;
+            log::info!("paused: {}", lab.paused);
+            if lab.paused {
+                // What the window test compares with `simulate`'s hash at that step.
+                log::info!("paused at step {}, state hash {}", lab.scene.world().steps(), lab.state_hash());
+            }
+        }
+        Command::Step => {
+            lab.paused = true;
+            lab.run_steps(1);
+        }
+        Command::Reset => lab.reset(),
+        Command::Fire => lab.act(SceneAction::Fire),
+        Command::QuickSave => lab.quick_save(),
+        Command::QuickLoad => lab.quick_load(),
+        Command::Panel => {
+            layout.open = !layout.open;
+            log::info!("panel open: {}", layout.open);
+        }
+        Command::SideView => {
+            let side = !lab.side_view;
+            lab.set_side_view(side);
+        }
+        Command::Tape => lab.set_tape(!lab.tape),
+        Command::Frame => lab.home(),
+        Command::Screenshot => lab.requests.screenshot = true,
+        Command::Help => layout.help = !layout.help,
+        Command::Quit => lab.requests.quit = true,
+        Command::MoveLoad(dx, dz) => lab.act(SceneAction::MoveLoad { dx, dz }),
+    }
+}

@@ -1,0 +1,28 @@
+//! The lab: the running scene plus everything the panel controls (run state, view
+//! options, camera, trails, the particle being dragged). Knows nothing of windows.
+//!
+//! Its rooms: `model` (the `Lab` and its scene), `clock` (stepping in real time),
+//! `grab` (dragging and picking), `forces` (the inspector's forces and the arrows'
+//! scale), `camera` (framing, side view, follow), `bars` (energy bars), `tape`,
+//! `snapshots`, `scene_file` (open and hot-reload a scene file, with `watch`); and two leaves every room may read, `limits` (the constants) and
+//! `records` (plain data). Only this facade re-exports; no room imports it.
+
+mod bars;
+mod camera;
+mod clock;
+mod forces;
+mod grab;
+pub mod limits;
+mod model;
+pub mod records;
+mod scene_file;
+mod snapshots;
+mod tape;
+mod watch;
+
+pub use crate::physics::inspect::CONSTRAINT_FORCE;
+pub use forces::round_scale;
+pub use grab::{mouse_pull, mouse_pull_joined};
+pub use limits::*;
+pub use model::Lab;
+pub use records::{EnergyBars, EnergySample, Grab, Requests, Stats};

@@ -1,0 +1,130 @@
+//! The panel's layout as the user left it: whether the side panel and the Controls
+//! window are open, and which sections are expanded. Saved with the settings
+//! (`settings.json`'s `panel`), so the panel comes back as it was.
+
+use serde::{Deserialize, Serialize};
+
+/// The side panel's sections, top to bottom.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Section {
+    /// The selected particle: forces, velocity, edits.
+    Inspector,
+    /// Pause, step, reset, time scale, physics rate, solver and integrator.
+    Run,
+    /// The scene's sliders, presets and actions (Fire).
+    Parameters,
+    /// The energy plot, the distance from the exact answer, and the bars.
+    Energy,
+    /// The scene's read-outs and the colour keys.
+    Readouts,
+    /// A second copy of the scene with one setting changed.
+    Compare,
+    /// Frame and physics timings, contacts, the state hash.
+    Stats,
+}
+
+impl Section {
+    /// Every section, top to bottom.
+    pub const ALL: [Section; 7] = [
+        Section::Inspector,
+        Section::Run,
+        Section::Parameters,
+        Section::Energy,
+        Section::Readouts,
+        Section::Compare,
+        Section::Stats,
+    ];
+
+    /// The heading the panel shows.
+    #[must_use]
+    pub fn title(self) -> &'static str {
+        match self {
+            Section::Inspector => "Inspector",
+            Section::Run => "Run",
+            Section::Parameters => "Parameters",
+            Section::Energy => "Energy",
+            Section::Readouts => "Read-outs",
+            Section::Compare => "Compare",
+            Section::Stats => "Stats",
+        }
+    }
+}
+
+/// The side panel and its sections; a field missing from a settings file takes its
+/// default (files from before the sections were saved have only `open`, `help` and
+/// `compare`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PanelLayout {
+    /// The side panel is shown (P hides it).
+    pub open: bool,
+    /// The Controls window is open (F1).
+    pub help: bool,
+    /// The Inspector section is expanded (it opens by itself when a particle is picked).
+    pub inspector: bool,
+    /// The Run section is expanded.
+    pub run: bool,
+    /// The Parameters section is expanded.
+    pub parameters: bool,
+    /// The Energy section is expanded.
+    pub energy: bool,
+    /// The Read-outs section is expanded.
+    pub readouts: bool,
+    /// The Compare section is expanded.
+    pub compare: bool,
+    /// The Stats section is expanded (shown when View → Stats is on).
+    pub stats: bool,
+}
+
+impl Default for PanelLayout {
+    fn default() -> Self {
+        Self {
+            open: true,
+            help: false,
+            inspector: true,
+            run: true,
+            parameters: true,
+            energy: true,
+            readouts: true,
+            compare: false,
+            stats: true,
+        }
+    }
+}
+
+impl PanelLayout {
+    /// Whether `section` is expanded.
+    #[must_use]
+    pub fn is_open(&self, section: Section) -> bool {
+        *self.flag(section)
+    }
+
+    /// Expands or collapses `section`.
+    pub fn set_open(&mut self, section: Section, open: bool) {
+        *self.flag_mut(section) = open;
+    }
+
+    fn flag(&self, section: Section) -> &bool {
+        match section {
+            Section::Inspector => &self.inspector,
+            Section::Run => &self.run,
+            Section::Parameters => &self.parameters,
+            Section::Energy => &self.energy,
+            Section::Readouts => &self.readouts,
+            Section::Compare => &self.compare,
+            Section::Stats => &self.stats,
+        }
+    }
+
+    fn flag_mut(&mut self, section: Section) -> &mut bool {
+        match section {
+            Section::Inspector => &mut self.inspector,
+            Section::Run => &mut self.run,
+            Section::Parameters => &mut self.parameters,
+            Section::Energy => &mut self.energy,
+            Section::Readouts => &mut self.readouts,
+            Section::Compare => &mut self.compare,
+            Section::Stats => &mut self.stats,
+        }
+    }
+}

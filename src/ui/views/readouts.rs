@@ -1,0 +1,28 @@
+//! The Read-outs section: the scene's own figures (range, period, tension...), and
+//! the colour keys of what the view paints.
+
+use super::legends;
+use crate::ui::lab::Lab;
+
+/// The read-outs; they keep no state (the lab refreshes the figures a few times a
+/// second).
+#[derive(Debug, Default)]
+pub struct Readouts;
+
+impl Readouts {
+    /// Draws the read-outs grid and the keys.
+    pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
+        egui::Grid::new("readouts").num_columns(2).striped(true).show(ui, |ui| {
+            for (name, value) in lab.readouts() {
+                ui.label(name.as_str());
+                ui.add(egui::Label::new(value.as_str()).wrap());
+                ui.end_row();
+            }
+        });
+        if lab.view.color_by_speed {
+            ui.separator();
+            legends::speed_legend(ui);
+        }
+        legends::link_key(ui, lab);
+    }
+}
