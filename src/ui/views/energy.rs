@@ -88,7 +88,7 @@ impl EnergyPanel {
             legend.push(("copy error".into(), copy_error));
         }
         ui.horizontal_wrapped(|ui| {
-            ui.label(RichText::new("Energy").strong()).on_hover_text(format!(
+            ui.label(RichText::new("Last 10 s:").strong()).on_hover_text(format!(
                 "Potential energy's gravitational part is measured from {}.",
                 lab.gravity_from().1
             ));

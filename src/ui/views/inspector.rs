@@ -5,9 +5,12 @@ use glam::Vec3;
 
 use crate::messages::fixed;
 use crate::physics::ParticleId;
-use crate::ui::lab::{ACCELERATION_ARROW, Lab, VELOCITY_ARROW};
+use crate::ui::lab::{ACCELERATION_ARROW, CONSTRAINT_FORCE, Lab, VELOCITY_ARROW};
 use crate::ui::paint;
 use crate::ui::style::srgb;
+
+/// Text size of the inspector's values (points).
+const VALUE_SIZE: f32 = 12.0;
 
 /// The inspector: it remembers which particle it last showed, so that picking another
 /// opens its section again.
@@ -54,23 +57,42 @@ impl Inspector {
             ("speed", format!("{} m/s", fixed(v.length(), 2))),
         ];
         let forces = lab.free_body(id);
+        // Short names and monospace values of a fixed size: the grid then fits the
+        // panel's width. The long names say what they mean when hovered.
+        let name = |ui: &mut egui::Ui, text: &str, color: Option<egui::Color32>| {
+            let (short, meaning) = match text {
+                CONSTRAINT_FORCE => ("contacts, links", Some(CONSTRAINT_FORCE)),
+                other => (other, None),
+            };
+            let mut text = egui::RichText::new(short);
+            if let Some(color) = color {
+                text = text.color(color);
+            }
+            let response = ui.label(text);
+            if let Some(meaning) = meaning {
+                response.on_hover_text(meaning);
+            }
+        };
+        let value = |ui: &mut egui::Ui, text: String| {
+            ui.label(egui::RichText::new(text).monospace().size(VALUE_SIZE));
+        };
         egui::Grid::new("inspector").num_columns(2).striped(true).show(ui, |ui| {
-            for (name, value) in rows {
-                ui.label(name);
-                ui.monospace(value);
+            for (label, text) in rows {
+                name(ui, label, None);
+                value(ui, text);
                 ui.end_row();
             }
-            for (name, force) in &forces {
-                ui.colored_label(srgb(paint::force_color(name)), *name);
-                ui.monospace(vector(*force, "N"));
+            for (label, force) in &forces {
+                name(ui, label, Some(srgb(paint::force_color(label))));
+                value(ui, vector(*force, "N"));
                 ui.end_row();
             }
             if movable {
-                ui.colored_label(srgb(paint::force_color("net force")), "net force");
-                ui.monospace(vector(net, "N"));
+                name(ui, "net force", Some(srgb(paint::force_color("net force"))));
+                value(ui, vector(net, "N"));
                 ui.end_row();
-                ui.colored_label(srgb(paint::ACCELERATION_COLOR), "acceleration");
-                ui.monospace(vector(net / mass, "m/s²"));
+                name(ui, "acceleration", Some(srgb(paint::ACCELERATION_COLOR)));
+                value(ui, vector(net / mass, "m/s²"));
                 ui.end_row();
             }
         });
