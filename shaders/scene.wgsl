@@ -6,7 +6,7 @@ struct Globals {
     eye: vec4<f32>,
     // x, y: viewport size (px); z: 1 when the grid is on; w: near plane distance (m).
     viewport: vec4<f32>,
-    // xyz: unit direction towards the light.
+    // xyz: unit direction towards the light; w: the camera's orbit distance (m).
     light: vec4<f32>,
     // xyz: the camera's unit viewing direction; w: 1 for an orthographic projection
     // (rays parallel to it), 0 for perspective (rays from the eye).
@@ -35,9 +35,14 @@ struct Sphere {
 const SKY: vec3<f32> = vec3<f32>(0.55, 0.65, 0.80);
 const GROUND_BOUNCE: vec3<f32> = vec3<f32>(0.20, 0.18, 0.15);
 
-// How much of the background a point this far from the eye shows through (0..1).
+// How much of the background a point this far from the eye shows through (0..1):
+// none within 60 m, all beyond 310 m; further out for a camera backed off beyond 50 m,
+// so what it was backed off to show is not lost in the fog.
 fn fog(world: vec3<f32>) -> f32 {
-    return clamp((length(world - globals.eye.xyz) - 60.0) / 250.0, 0.0, 1.0);
+    let orbit = globals.light.w;
+    let start = max(60.0, 1.2 * orbit);
+    let span = max(250.0, 5.0 * orbit);
+    return clamp((length(world - globals.eye.xyz) - start) / span, 0.0, 1.0);
 }
 
 fn depth_of(world: vec3<f32>) -> f32 {
@@ -61,7 +66,8 @@ fn vs_ground(@builtin(vertex_index) index: u32) -> GroundOut {
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
     );
-    let c = corners[index] * GROUND_HALF_SIZE;
+    // Wider for a camera backed off far (a kilometres-long projectile path).
+    let c = corners[index] * max(GROUND_HALF_SIZE, 8.0 * globals.light.w);
     let world = vec3<f32>(c.x + floor(globals.eye.x), 0.0, c.y + floor(globals.eye.z));
     var out: GroundOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);

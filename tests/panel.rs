@@ -246,10 +246,15 @@ fn path_in_view(lab: &Lab) -> bool {
     lab.scene.framing_points(&mut points);
     assert!(!points.is_empty(), "the projectile has a predicted path");
     let view = Vec2::new(1000.0 * lab.view_aspect, 1000.0);
+    let clip = lab.camera.view_projection(view.x / view.y);
     points.iter().all(|&p| {
-        lab.camera
-            .project(p, view)
-            .is_some_and(|s| s.x >= 0.0 && s.x <= view.x && s.y >= 0.0 && s.y <= view.y)
+        // Inside the view, and between the near and far planes (drawn, not clipped).
+        let c = clip * p.extend(1.0);
+        (0.0..=1.0).contains(&(c.z / c.w))
+            && lab
+                .camera
+                .project(p, view)
+                .is_some_and(|s| s.x >= 0.0 && s.x <= view.x && s.y >= 0.0 && s.y <= view.y)
     })
 }
 

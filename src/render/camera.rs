@@ -54,10 +54,19 @@ impl OrbitCamera {
         self.target + self.distance * Vec3::new(cos_pitch * sin_yaw, sin_pitch, cos_pitch * cos_yaw)
     }
 
-    /// Distance of the near clipping plane (m): scales with the orbit distance.
+    /// Distance of the near clipping plane (m): scales with the orbit distance (at
+    /// most 0.5 m up to a 50 m orbit, a hundredth of the orbit beyond).
     #[must_use]
     pub fn near(&self) -> f32 {
-        (self.distance * 0.01).clamp(0.01, 0.5)
+        let near = self.distance * 0.01;
+        if near > 0.5 { near } else { near.max(0.01) }
+    }
+
+    /// Distance of the far clipping plane (m): 2 km, or twenty orbits for a camera
+    /// backed off further (a projectile's path kilometres long).
+    #[must_use]
+    pub fn far(&self) -> f32 {
+        (self.distance * 20.0).max(2000.0)
     }
 
     /// World to clip space for a viewport of this aspect ratio (width / height).
@@ -69,9 +78,16 @@ impl OrbitCamera {
         let projection = if self.orthographic {
             let half_height = self.distance * (self.fov_y * 0.5).tan();
             let half_width = half_height * aspect;
-            rh::proj::directx::orthographic(-half_width, half_width, -half_height, half_height, near, 2000.0)
+            rh::proj::directx::orthographic(
+                -half_width,
+                half_width,
+                -half_height,
+                half_height,
+                near,
+                self.far(),
+            )
         } else {
-            rh::proj::directx::perspective(self.fov_y, aspect, near, 2000.0)
+            rh::proj::directx::perspective(self.fov_y, aspect, near, self.far())
         };
         projection * rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
     }

@@ -340,7 +340,7 @@ impl Renderer {
             view_proj: camera.view_projection(aspect).to_cols_array_2d(),
             eye: camera.eye().extend(1.0).to_array(),
             viewport: [width, height, if frame.grid { 1.0 } else { 0.0 }, camera.near()],
-            light: light.extend(0.0).to_array(),
+            light: light.extend(camera.distance).to_array(),
             forward: camera.forward().extend(if camera.orthographic { 1.0 } else { 0.0 }).to_array(),
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
