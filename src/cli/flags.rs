@@ -1,6 +1,33 @@
-//! The flags more than one command takes: the solver's, and the bound on steps.
+//! The flags more than one command takes: the scene and its settings, the solver's,
+//! and the bound on steps.
 
 use crate::physics::{Integrator, SolverKind, SolverSettings, solver::SUBSTEP_RANGE};
+use crate::scenes::{self, SceneEntry};
+
+/// The flags that choose a scene and its settings, shared by `simulate` and `render`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SceneChoice {
+    /// Scene name (see `particle-lab scenes`).
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Scene file (TOML), instead of --scene.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<std::path::PathBuf>,
+    /// Set a scene parameter, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Solver choice.
+    #[command(flatten)]
+    pub solver: SolverArgs,
+}
+
+impl SceneChoice {
+    /// The scene these flags name (a registered scene, or a scene file read now), or a
+    /// one-line reason.
+    pub fn entry(&self) -> Result<&'static SceneEntry, String> {
+        scenes::file::choose(self.scene.as_deref(), self.scene_file.as_deref())
+    }
+}
 
 /// The solver flags shared by the window, `simulate` and `render`.
 #[derive(Debug, Clone, clap::Args)]

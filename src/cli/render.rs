@@ -1,29 +1,20 @@
 //! `render`: builds a lab, steps it and writes one off-screen frame as a PNG (or hands
 //! `--frames` to [`super::record`]).
 
-use super::flags::{MAX_STEPS, SolverArgs};
+use super::flags::{MAX_STEPS, SceneChoice};
 use super::{progress, record};
 use crate::scenes::{self, snapshot::Snapshot};
 
 /// Arguments of `render`.
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
-    /// Scene name (see `particle-lab scenes`).
-    #[arg(long)]
-    pub scene: Option<String>,
-    /// Scene file (TOML), instead of --scene.
-    #[arg(long, value_name = "PATH")]
-    pub scene_file: Option<std::path::PathBuf>,
+    /// The scene, its parameters and the solver.
+    #[command(flatten)]
+    pub choice: SceneChoice,
     /// Start from a snapshot instead of a scene's beginning; `--steps` then runs on
     /// from the step it was saved at.
     #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "scene_file", "set", "solver", "substeps", "integrator"])]
     pub from: Option<std::path::PathBuf>,
-    /// Set a scene parameter, KEY=VALUE (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// Solver choice.
-    #[command(flatten)]
-    pub solver: SolverArgs,
     /// Physics steps to run before the frame, at the scene's own rate.
     #[arg(long, default_value_t = 120)]
     pub steps: u64,
@@ -96,10 +87,9 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
                 .map_err(|e| (2, format!("{}: {e}", crate::messages::path(path))))?
         }
         None => {
-            let solver = args.solver.settings().map_err(|e| (2, e))?;
-            let entry = scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref())
-                .map_err(|e| (2, e))?;
-            crate::ui::Lab::from_entry(entry, &args.set, solver).map_err(|e| (2, e))?
+            let solver = args.choice.solver.settings().map_err(|e| (2, e))?;
+            let entry = args.choice.entry().map_err(|e| (2, e))?;
+            crate::ui::Lab::from_entry(entry, &args.choice.set, solver).map_err(|e| (2, e))?
         }
     };
     lab.view.swept |= args.swept;

@@ -7,7 +7,7 @@ use clap::ValueEnum;
 use glam::Vec3;
 use serde::Serialize;
 
-use super::flags::{MAX_STEPS, SolverArgs};
+use super::flags::{MAX_STEPS, SceneChoice};
 use super::{clock, progress};
 use crate::physics::broad_phase::BUDGET_HIT_MESSAGE;
 use crate::physics::inspect::{self, ConstraintMeter};
@@ -28,12 +28,9 @@ pub enum StateFormat {
 /// Arguments of `simulate`.
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
-    /// Scene name (see `particle-lab scenes`).
-    #[arg(long)]
-    pub scene: Option<String>,
-    /// Scene file (TOML), instead of --scene.
-    #[arg(long, value_name = "PATH")]
-    pub scene_file: Option<std::path::PathBuf>,
+    /// The scene, its parameters and the solver.
+    #[command(flatten)]
+    pub choice: SceneChoice,
     /// Continue from a snapshot (File → Save in the window, or `--save`): its scene,
     /// parameters, solver and time step, at the step it was saved.
     #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "scene_file", "set", "solver", "substeps", "integrator"])]
@@ -41,12 +38,6 @@ pub struct SimulateArgs {
     /// Write a snapshot of the last state to FILE after the run.
     #[arg(long, value_name = "FILE.json")]
     pub save: Option<std::path::PathBuf>,
-    /// Set a scene parameter, KEY=VALUE (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// Solver choice.
-    #[command(flatten)]
-    pub solver: SolverArgs,
     /// Physics steps to run [default: the scene's own].
     #[arg(long)]
     pub steps: Option<u64>,
@@ -95,9 +86,9 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
             (scene, Some(snapshot.dt))
         }
         None => {
-            let solver = args.solver.settings()?;
-            let entry = scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
-            let mut scene = scenes::build_entry(entry, &args.set)?;
+            let solver = args.choice.solver.settings()?;
+            let entry = args.choice.entry()?;
+            let mut scene = scenes::build_entry(entry, &args.choice.set)?;
             scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
             (scene, None)
         }
