@@ -142,7 +142,9 @@ impl ApplicationHandler for App {
         let Some(state) = &mut self.window else { return };
         // egui sees every event first; the 3D view only gets what reaches its area.
         let response = state.egui_winit.on_window_event(&state.window, &event);
-        if response.repaint {
+        // egui-winit answers "repaint" to RedrawRequested itself, which would redraw for
+        // ever: a redraw asks for the next one only through egui's repaint delay.
+        if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
             state.window.request_redraw();
         }
         match event {
@@ -331,6 +333,7 @@ impl WindowState {
         // When egui wants the next frame (at once for an animation, later for a
         // tooltip's delay, never for a still picture).
         let delay = output.viewport_output.get(&egui::ViewportId::ROOT).map(|v| v.repaint_delay);
+        log::trace!("egui asks for the next frame in {delay:?}");
         self.next_repaint = delay.and_then(|d| Instant::now().checked_add(d));
         self.frames += 1;
         self.egui_winit.handle_platform_output(&self.window, output.platform_output);

@@ -396,6 +396,45 @@ fn the_window_left_alone_has_the_state_hash_simulate_prints_at_the_same_step() {
     std::fs::remove_dir_all(&app.dir).ok();
 }
 
+/// CPU time the process has used so far (clock ticks, user and system), from /proc.
+fn cpu_ticks(pid: u32) -> u64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // The fields after the command name in parentheses; utime and stime are 14 and 15.
+    let after = &stat[stat.rfind(')').unwrap() + 2..];
+    let fields: Vec<&str> = after.split(' ').collect();
+    fields[11].parse::<u64>().unwrap() + fields[12].parse::<u64>().unwrap()
+}
+
+#[test]
+fn a_paused_untouched_window_burns_no_cpu_and_a_running_one_draws() {
+    let display = Display::start();
+    let mut app = App::start(&display, &["--scene", "pendulum"], "idle");
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    let pid = app.child.id();
+    let busy = |seconds: u64| {
+        let before = cpu_ticks(pid);
+        std::thread::sleep(Duration::from_secs(seconds));
+        cpu_ticks(pid) - before
+    };
+    let running = busy(3);
+    display.xdotool(&["key", "space"]);
+    app.expect_log("paused: true");
+    pause();
+    let paused = busy(3);
+    // Running, it draws every frame on a software GPU (well over a core here); paused
+    // and untouched it waits for input. 100 ticks a second is Linux's USER_HZ.
+    assert!(running > 60, "running used only {running} ticks in 3 s");
+    assert!(paused * 10 < running && paused < 30, "paused used {paused} ticks in 3 s (running: {running})");
+    // It still answers: a key redraws and resumes.
+    display.xdotool(&["key", "space"]);
+    app.expect_log("paused: false");
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    std::fs::remove_dir_all(&app.dir).ok();
+}
+
 #[test]
 fn the_window_comes_back_as_it_was_left_and_fresh_starts_from_the_defaults() {
     let display = Display::start();

@@ -3,7 +3,7 @@
 
 use super::flags::{MAX_STEPS, SceneChoice};
 use super::{progress, record};
-use crate::scenes::{self, snapshot::Snapshot};
+use crate::scenes::snapshot::Snapshot;
 
 /// Arguments of `render`.
 #[derive(Debug, clap::Args)]
