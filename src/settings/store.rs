@@ -2,7 +2,9 @@
 //! writing it when it changed.
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use web_time::Instant;
 
 use super::format::Settings;
 

@@ -1,7 +1,9 @@
 //! The lab's clock: fixed physics steps from real time (scaled, capped, within a
 //! budget), single steps, and what each frame records (trails, the energy history).
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use web_time::Instant;
 
 use super::limits::{HISTORY, MAX_FRAME_TIME, MAX_STEPS_PER_FRAME, PHYSICS_BUDGET};
 use super::model::Lab;

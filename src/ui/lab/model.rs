@@ -4,7 +4,7 @@
 //! of `lab/` add the clock, dragging, the camera, bars, the tape and snapshots.
 
 use std::collections::VecDeque;
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::Vec3;
 

@@ -8,7 +8,7 @@
 
 pub mod resolver;
 
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::Vec3;
 

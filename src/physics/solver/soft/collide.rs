@@ -2,7 +2,7 @@
 //! margins; sphere pairs are swept over the step so that a pair passing by is never
 //! stopped by a ghost; rods and cables join the step as links.
 
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::Vec3;
 

@@ -1,7 +1,7 @@
 //! The step's order: collide, colour, then the substeps (kick, impacts, warm start,
 //! solve, drift, relax), store, sleep. Each stage is finished before the next begins.
 
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::Vec3;
 
