@@ -101,7 +101,7 @@ const PINNED: &[(&str, &str, &str, &str)] = &[
 
 fn run(scene: &str, kind: SolverKind, integrator: Integrator) -> String {
     let mut scene = scenes::build(scene, &[]).unwrap();
-    let mut settings = scene.world().solver().clone();
+    let mut settings = *scene.world().solver();
     settings.kind = kind;
     settings.integrator = integrator;
     scene.world_mut().set_solver(settings).unwrap();
