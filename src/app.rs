@@ -6,7 +6,9 @@
 use crate::scenes::snapshot::Snapshot;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use web_time::Instant;
 
 use winit::application::ApplicationHandler;
 use winit::dpi::LogicalSize;

@@ -31,7 +31,8 @@ impl Default for FileMenu {
 
 /// What a file dialog gave.
 enum Picked {
-    /// A path the user chose.
+    /// A path the user chose (no dialog gives one in a browser yet).
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     Path(PathBuf),
     /// Cancelled, or no dialog could be shown.
     Nothing,
@@ -40,6 +41,7 @@ enum Picked {
 /// Asks the platform for a file to open (or, with `save`, a file to write), of the
 /// given kind. `None` from the dialog means cancelled or no dialog at all; rfd does
 /// not tell them apart, so the status line mentions the typed path.
+#[cfg(not(target_arch = "wasm32"))]
 fn dialog(kind: &str, extension: &str, folder: &Path, save: bool) -> Picked {
     let dialog = rfd::FileDialog::new().add_filter(kind, &[extension]).set_directory(folder);
     let chosen = if save { dialog.save_file() } else { dialog.pick_file() };
@@ -47,6 +49,13 @@ fn dialog(kind: &str, extension: &str, folder: &Path, save: bool) -> Picked {
         Some(path) => Picked::Path(path),
         None => Picked::Nothing,
     }
+}
+
+/// In a browser rfd has only its asynchronous dialog, which this synchronous menu cannot
+/// wait for: no dialog opens there yet (issue 20 gives the page its own file input).
+#[cfg(target_arch = "wasm32")]
+fn dialog(_kind: &str, _extension: &str, _folder: &Path, _save: bool) -> Picked {
+    Picked::Nothing
 }
 
 /// The status line's word when a dialog gave nothing.
