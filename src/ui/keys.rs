@@ -122,23 +122,19 @@ pub fn handle(ctx: &egui::Context, lab: &mut Lab, layout: &mut PanelLayout) {
     if ctx.egui_wants_keyboard_input() {
         return;
     }
-    let pressed: Vec<Command> = ctx.input_mut(|input| {
-        let mut pressed = Vec::new();
+    // The lab and the layout are not egui's: each command runs as its key is consumed.
+    ctx.input_mut(|input| {
         for shortcut in SHORTCUTS {
             let (Binding::Keys(modifiers, keys), Some(command)) = (shortcut.binding, shortcut.command) else {
                 continue;
             };
             for &key in keys {
                 if input.consume_key(modifiers, key) {
-                    pressed.push(command);
+                    run(command, lab, layout);
                 }
             }
         }
-        pressed
     });
-    for command in pressed {
-        run(command, lab, layout);
-    }
 }
 
 /// Does what `command` says, as its key or its button would.

@@ -42,19 +42,8 @@ pub fn link_key(ui: &mut egui::Ui, lab: &Lab) {
         "Scaled to the link carrying the most this frame; the square root spreads the colours of \
          lightly loaded links",
     );
-    let width = ui.available_width().min(280.0);
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 30.0), Sense::hover());
-    let painter = ui.painter_at(rect);
-    let bar = Rect::from_min_size(rect.min, egui::vec2(rect.width(), 12.0));
-    const BANDS: usize = 48;
-    for band in 0..BANDS {
-        // From -reference (left) to +reference (right).
-        let tension = reference * (2.0 * (band as f32 + 0.5) / BANDS as f32 - 1.0);
-        let left = bar.left() + bar.width() * band as f32 / BANDS as f32;
-        let right = bar.left() + bar.width() * (band + 1) as f32 / BANDS as f32;
-        let band_rect = Rect::from_x_y_ranges(left..=right + 0.5, bar.y_range());
-        painter.rect_filled(band_rect, 0.0, srgb(tension_color(tension, reference)));
-    }
+    // From -reference (left) to +reference (right).
+    let (painter, bar) = colour_bar(ui, |at| srgb(tension_color(reference * (2.0 * at - 1.0), reference)));
     for (at, align, text) in [
         (0.0, egui::Align2::LEFT_TOP, format!("{:.0} N push", reference)),
         (0.5, egui::Align2::CENTER_TOP, "0".to_string()),
@@ -75,18 +64,10 @@ pub fn link_key(ui: &mut egui::Ui, lab: &Lab) {
 pub fn speed_legend(ui: &mut egui::Ui) {
     ui.label(egui::RichText::new("Colour by speed").strong())
         .on_hover_text(format!("A fixed scale, square root of speed: {SPEED_SCALE} m/s and faster are red"));
-    let width = ui.available_width().min(280.0);
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 30.0), Sense::hover());
-    let painter = ui.painter_at(rect);
-    let bar = Rect::from_min_size(rect.min, egui::vec2(rect.width(), 12.0));
-    const BANDS: usize = 48;
-    for band in 0..BANDS {
-        let [r, g, b] = ramp_srgb((band as f32 + 0.5) / BANDS as f32);
-        let left = bar.left() + bar.width() * band as f32 / BANDS as f32;
-        let right = bar.left() + bar.width() * (band + 1) as f32 / BANDS as f32;
-        let band_rect = Rect::from_x_y_ranges(left..=right + 0.5, bar.y_range());
-        painter.rect_filled(band_rect, 0.0, Color32::from_rgb(r, g, b));
-    }
+    let (painter, bar) = colour_bar(ui, |at| {
+        let [r, g, b] = ramp_srgb(at);
+        Color32::from_rgb(r, g, b)
+    });
     for (speed, label) in
         [(0.0, "0"), (0.1, "0.1"), (1.0, "1"), (2.5, "2.5"), (5.0, "5"), (SPEED_SCALE, "10 m/s")]
     {
@@ -108,4 +89,22 @@ pub fn speed_legend(ui: &mut egui::Ui) {
             Color32::GRAY,
         );
     }
+}
+
+/// A colour scale: a bar of bands, each the colour `color_at` gives for the middle of
+/// its share of the bar (0 at the left, 1 at the right), with room under it for the
+/// scale's numbers. Returns the painter and the bar's rectangle, for the numbers.
+fn colour_bar(ui: &mut egui::Ui, color_at: impl Fn(f32) -> Color32) -> (egui::Painter, Rect) {
+    const BANDS: usize = 48;
+    let width = ui.available_width().min(280.0);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 30.0), Sense::hover());
+    let painter = ui.painter_at(rect);
+    let bar = Rect::from_min_size(rect.min, egui::vec2(rect.width(), 12.0));
+    for band in 0..BANDS {
+        let left = bar.left() + bar.width() * band as f32 / BANDS as f32;
+        let right = bar.left() + bar.width() * (band + 1) as f32 / BANDS as f32;
+        let band_rect = Rect::from_x_y_ranges(left..=right + 0.5, bar.y_range());
+        painter.rect_filled(band_rect, 0.0, color_at((band as f32 + 0.5) / BANDS as f32));
+    }
+    (painter, bar)
 }
