@@ -29,7 +29,7 @@ fn display(started: &mut Started) -> String {
     // A server whose display does not answer within 10 s is started again (three tries).
     for _ in 0..3 {
         let mut server = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp", "-noreset"])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()

@@ -102,7 +102,7 @@ impl Display {
     /// Starts Xvfb on a free display (it picks the number and prints it) and openbox on it.
     fn launch() -> (String, Child, Child) {
         let mut server = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp", "-noreset"])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
