@@ -29,8 +29,16 @@ struct Sphere {
     color: vec4<f32>,
 };
 
-// Every sphere of the frame, read by index: sphere i is drawn by vertices 3i..3i+2.
-@group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
+// The spheres come to the vertex shaders one of two ways, both below. By index from a
+// storage buffer (`spheres.wgsl`, appended where the GPU has vertex storage): one plain
+// draw for them all, sphere i drawn by vertices 3i..3i+2. Or as instances, each
+// sphere's fields as vertex attributes (`vs_*_instanced`): for GPUs without storage
+// buffers, WebGL2 among them.
+struct SphereIn {
+    @location(0) center: vec3<f32>,
+    @location(1) radius: f32,
+    @location(2) color: vec4<f32>,
+};
 
 const SKY: vec3<f32> = vec3<f32>(0.55, 0.65, 0.80);
 const GROUND_BOUNCE: vec3<f32> = vec3<f32>(0.20, 0.18, 0.15);
@@ -122,13 +130,17 @@ struct SphereOut {
 };
 
 @vertex
-fn vs_sphere(@builtin(vertex_index) index: u32) -> SphereOut {
+fn vs_sphere_instanced(@builtin(vertex_index) corner: u32, sphere: SphereIn) -> SphereOut {
+    return sphere_vertex(Sphere(sphere.center, sphere.radius, sphere.color), corner);
+}
+
+// Corner `k` (0..2) of the triangle drawn around `sphere`.
+fn sphere_vertex(sphere: Sphere, k: u32) -> SphereOut {
     // A triangle facing the eye, in front of the sphere, around its silhouette: at
     // distance q the silhouette's radius is q tan(asin(r / d)) = q r / sqrt(d² - r²).
     // The triangle stays beyond the near plane; with the eye inside the sphere it
     // collapses.
-    let sphere = spheres[index / 3u];
-    let corner = triangle_corner(index % 3u);
+    let corner = triangle_corner(k);
     let to_center = sphere.center - globals.eye.xyz;
     let d = length(to_center);
     var forward = to_center / max(d, 1e-6);
@@ -218,9 +230,12 @@ struct ShadowOut {
 };
 
 @vertex
-fn vs_shadow(@builtin(vertex_index) index: u32) -> ShadowOut {
-    let sphere = spheres[index / 3u];
-    let corner = triangle_corner(index % 3u);
+fn vs_shadow_instanced(@builtin(vertex_index) corner: u32, sphere: SphereIn) -> ShadowOut {
+    return shadow_vertex(Sphere(sphere.center, sphere.radius, sphere.color), corner);
+}
+
+fn shadow_vertex(sphere: Sphere, k: u32) -> ShadowOut {
+    let corner = triangle_corner(k);
     let height = max(sphere.center.y - sphere.radius, 0.0);
     let size = sphere.radius * (1.1 + height * 0.12);
     let world = vec3<f32>(sphere.center.x + corner.x * size, 0.0, sphere.center.z + corner.y * size);

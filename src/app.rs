@@ -280,7 +280,7 @@ impl WindowState {
         if size.width > 0 && size.height > 0 {
             surface.configure(&gpu.device, &config);
         }
-        let painter = Painter::new(&gpu.device, format);
+        let painter = Painter::new(&gpu.device, format, crate::render::SpherePath::for_adapter(&gpu.adapter));
         let egui = egui::Context::default();
         let max_texture_side = gpu.device.limits().max_texture_dimension_2d as usize;
         let egui_winit = egui_winit::State::new(

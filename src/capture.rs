@@ -2,7 +2,7 @@
 //! render tests and the render benchmark all use this. (Saving a run's state is
 //! [`crate::scenes::snapshot`]; this only draws it.)
 
-use crate::render::{Gpu, OffscreenTarget, offscreen};
+use crate::render::{Gpu, OffscreenTarget, SpherePath, offscreen};
 use crate::ui::paint::{Painter, UiFrame};
 use crate::ui::{Lab, LabUi};
 
@@ -20,10 +20,18 @@ pub struct FrameCapture {
 }
 
 impl FrameCapture {
-    /// Finds an adapter (no display needed) and builds the renderers.
+    /// Finds an adapter (no display needed) and builds the renderers, drawing spheres
+    /// the fastest way the adapter allows.
     pub fn new() -> Result<Self, String> {
+        Self::with_sphere_path(None)
+    }
+
+    /// As [`Self::new`], drawing spheres the way `path` says (the adapter's choice for
+    /// `None`): the tests draw with both ways and compare.
+    pub fn with_sphere_path(path: Option<SpherePath>) -> Result<Self, String> {
         let gpu = Gpu::headless().map_err(|e| e.to_string())?;
-        let painter = Painter::new(&gpu.device, offscreen::FORMAT);
+        let path = path.unwrap_or_else(|| SpherePath::for_adapter(&gpu.adapter));
+        let painter = Painter::new(&gpu.device, offscreen::FORMAT, path);
         Ok(Self {
             gpu,
             painter,

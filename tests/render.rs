@@ -91,6 +91,31 @@ fn every_scene_matches_its_reference_image() {
     }
 }
 
+/// The way for GPUs without vertex storage (WebGL2): spheres as instances. It draws
+/// every scene as the storage path does, pixel for pixel up to rasteriser rounding, and
+/// so matches the same reference images.
+#[test]
+fn spheres_drawn_as_instances_look_as_spheres_read_from_storage() {
+    use particle_lab::render::SpherePath;
+    let mut storage = FrameCapture::with_sphere_path(Some(SpherePath::Storage)).unwrap();
+    let mut instanced = FrameCapture::with_sphere_path(Some(SpherePath::Instanced)).unwrap();
+    for entry in SCENES {
+        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        lab.run_steps_recorded(STEPS);
+        let a = storage.render(&mut lab, SIZE, false).unwrap();
+        let b = instanced.render(&mut lab, SIZE, false).unwrap();
+        let different = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(a, b)| a != b).count();
+        assert!(
+            different * 1000 < a.len() / 4,
+            "{}: {different} pixels differ between the paths",
+            entry.info.name
+        );
+        let spheres = a.chunks_exact(4).filter(|p| p[0] > 100 || p[1] > 100 || p[2] > 100).count();
+        assert!(spheres > 0, "{}: something bright (a sphere) is drawn", entry.info.name);
+        compare_with_golden(entry.info.name, &b, SIZE);
+    }
+}
+
 #[test]
 fn the_falling_pile_is_coloured_by_speed() {
     let mut capture = capture();

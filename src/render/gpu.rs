@@ -69,27 +69,36 @@ impl Gpu {
         let info = adapter.get_info();
         log::info!("GPU adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
         // The 3D pass draws through an sRGB view of a gamma-space texture that egui
-        // also draws into; that needs view formats (missing on some GL drivers). Its
-        // vertex shaders read the spheres from a storage buffer.
+        // also draws into; that needs view formats (missing on some GL drivers).
+        // (Spheres need no vertex storage: see `SpherePath`.)
         let flags = adapter.get_downlevel_capabilities().flags;
-        let mut needed = wgpu::DownlevelFlags::VIEW_FORMATS | wgpu::DownlevelFlags::VERTEX_STORAGE;
+        let mut needed = wgpu::DownlevelFlags::VIEW_FORMATS;
         if surface.is_some() {
             needed |= wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS;
         }
         if !flags.contains(needed) {
             return Err(GpuError::Unsupported(format!(
-                "{} ({:?}) cannot view textures in another format or read storage buffers in vertex shaders",
+                "{} ({:?}) cannot view textures in another format",
                 info.name, info.backend
             )));
         }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("particle-lab"),
             required_features: wgpu::Features::empty(),
-            required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+            required_limits: base_limits(&adapter).using_resolution(adapter.limits()),
             ..Default::default()
         }))
         .map_err(|e| GpuError::NoDevice(crate::messages::plain(&e.to_string())))?;
         Ok(Self { instance, adapter, device, queue })
+    }
+}
+
+/// The least a device is asked for: the downlevel defaults, or WebGL2's (no storage
+/// buffers, the spheres drawn as instances) for an adapter without vertex storage.
+fn base_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
+    match crate::render::SpherePath::for_adapter(adapter) {
+        crate::render::SpherePath::Storage => wgpu::Limits::downlevel_defaults(),
+        crate::render::SpherePath::Instanced => wgpu::Limits::downlevel_webgl2_defaults(),
     }
 }
 

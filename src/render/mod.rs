@@ -12,4 +12,4 @@ pub use camera::OrbitCamera;
 pub use frame::{FrameBuilder, FrameData, Trails, ViewOptions};
 pub use gpu::{Gpu, GpuError};
 pub use offscreen::OffscreenTarget;
-pub use renderer::Renderer;
+pub use renderer::{Renderer, SpherePath};

@@ -73,13 +73,38 @@ struct Attachments {
     depth: wgpu::TextureView,
 }
 
+/// How the vertex shaders get the spheres (see `shaders/spheres.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpherePath {
+    /// Read by index from a storage buffer, one plain draw for them all: fastest on a
+    /// software GPU, which runs its vertex pipeline once per instance. Needs vertex
+    /// storage (desktop Vulkan, Metal, DX12, and WebGPU).
+    Storage,
+    /// Drawn as instances, each sphere's fields as vertex attributes: for GPUs without
+    /// storage buffers in vertex shaders (WebGL2, some GLES drivers).
+    Instanced,
+}
+
+impl SpherePath {
+    /// The storage path where the adapter has vertex storage, else the instanced one.
+    #[must_use]
+    pub fn for_adapter(adapter: &wgpu::Adapter) -> Self {
+        let flags = adapter.get_downlevel_capabilities().flags;
+        let storage = flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE)
+            && adapter.limits().max_storage_buffers_per_shader_stage > 0;
+        if storage { Self::Storage } else { Self::Instanced }
+    }
+}
+
 /// Draws the ground, particles (sphere impostors), links, trails and water.
 pub struct Renderer {
     color_format: wgpu::TextureFormat,
     sample_count: u32,
+    sphere_path: SpherePath,
     globals: wgpu::Buffer,
     bind_group_layout: wgpu::BindGroupLayout,
-    /// The globals and the sphere buffer; rebuilt when the sphere buffer grows.
+    /// The globals, and on the storage path the sphere buffer; rebuilt when the sphere
+    /// buffer grows.
     bind_group: wgpu::BindGroup,
     ground: wgpu::RenderPipeline,
     shadows: wgpu::RenderPipeline,
@@ -97,47 +122,62 @@ pub struct Renderer {
 impl Renderer {
     /// Builds every pipeline and buffer. `color_format` is the format of the views it
     /// will draw into (an sRGB format, so lighting is done in linear space);
-    /// `sample_count` is 1 (no MSAA) or 4 (4x MSAA).
+    /// `sample_count` is 1 (no MSAA) or 4 (4x MSAA); `sphere_path` says how the
+    /// spheres reach the vertex shaders.
     #[must_use]
-    pub fn new(device: &wgpu::Device, color_format: wgpu::TextureFormat, sample_count: u32) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/scene.wgsl"));
+    pub fn new(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        sample_count: u32,
+        sphere_path: SpherePath,
+    ) -> Self {
+        // The storage path's entry points and binding are a second file appended to the
+        // first: a GPU without storage buffers never sees them.
+        let scene = include_str!("../../shaders/scene.wgsl");
+        let source = match sphere_path {
+            SpherePath::Storage => format!("{scene}\n{}", include_str!("../../shaders/spheres.wgsl")),
+            SpherePath::Instanced => scene.to_string(),
+        };
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("scene.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
         let globals = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("globals"),
             size: std::mem::size_of::<Globals>() as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let uniform = wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let storage = wgpu::BindGroupLayoutEntry {
+            binding: 1,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<SphereInstance>() as u64),
+            },
+            count: None,
+        };
+        let (entries, sphere_usage) = match sphere_path {
+            SpherePath::Storage => (vec![uniform, storage], wgpu::BufferUsages::STORAGE),
+            SpherePath::Instanced => (vec![uniform], wgpu::BufferUsages::VERTEX),
+        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("globals and spheres"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<SphereInstance>() as u64),
-                    },
-                    count: None,
-                },
-            ],
+            entries: &entries,
         });
-        // Spheres are read by index from a storage buffer, one plain draw for them all,
-        // not drawn as instances: a software GPU (lavapipe) runs its whole vertex
-        // pipeline once per instance, which at 100,000 spheres cost more than the
-        // shading. See `vs_sphere`.
-        let sphere_buffer = GrowingBuffer::new(device, "spheres", wgpu::BufferUsages::STORAGE, 64 * 1024);
-        let bind_group = Self::bind_group(device, &layout, &globals, &sphere_buffer.buffer);
+        let sphere_buffer = GrowingBuffer::new(device, "spheres", sphere_usage, 64 * 1024);
+        let bind_group = Self::bind_group(device, &layout, &globals, sphere_path, &sphere_buffer.buffer);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
             bind_group_layouts: &[Some(&layout)],
@@ -145,8 +185,10 @@ impl Renderer {
         });
 
         let alpha_blend = Some(wgpu::BlendState::ALPHA_BLENDING);
+        // `entry` names the shaders: `vs_{entry}` and `fs_{entry}`, or for a pair of
+        // names `vs_{vertex}` and `fs_{fragment}`.
         let make = |label: &str,
-                    entry: &str,
+                    entry: (&str, &str),
                     buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
                     topology: wgpu::PrimitiveTopology,
                     blend: Option<wgpu::BlendState>,
@@ -157,7 +199,7 @@ impl Renderer {
                 layout: Some(&pipeline_layout),
                 vertex: wgpu::VertexState {
                     module: &shader,
-                    entry_point: Some(&format!("vs_{entry}")),
+                    entry_point: Some(&format!("vs_{}", entry.0)),
                     compilation_options: Default::default(),
                     buffers,
                 },
@@ -176,7 +218,7 @@ impl Renderer {
                 },
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
-                    entry_point: Some(&format!("fs_{entry}")),
+                    entry_point: Some(&format!("fs_{}", entry.1)),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format: color_format,
@@ -206,6 +248,16 @@ impl Renderer {
             step_mode: wgpu::VertexStepMode::Instance,
             attributes: &segment_attributes,
         };
+        let sphere_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x4];
+        let sphere_layout = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<SphereInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &sphere_attributes,
+        })];
+        let (sphere_entry, shadow_entry, sphere_buffers): (_, _, &[_]) = match sphere_path {
+            SpherePath::Storage => ("sphere", "shadow", &[]),
+            SpherePath::Instanced => ("sphere_instanced", "shadow_instanced", &sphere_layout),
+        };
         let water_layout = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<WaterQuad>() as u64,
             step_mode: wgpu::VertexStepMode::Instance,
@@ -218,14 +270,31 @@ impl Renderer {
         Self {
             color_format,
             sample_count,
-            ground: make("ground", "ground", &[], TriangleList, None, opaque, false),
+            sphere_path,
+            ground: make("ground", ("ground", "ground"), &[], TriangleList, None, opaque, false),
             // Drawn straight after the ground, over it only: no depth test needed, and
             // none of the ground's depth precision trouble at a distance.
-            shadows: make("shadows", "shadow", &[], TriangleList, alpha_blend, (false, Always), false),
-            spheres: make("spheres", "sphere", &[], TriangleList, None, opaque, true),
+            shadows: make(
+                "shadows",
+                (shadow_entry, "shadow"),
+                sphere_buffers,
+                TriangleList,
+                alpha_blend,
+                (false, Always),
+                false,
+            ),
+            spheres: make(
+                "spheres",
+                (sphere_entry, "sphere"),
+                sphere_buffers,
+                TriangleList,
+                None,
+                opaque,
+                true,
+            ),
             segments: make(
                 "segments",
-                "segment",
+                ("segment", "segment"),
                 &[Some(segment_layout.clone())],
                 TriangleList,
                 alpha_blend,
@@ -234,7 +303,7 @@ impl Renderer {
             ),
             trails: make(
                 "trails",
-                "trail",
+                ("trail", "trail"),
                 &[Some(segment_layout)],
                 TriangleList,
                 alpha_blend,
@@ -243,7 +312,7 @@ impl Renderer {
             ),
             water: make(
                 "water",
-                "water",
+                ("water", "water"),
                 &[Some(water_layout)],
                 TriangleList,
                 alpha_blend,
@@ -270,16 +339,24 @@ impl Renderer {
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
         globals: &wgpu::Buffer,
+        sphere_path: SpherePath,
         spheres: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
+        let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: globals.as_entire_binding() }];
+        if sphere_path == SpherePath::Storage {
+            entries.push(wgpu::BindGroupEntry { binding: 1, resource: spheres.as_entire_binding() });
+        }
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals and spheres"),
             layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: globals.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: spheres.as_entire_binding() },
-            ],
+            entries: &entries,
         })
+    }
+
+    /// How this renderer's vertex shaders get the spheres.
+    #[must_use]
+    pub fn sphere_path(&self) -> SpherePath {
+        self.sphere_path
     }
 
     /// Samples per pixel: 1, or 4 with MSAA.
@@ -344,9 +421,15 @@ impl Renderer {
             forward: camera.forward().extend(if camera.orthographic { 1.0 } else { 0.0 }).to_array(),
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
-        if self.sphere_buffer.write(device, queue, bytemuck::cast_slice(&frame.spheres)) {
-            self.bind_group =
-                Self::bind_group(device, &self.bind_group_layout, &self.globals, &self.sphere_buffer.buffer);
+        let grown = self.sphere_buffer.write(device, queue, bytemuck::cast_slice(&frame.spheres));
+        if grown && self.sphere_path == SpherePath::Storage {
+            self.bind_group = Self::bind_group(
+                device,
+                &self.bind_group_layout,
+                &self.globals,
+                self.sphere_path,
+                &self.sphere_buffer.buffer,
+            );
         }
         self.segment_buffer.write(device, queue, bytemuck::cast_slice(&frame.segments));
         self.trail_buffer.write(device, queue, bytemuck::cast_slice(&frame.trails));
@@ -388,14 +471,22 @@ impl Renderer {
         pass.set_pipeline(&self.ground);
         pass.draw(0..6, 0..1);
         if !frame.spheres.is_empty() {
-            // One triangle per sphere, its three corners numbered 3i, 3i+1, 3i+2.
-            let vertices = 3 * frame.spheres.len() as u32;
+            // One triangle per sphere: on the storage path its three corners are
+            // vertices 3i, 3i+1, 3i+2 of one draw; instanced, vertices 0..3 of instance i.
+            let count = frame.spheres.len() as u32;
+            let (vertices, instances) = match self.sphere_path {
+                SpherePath::Storage => (0..3 * count, 0..1),
+                SpherePath::Instanced => {
+                    pass.set_vertex_buffer(0, self.sphere_buffer.buffer.slice(..));
+                    (0..3, 0..count)
+                }
+            };
             if frame.shadows {
                 pass.set_pipeline(&self.shadows);
-                pass.draw(0..vertices, 0..1);
+                pass.draw(vertices.clone(), instances.clone());
             }
             pass.set_pipeline(&self.spheres);
-            pass.draw(0..vertices, 0..1);
+            pass.draw(vertices, instances);
         }
         if !frame.segments.is_empty() {
             pass.set_pipeline(&self.segments);

@@ -6,7 +6,7 @@ use glam::Vec3;
 use crate::physics::LinkState;
 use crate::render::frame::{SegmentInstance, SphereInstance};
 use crate::render::renderer::DEFAULT_SAMPLE_COUNT;
-use crate::render::{FrameBuilder, FrameData, Renderer};
+use crate::render::{FrameBuilder, FrameData, Renderer, SpherePath};
 use crate::ui::lab::{ACCELERATION_ARROW, CONSTRAINT_FORCE, Lab, VELOCITY_ARROW};
 
 /// The egui side of a frame: what to draw and at what scale.
@@ -29,14 +29,14 @@ pub struct Painter {
 
 impl Painter {
     /// Builds both renderers for targets of `format` (a non-sRGB format; the 3D pass
-    /// draws through its sRGB view).
+    /// draws through its sRGB view), drawing spheres the way `sphere_path` says.
     #[must_use]
-    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, sphere_path: SpherePath) -> Self {
         // No dithering: the panel has no gradients, and on a software GPU it costs
         // several milliseconds a frame.
         let options = egui_wgpu::RendererOptions { dithering: false, ..Default::default() };
         Self {
-            renderer: Renderer::new(device, format.add_srgb_suffix(), DEFAULT_SAMPLE_COUNT),
+            renderer: Renderer::new(device, format.add_srgb_suffix(), DEFAULT_SAMPLE_COUNT, sphere_path),
             format,
             links: Vec::new(),
             egui: egui_wgpu::Renderer::new(device, format.remove_srgb_suffix(), options),
@@ -81,7 +81,8 @@ impl Painter {
     ) {
         let samples = if lab.view.msaa { DEFAULT_SAMPLE_COUNT } else { 1 };
         if self.renderer.sample_count() != samples {
-            self.renderer = Renderer::new(device, self.format.add_srgb_suffix(), samples);
+            let path = self.renderer.sphere_path();
+            self.renderer = Renderer::new(device, self.format.add_srgb_suffix(), samples, path);
         }
         let highlight = lab.grab.map(|g| g.id).or(lab.hovered);
         let now = lab.scene.world().time();
