@@ -3,6 +3,7 @@
 //! otherwise only when egui asks (input, an animation): a paused, untouched window
 //! burns no CPU.
 
+#[cfg(not(target_arch = "wasm32"))]
 use crate::scenes::snapshot::Snapshot;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -11,13 +12,18 @@ use std::time::Duration;
 use web_time::Instant;
 
 use winit::application::ApplicationHandler;
+#[cfg(not(target_arch = "wasm32"))]
 use winit::dpi::LogicalSize;
 use winit::event::WindowEvent;
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+#[cfg(not(target_arch = "wasm32"))]
+use winit::event_loop::EventLoop;
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::window::{Window, WindowId};
 
 use crate::render::{Gpu, GpuError, OffscreenTarget};
-use crate::settings::{self, Launch, Settings, Store};
+#[cfg(not(target_arch = "wasm32"))]
+use crate::settings::{self, Launch};
+use crate::settings::{Settings, Store};
 use crate::ui::paint::{Painter, UiFrame};
 use crate::ui::{Lab, LabUi};
 
@@ -32,6 +38,7 @@ pub enum AppError {
 
 /// Opens the window as the command line and the saved settings say (see
 /// [`settings`]) and runs until it is closed, keeping the settings as it goes.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run(launch: &Launch) -> Result<(), AppError> {
     let opened = settings::open(launch, Store::from_platform()).map_err(AppError::Usage)?;
     if let Some(warning) = &opened.warning {
@@ -50,15 +57,7 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
     lab.watch_scene_file();
     let event_loop =
         EventLoop::new().map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
-    let mut app = App {
-        lab,
-        ui: LabUi::new(layout),
-        window: None,
-        error: None,
-        timing_logged: Instant::now(),
-        store,
-        window_size,
-    };
+    let mut app = App::new(lab, layout, store, window_size);
     event_loop.run_app(&mut app).map_err(|e| {
         AppError::Fatal(format!("the window's event loop failed: {}", crate::messages::plain(&e.to_string())))
     })?;
@@ -68,7 +67,8 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
     }
 }
 
-struct App {
+/// The window's application: the lab, its interface and, once open, the window.
+pub struct App {
     lab: Lab,
     /// The interface: its views and the panel's layout.
     ui: LabUi,
@@ -80,6 +80,12 @@ struct App {
     store: Store,
     /// The window's inner size as last seen, not minimised (logical pixels).
     window_size: [u32; 2],
+    /// In a browser: the window waiting for its GPU, which comes asynchronously.
+    #[cfg(target_arch = "wasm32")]
+    pending: std::rc::Rc<std::cell::RefCell<Option<Result<WindowState, String>>>>,
+    /// In a browser: what the page shows besides the canvas (the state element).
+    #[cfg(target_arch = "wasm32")]
+    pub page: crate::web::Page,
 }
 
 /// How often the frame timings go to the log at debug level (`RUST_LOG=particle_lab=debug`),
@@ -99,6 +105,8 @@ struct WindowState {
     egui: egui::Context,
     egui_winit: egui_winit::State,
     screenshot_target: Option<OffscreenTarget>,
+    /// How a frame reaches the surface.
+    present: Present,
     /// When egui asked to draw again (none: only on input).
     next_repaint: Option<Instant>,
     /// Frames drawn so far (the log gives it with the timings).
@@ -109,6 +117,30 @@ struct WindowState {
 }
 
 impl App {
+    /// The application for `lab`, with the panel `layout`, saving to `store`, its
+    /// window to open at `window_size` logical pixels.
+    #[must_use]
+    pub fn new(
+        lab: Lab,
+        layout: crate::ui::layout::PanelLayout,
+        store: Store,
+        window_size: [u32; 2],
+    ) -> Self {
+        Self {
+            lab,
+            ui: LabUi::new(layout),
+            window: None,
+            error: None,
+            timing_logged: Instant::now(),
+            store,
+            window_size,
+            #[cfg(target_arch = "wasm32")]
+            pending: Default::default(),
+            #[cfg(target_arch = "wasm32")]
+            page: crate::web::Page::default(),
+        }
+    }
+
     fn fail(&mut self, event_loop: &ActiveEventLoop, message: String) {
         // main prints it once, as it does every other error.
         log::debug!("{message}");
@@ -131,16 +163,37 @@ impl ApplicationHandler for App {
         if self.window.is_some() {
             return;
         }
-        match WindowState::new(event_loop, self.window_size) {
+        #[cfg(not(target_arch = "wasm32"))]
+        match WindowState::open(event_loop, self.window_size) {
             Ok(state) => {
                 log::info!("window open: scene {}", self.lab.entry.info.name);
                 self.window = Some(state);
             }
             Err(message) => self.fail(event_loop, message),
         }
+        #[cfg(target_arch = "wasm32")]
+        if let Err(message) = WindowState::open_in_page(event_loop, self.pending.clone()) {
+            self.fail(event_loop, message);
+        }
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        #[cfg(target_arch = "wasm32")]
+        if self.window.is_none() {
+            let pending = self.pending.borrow_mut().take();
+            match pending {
+                Some(Ok(state)) => {
+                    log::info!("page open: scene {}", self.lab.entry.info.name);
+                    state.window.request_redraw();
+                    self.window = Some(state);
+                }
+                Some(Err(message)) => {
+                    crate::web::show_failure(&message);
+                    self.fail(event_loop, message);
+                }
+                None => {}
+            }
+        }
         let Some(state) = &mut self.window else { return };
         // egui sees every event first; the 3D view only gets what reaches its area.
         let response = state.egui_winit.on_window_event(&state.window, &event);
@@ -174,6 +227,8 @@ impl ApplicationHandler for App {
                     self.fail(event_loop, message);
                     return;
                 }
+                #[cfg(target_arch = "wasm32")]
+                self.page.frame_drawn(&mut self.lab, crate::web::gpu_name(&state.gpu));
                 if self.timing_logged.elapsed() >= TIMING_LOG_INTERVAL {
                     self.timing_logged = Instant::now();
                     let stats = self.lab.stats;
@@ -228,9 +283,39 @@ impl ApplicationHandler for App {
     }
 }
 
+/// How a frame reaches the window's surface.
+#[derive(Debug)]
+enum Present {
+    /// The 3D pass through an sRGB view of the surface texture, the panel into the
+    /// texture itself, in gamma space (the desktop).
+    Views,
+    /// Both into the surface's own sRGB format: a GPU without view formats (WebGL2).
+    Srgb,
+    /// Both into an sRGB texture of the window's own, copied to the surface: a
+    /// browser's WebGPU canvas has no sRGB format, and resolving multisampled pixels
+    /// into an sRGB view of a texture was seen to skip the sRGB encoding (Chromium 156
+    /// on SwiftShader: the background came out at 12 of 255 instead of 60).
+    Copy(Option<(wgpu::Texture, wgpu::TextureView)>),
+}
+
+impl Present {
+    fn choose(gpu: &Gpu, offered: &[wgpu::TextureFormat]) -> Self {
+        if cfg!(target_arch = "wasm32") && gpu.adapter.get_info().backend == wgpu::Backend::BrowserWebGpu {
+            Self::Copy(None)
+        } else if gpu.has_view_formats(true) {
+            Self::Views
+        } else if offered.iter().any(|f| f.is_srgb()) {
+            Self::Srgb
+        } else {
+            Self::Copy(None)
+        }
+    }
+}
+
 impl WindowState {
-    /// Opens a window of `size` logical pixels.
-    fn new(event_loop: &ActiveEventLoop, size: [u32; 2]) -> Result<Self, String> {
+    /// Opens a window of `size` logical pixels, with its GPU.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn open(event_loop: &ActiveEventLoop, size: [u32; 2]) -> Result<Self, String> {
         let [min_width, min_height] = settings::MIN_WINDOW;
         let attributes = Window::default_attributes()
             .with_title("particle-lab")
@@ -247,12 +332,57 @@ impl WindowState {
             .create_surface(window.clone())
             .map_err(|e| crate::render::gpu::surface_error(&instance, &e.to_string()).to_string())?;
         let gpu = Gpu::with_instance(instance, Some(&surface)).map_err(|e| e.to_string())?;
+        Self::new(window, surface, gpu)
+    }
+
+    /// Opens the page's canvas as the window; its GPU comes asynchronously, and the
+    /// window state, or why there is none, lands in `pending` (the next event adopts it).
+    #[cfg(target_arch = "wasm32")]
+    fn open_in_page(
+        event_loop: &ActiveEventLoop,
+        pending: std::rc::Rc<std::cell::RefCell<Option<Result<Self, String>>>>,
+    ) -> Result<(), String> {
+        use winit::platform::web::WindowAttributesExtWebSys;
+        let attributes = Window::default_attributes()
+            .with_title("particle-lab")
+            .with_canvas(Some(crate::web::canvas()?))
+            .with_prevent_default(true)
+            .with_focusable(true);
+        let window =
+            Arc::new(event_loop.create_window(attributes).map_err(|e| {
+                format!("cannot create the canvas: {}", crate::messages::plain(&e.to_string()))
+            })?);
+        wasm_bindgen_futures::spawn_local(async move {
+            let result = async {
+                let instance = crate::web::instance().await;
+                let surface = instance.create_surface(window.clone()).map_err(|e| {
+                    format!("cannot draw into the page: {}", crate::messages::plain(&e.to_string()))
+                })?;
+                let gpu = Gpu::request(instance, Some(&surface)).await.map_err(|e| e.to_string())?;
+                Self::new(window.clone(), surface, gpu)
+            }
+            .await;
+            *pending.borrow_mut() = Some(result);
+            // An event, so that the application adopts it.
+            window.request_redraw();
+        });
+        Ok(())
+    }
+
+    /// The window's state once it has a surface and a GPU.
+    fn new(window: Arc<Window>, surface: wgpu::Surface<'static>, gpu: Gpu) -> Result<Self, String> {
         let capabilities = surface.get_capabilities(&gpu.adapter);
-        // egui wants a gamma-space 8-bit surface; the 3D pass draws through its sRGB twin.
-        let preferred = [wgpu::TextureFormat::Bgra8Unorm, wgpu::TextureFormat::Rgba8Unorm];
-        let format = preferred
-            .into_iter()
-            .find(|f| capabilities.formats.iter().any(|c| c.remove_srgb_suffix() == *f))
+        let present = Present::choose(&gpu, &capabilities.formats);
+        let shared = !matches!(present, Present::Views);
+        // The first 8-bit RGBA or BGRA format the surface lists (its preferred one: a
+        // browser copies every frame of any other).
+        let eight_bit = [wgpu::TextureFormat::Bgra8Unorm, wgpu::TextureFormat::Rgba8Unorm];
+        let wants_srgb = matches!(present, Present::Srgb);
+        let format = capabilities
+            .formats
+            .iter()
+            .find(|c| eight_bit.contains(&c.remove_srgb_suffix()) && (!wants_srgb || c.is_srgb()))
+            .map(|c| if wants_srgb { *c } else { c.remove_srgb_suffix() })
             .ok_or_else(|| {
                 GpuError::Surface(format!(
                     "the window offers no 8-bit RGBA or BGRA format (only {:?})",
@@ -260,14 +390,19 @@ impl WindowState {
                 ))
                 .to_string()
             })?;
+        log::info!("surface format {format:?}, {present:?} (offered: {:?})", capabilities.formats);
         let alpha_mode = if capabilities.alpha_modes.contains(&wgpu::CompositeAlphaMode::Opaque) {
             wgpu::CompositeAlphaMode::Opaque
         } else {
             capabilities.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto)
         };
         let size = window.inner_size();
+        let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        if matches!(present, Present::Copy(_)) {
+            usage |= wgpu::TextureUsages::COPY_DST;
+        }
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage,
             format,
             color_space: wgpu::SurfaceColorSpace::Auto,
             width: size.width.max(1),
@@ -275,12 +410,16 @@ impl WindowState {
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
             alpha_mode,
-            view_formats: vec![format.add_srgb_suffix()],
+            view_formats: if shared { Vec::new() } else { vec![format.add_srgb_suffix()] },
         };
         if size.width > 0 && size.height > 0 {
             surface.configure(&gpu.device, &config);
         }
-        let painter = Painter::new(&gpu.device, format, crate::render::SpherePath::for_adapter(&gpu.adapter));
+        // The panel draws in gamma space into a gamma-space target, or into the sRGB one
+        // both share.
+        let painted = if shared { format.add_srgb_suffix() } else { format };
+        let painter =
+            Painter::new(&gpu.device, painted, crate::render::SpherePath::for_adapter(&gpu.adapter));
         let egui = egui::Context::default();
         let max_texture_side = gpu.device.limits().max_texture_dimension_2d as usize;
         let egui_winit = egui_winit::State::new(
@@ -300,6 +439,7 @@ impl WindowState {
             egui,
             egui_winit,
             screenshot_target: None,
+            present,
             next_repaint: Some(Instant::now()),
             frames: 0,
             visible: true,
@@ -371,12 +511,69 @@ impl WindowState {
         let target_size = [self.config.width, self.config.height];
         if let Some((texture, suboptimal)) = texture {
             let view = texture.texture.create_view(&Default::default());
-            let srgb_view = texture.texture.create_view(&wgpu::TextureViewDescriptor {
-                format: Some(self.config.format.add_srgb_suffix()),
-                ..Default::default()
-            });
             let ui = UiFrame { primitives: &primitives, pixels_per_point: ppp };
-            self.painter.paint(device, queue, &srgb_view, &view, target_size, viewport, lab, Some(ui));
+            match &mut self.present {
+                Present::Views => {
+                    let srgb_view = texture.texture.create_view(&wgpu::TextureViewDescriptor {
+                        format: Some(self.config.format.add_srgb_suffix()),
+                        ..Default::default()
+                    });
+                    self.painter.paint(
+                        device,
+                        queue,
+                        &srgb_view,
+                        &view,
+                        target_size,
+                        viewport,
+                        lab,
+                        Some(ui),
+                    );
+                }
+                Present::Srgb => {
+                    self.painter.paint(device, queue, &view, &view, target_size, viewport, lab, Some(ui))
+                }
+                Present::Copy(own) => {
+                    let stale = own.as_ref().is_none_or(|(t, _)| [t.width(), t.height()] != target_size);
+                    if stale {
+                        let texture = device.create_texture(&wgpu::TextureDescriptor {
+                            label: Some("frame (sRGB, copied to the canvas)"),
+                            size: wgpu::Extent3d {
+                                width: target_size[0],
+                                height: target_size[1],
+                                depth_or_array_layers: 1,
+                            },
+                            mip_level_count: 1,
+                            sample_count: 1,
+                            dimension: wgpu::TextureDimension::D2,
+                            format: self.config.format.add_srgb_suffix(),
+                            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                            view_formats: &[],
+                        });
+                        let view = texture.create_view(&Default::default());
+                        *own = Some((texture, view));
+                    }
+                    let (own, own_view) = own.as_ref().expect("made above");
+                    self.painter.paint(
+                        device,
+                        queue,
+                        own_view,
+                        own_view,
+                        target_size,
+                        viewport,
+                        lab,
+                        Some(ui),
+                    );
+                    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("to the canvas"),
+                    });
+                    encoder.copy_texture_to_texture(
+                        own.as_image_copy(),
+                        texture.texture.as_image_copy(),
+                        own.size(),
+                    );
+                    queue.submit([encoder.finish()]);
+                }
+            }
             self.window.pre_present_notify();
             queue.present(texture);
             if suboptimal {
@@ -411,8 +608,8 @@ impl WindowState {
         let target = self.screenshot_target.as_ref().expect("created above");
         self.painter.paint(device, queue, &target.srgb_view, &target.view, size, viewport, lab, Some(ui));
         let pixels = target.read_rgba(device, queue)?;
-        let seconds = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
+        let seconds = web_time::SystemTime::now()
+            .duration_since(web_time::UNIX_EPOCH)
             .map(|d| d.as_millis())
             .unwrap_or_default();
         let directory = std::env::current_dir().map_err(|e| format!("no current directory: {e}"))?;

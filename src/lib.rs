@@ -5,6 +5,7 @@
 //! - [`cli`]: the command line (`scenes`, `simulate`, `render`).
 //! - [`capture`]: off-screen frames of the lab, with or without the panel (`render`, the image tests).
 //! - [`settings`]: what the window remembers from one launch to the next.
+//! - `web` (in a browser only): the page's entry point, its link, canvas and GPU.
 
 pub mod app;
 pub mod capture;
@@ -16,3 +17,5 @@ pub mod render;
 pub mod scenes;
 pub mod settings;
 pub mod ui;
+#[cfg(target_arch = "wasm32")]
+pub mod web;

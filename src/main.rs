@@ -1,12 +1,24 @@
-//! The `particle-lab` binary: a thin wrapper over the library.
+//! The `particle-lab` binary: a thin wrapper over the library. In a browser its
+//! `main` is the page's entry point, [`particle_lab::web::start`].
 
+#[cfg(not(target_arch = "wasm32"))]
 use std::io::{self, Write};
+#[cfg(not(target_arch = "wasm32"))]
 use std::process::ExitCode;
 
+#[cfg(not(target_arch = "wasm32"))]
 use particle_lab::app::{self, AppError};
+#[cfg(not(target_arch = "wasm32"))]
 use particle_lab::cli::{self, Command, USAGE_ERROR};
+#[cfg(not(target_arch = "wasm32"))]
 use particle_lab::settings::Launch;
 
+#[cfg(target_arch = "wasm32")]
+fn main() {
+    particle_lab::web::start();
+}
+
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> ExitCode {
     // SAFETY: the first thing the process does; no other thread exists yet.
     unsafe { cli::setup::private_runtime_dir() };
@@ -46,12 +58,14 @@ fn main() -> ExitCode {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn usage_error(message: &str) -> ExitCode {
     eprintln!("particle-lab: {}", particle_lab::messages::one_line(message));
     ExitCode::from(USAGE_ERROR as u8)
 }
 
 /// Maps a command's outcome to an exit code; a closed pipe (`| head`) is not an error.
+#[cfg(not(target_arch = "wasm32"))]
 fn finish(result: io::Result<Result<(), String>>) -> ExitCode {
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,

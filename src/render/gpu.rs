@@ -50,46 +50,79 @@ pub struct Gpu {
 
 impl Gpu {
     /// A device for off-screen rendering; needs no display.
+    /// Its target is viewed in two formats (see [`Self::has_view_formats`]).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn headless() -> Result<Self, GpuError> {
-        Self::with_instance(wgpu::Instance::new(instance_descriptor(None)), None)
-    }
-
-    /// A device from `instance` that can present to `surface`, if given.
-    pub fn with_instance(
-        instance: wgpu::Instance,
-        surface: Option<&wgpu::Surface<'_>>,
-    ) -> Result<Self, GpuError> {
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: surface,
-            apply_limit_buckets: false,
-        }))
-        .map_err(|e| GpuError::NoAdapter(crate::messages::plain(&e.to_string())))?;
-        let info = adapter.get_info();
-        log::info!("GPU adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
-        // The 3D pass draws through an sRGB view of a gamma-space texture that egui
-        // also draws into; that needs view formats (missing on some GL drivers).
-        // (Spheres need no vertex storage: see `SpherePath`.)
-        let flags = adapter.get_downlevel_capabilities().flags;
-        let mut needed = wgpu::DownlevelFlags::VIEW_FORMATS;
-        if surface.is_some() {
-            needed |= wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS;
-        }
-        if !flags.contains(needed) {
+        let gpu = Self::with_instance(wgpu::Instance::new(instance_descriptor(None)), None)?;
+        if !gpu.has_view_formats(false) {
+            let info = gpu.adapter.get_info();
             return Err(GpuError::Unsupported(format!(
                 "{} ({:?}) cannot view textures in another format",
                 info.name, info.backend
             )));
         }
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("particle-lab"),
-            required_features: wgpu::Features::empty(),
-            required_limits: base_limits(&adapter).using_resolution(adapter.limits()),
-            ..Default::default()
-        }))
-        .map_err(|e| GpuError::NoDevice(crate::messages::plain(&e.to_string())))?;
+        Ok(gpu)
+    }
+
+    /// In a browser there is no device without a page's canvas (nothing blocks there
+    /// either): off-screen captures are the desktop's.
+    #[cfg(target_arch = "wasm32")]
+    pub fn headless() -> Result<Self, GpuError> {
+        Err(GpuError::NoAdapter("off-screen rendering runs on the desktop only".into()))
+    }
+
+    /// A device from `instance` that can present to `surface`, if given.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn with_instance(
+        instance: wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self, GpuError> {
+        pollster::block_on(Self::request(instance, surface))
+    }
+
+    /// As [`Self::with_instance`], awaited: in a browser the adapter and device come
+    /// only asynchronously.
+    pub async fn request(
+        instance: wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self, GpuError> {
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: surface,
+                apply_limit_buckets: false,
+            })
+            .await
+            .map_err(|e| GpuError::NoAdapter(crate::messages::plain(&e.to_string())))?;
+        let info = adapter.get_info();
+        log::info!("GPU adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
+        // The 3D pass draws through an sRGB view of a gamma-space texture that egui
+        // also draws into; that needs view formats, which WebGL2 and some GL drivers
+        // lack: there both draw into one sRGB target (see `Surfaces`). Spheres need no
+        // vertex storage either (see `SpherePath`).
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("particle-lab"),
+                required_features: wgpu::Features::empty(),
+                required_limits: base_limits(&adapter).using_resolution(adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::NoDevice(crate::messages::plain(&e.to_string())))?;
         Ok(Self { instance, adapter, device, queue })
+    }
+
+    /// Whether the 3D pass can draw through an sRGB view of a gamma-space target
+    /// (`surface`: of a window's surface texture) while egui draws into the target.
+    #[must_use]
+    pub fn has_view_formats(&self, surface: bool) -> bool {
+        let flags = self.adapter.get_downlevel_capabilities().flags;
+        let mut needed = wgpu::DownlevelFlags::VIEW_FORMATS;
+        if surface {
+            needed |= wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS;
+        }
+        flags.contains(needed)
     }
 }
 
@@ -105,6 +138,7 @@ fn base_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
 /// Why a window's surface could not be made from `instance`: most often no Vulkan
 /// driver loaded at all, which is then said as [`GpuError::NoAdapter`] says it, with the
 /// packages to install.
+#[cfg(not(target_arch = "wasm32"))]
 #[must_use]
 pub fn surface_error(instance: &wgpu::Instance, why: &str) -> GpuError {
     let options = wgpu::RequestAdapterOptions::default();
@@ -122,7 +156,12 @@ pub fn instance_descriptor(
     display: Option<Box<dyn wgpu::wgt::WgpuHasDisplayHandle>>,
 ) -> wgpu::InstanceDescriptor {
     let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
-    descriptor.backends = wgpu::Backends::PRIMARY;
+    // In a browser: WebGPU where it exists, else WebGL2 (see `crate::web`).
+    descriptor.backends = if cfg!(target_arch = "wasm32") {
+        wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL
+    } else {
+        wgpu::Backends::PRIMARY
+    };
     if let Some(display) = display {
         descriptor = descriptor.with_display_handle(display);
     }

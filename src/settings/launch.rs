@@ -41,8 +41,43 @@ impl Launch {
     /// The window's flags from the parsed command line. Which solver flags were typed
     /// is read from the process's arguments again, since clap fills in their defaults.
     pub fn from_cli(cli: &Cli) -> Result<Self, String> {
+        use clap::CommandFactory;
+        match Cli::command().try_get_matches_from(std::env::args_os()) {
+            Ok(matches) => Self::from_matches(cli, &matches),
+            // Parsed once already, so this does not happen; if it did, the flags win.
+            Err(_) => Self::from_typed(cli, [true; 3]),
+        }
+    }
+
+    /// The window's flags from `args` (the program's name first) as a command line
+    /// would give them: a link's query string in a browser. A bad one is the one line
+    /// clap gives it.
+    pub fn from_args(args: &[String]) -> Result<Self, String> {
+        use clap::{CommandFactory, FromArgMatches};
+        let first_line = |e: clap::Error| {
+            let text = e.to_string();
+            let line = text.lines().next().unwrap_or_default();
+            line.strip_prefix("error: ").unwrap_or(line).to_string()
+        };
+        let matches = Cli::command().try_get_matches_from(args).map_err(first_line)?;
+        let cli = Cli::from_arg_matches(&matches).map_err(first_line)?;
+        if cli.command.is_some() {
+            return Err("a link opens the lab; it runs no command".into());
+        }
+        Self::from_matches(&cli, &matches)
+    }
+
+    fn from_matches(cli: &Cli, matches: &clap::ArgMatches) -> Result<Self, String> {
+        use clap::parser::ValueSource;
+        let typed = ["solver", "substeps", "integrator"]
+            .map(|id| matches.value_source(id) == Some(ValueSource::CommandLine));
+        Self::from_typed(cli, typed)
+    }
+
+    /// `typed`: whether `--solver`, `--substeps` and `--integrator` were typed (as
+    /// opposed to filled in with their defaults).
+    fn from_typed(cli: &Cli, typed: [bool; 3]) -> Result<Self, String> {
         let solver = cli.solver.settings()?;
-        let typed = typed_solver_flags();
         Ok(Self {
             scene: cli.scene.clone(),
             scene_file: cli.scene_file.clone(),
@@ -76,19 +111,6 @@ impl Launch {
             (self.integrator.is_some(), "--integrator"),
         ];
         flags.into_iter().filter(|(typed, _)| *typed).map(|(_, flag)| flag).collect()
-    }
-}
-
-/// Whether `--solver`, `--substeps` and `--integrator` were typed on this process's
-/// command line (as opposed to filled in with their defaults).
-fn typed_solver_flags() -> [bool; 3] {
-    use clap::CommandFactory;
-    use clap::parser::ValueSource;
-    match Cli::command().try_get_matches_from(std::env::args_os()) {
-        Ok(matches) => ["solver", "substeps", "integrator"]
-            .map(|id| matches.value_source(id) == Some(ValueSource::CommandLine)),
-        // Parsed once already, so this does not happen; if it did, the flags win.
-        Err(_) => [true; 3],
     }
 }
 

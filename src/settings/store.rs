@@ -7,6 +7,7 @@ use std::time::Duration;
 use web_time::Instant;
 
 use super::format::Settings;
+use super::medium;
 
 /// The settings file's name inside the config directory.
 pub const FILE_NAME: &str = "settings.json";
@@ -41,10 +42,16 @@ pub struct Store {
 impl Store {
     /// The file in the platform's config directory (on Linux `$XDG_CONFIG_HOME`, else
     /// `~/.config`, then `particle-lab/settings.json`); none if there is no home.
+    /// In a browser: the page's local storage, under `particle-lab/settings.json`.
     #[must_use]
     pub fn from_platform() -> Self {
-        let dirs = directories::ProjectDirs::from("", "", "particle-lab");
-        Self::with_path(dirs.map(|dirs| dirs.config_dir().join(FILE_NAME)))
+        #[cfg(target_arch = "wasm32")]
+        return Self::with_path(Some(Path::new("particle-lab").join(FILE_NAME)));
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let dirs = directories::ProjectDirs::from("", "", "particle-lab");
+            Self::with_path(dirs.map(|dirs| dirs.config_dir().join(FILE_NAME)))
+        }
     }
 
     /// The file `FILE_NAME` in `directory` (for tests).
@@ -76,10 +83,10 @@ impl Store {
     /// cannot be used is moved aside (replacing an older one there; a link is moved, not
     /// what it points to) and the warning says so; nothing here panics or exits.
     pub fn load(&mut self) -> Loaded {
-        use crate::reading::{self, ReadError};
+        use crate::reading::ReadError;
         let Some(path) = &self.path else { return Loaded::Missing };
         let shown = crate::messages::path(path);
-        let parsed = match reading::read_limited(path, MAX_FILE_BYTES) {
+        let parsed = match medium::read(path, MAX_FILE_BYTES) {
             Ok(bytes) => std::str::from_utf8(&bytes)
                 .map_err(|e| format!("not UTF-8 text: {e}"))
                 .and_then(Settings::parse),
@@ -101,9 +108,9 @@ impl Store {
             }
             Err(reason) => {
                 let aside = Self::aside_path(path);
-                let whereto = match std::fs::rename(path, &aside) {
+                let whereto = match medium::set_aside(path, &aside) {
                     Ok(()) => format!("moved it to {}", crate::messages::path(&aside)),
-                    Err(error) => format!("could not move it aside ({})", crate::messages::io_reason(&error)),
+                    Err(reason) => format!("could not move it aside ({reason})"),
                 };
                 let reason = crate::messages::one_line(&reason);
                 Loaded::Unusable {
@@ -124,22 +131,8 @@ impl Store {
         if self.written.as_ref() == Some(settings) {
             return Ok(false);
         }
-        let write = || -> std::io::Result<()> {
-            if let Some(directory) = path.parent() {
-                std::fs::create_dir_all(directory)?;
-            }
-            let mut name = path.file_name().unwrap_or_default().to_os_string();
-            name.push(".tmp");
-            let temporary = path.with_file_name(name);
-            std::fs::write(&temporary, settings.to_text())?;
-            std::fs::rename(&temporary, path)
-        };
-        write().map_err(|e| {
-            format!(
-                "cannot save the settings to {}: {}",
-                crate::messages::path(path),
-                crate::messages::io_reason(&e)
-            )
+        medium::write(path, &settings.to_text()).map_err(|reason| {
+            format!("cannot save the settings to {}: {reason}", crate::messages::path(path))
         })?;
         self.written = Some(settings.clone());
         Ok(true)

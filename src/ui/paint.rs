@@ -28,8 +28,11 @@ pub struct Painter {
 }
 
 impl Painter {
-    /// Builds both renderers for targets of `format` (a non-sRGB format; the 3D pass
-    /// draws through its sRGB view), drawing spheres the way `sphere_path` says.
+    /// Builds both renderers for targets of `format`, drawing spheres the way
+    /// `sphere_path` says. For a gamma-space `format` the 3D pass draws through the
+    /// target's sRGB view and egui into the target itself (egui blends in gamma space,
+    /// as it prefers); for an sRGB `format` (a GPU without view formats, WebGL2) both
+    /// draw into the one sRGB target.
     #[must_use]
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, sphere_path: SpherePath) -> Self {
         // No dithering: the panel has no gradients, and on a software GPU it costs
@@ -39,7 +42,7 @@ impl Painter {
             renderer: Renderer::new(device, format.add_srgb_suffix(), DEFAULT_SAMPLE_COUNT, sphere_path),
             format,
             links: Vec::new(),
-            egui: egui_wgpu::Renderer::new(device, format.remove_srgb_suffix(), options),
+            egui: egui_wgpu::Renderer::new(device, format, options),
             builder: FrameBuilder::default(),
         }
     }
