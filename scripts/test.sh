@@ -6,8 +6,8 @@ cd "$(dirname "$0")/.."
 
 # Debian packages: a software Vulkan driver for headless rendering, a virtual X
 # display with a window manager (openbox, wmctrl) and xdotool for driving the real
-# window, ImageMagick for screenshots of the screen.
-packages=(mesa-vulkan-drivers libvulkan1 xvfb xdotool openbox wmctrl imagemagick)
+# window, ImageMagick for screenshots of the screen, Chromium for the web build.
+packages=(mesa-vulkan-drivers libvulkan1 xvfb xdotool openbox wmctrl imagemagick chromium)
 missing=()
 for package in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
@@ -23,3 +23,9 @@ fi
 # Every target: unit, integration and end-to-end tests, and the benchmarks once each
 # in test mode (so they are known to build and run).
 cargo test --release --all-targets
+
+# The web build (issue 20): built as `bash scripts/web.sh build` builds it (which
+# installs its own toolchain), then every scene opened by link in headless Chromium on
+# WebGPU and WebGL2 and compared with the desktop's `simulate`.
+bash scripts/web.sh build
+node tests/web/page.test.mjs target/release/particle-lab web/dist

@@ -5,6 +5,7 @@
 
 #[cfg(not(target_arch = "wasm32"))]
 use crate::scenes::snapshot::Snapshot;
+#[cfg(not(target_arch = "wasm32"))]
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Duration;
@@ -85,7 +86,7 @@ pub struct App {
     pending: std::rc::Rc<std::cell::RefCell<Option<Result<WindowState, String>>>>,
     /// In a browser: what the page shows besides the canvas (the state element).
     #[cfg(target_arch = "wasm32")]
-    pub page: crate::web::Page,
+    pub page: crate::ui::page::Page,
 }
 
 /// How often the frame timings go to the log at debug level (`RUST_LOG=particle_lab=debug`),
@@ -104,6 +105,7 @@ struct WindowState {
     painter: Painter,
     egui: egui::Context,
     egui_winit: egui_winit::State,
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     screenshot_target: Option<OffscreenTarget>,
     /// How a frame reaches the surface.
     present: Present,
@@ -137,7 +139,7 @@ impl App {
             #[cfg(target_arch = "wasm32")]
             pending: Default::default(),
             #[cfg(target_arch = "wasm32")]
-            page: crate::web::Page::default(),
+            page: crate::ui::page::Page::default(),
         }
     }
 
@@ -184,11 +186,12 @@ impl ApplicationHandler for App {
             match pending {
                 Some(Ok(state)) => {
                     log::info!("page open: scene {}", self.lab.entry.info.name);
+                    crate::ui::page::set_window(state.window.clone());
                     state.window.request_redraw();
                     self.window = Some(state);
                 }
                 Some(Err(message)) => {
-                    crate::web::show_failure(&message);
+                    crate::ui::page::show_failure(&message);
                     self.fail(event_loop, message);
                 }
                 None => {}
@@ -223,12 +226,18 @@ impl ApplicationHandler for App {
                 state.window.request_redraw();
             }
             WindowEvent::RedrawRequested => {
+                #[cfg(target_arch = "wasm32")]
+                crate::ui::page::open_picked(&mut self.lab);
                 if let Err(message) = state.frame(&mut self.lab, &mut self.ui) {
                     self.fail(event_loop, message);
                     return;
                 }
                 #[cfg(target_arch = "wasm32")]
-                self.page.frame_drawn(&mut self.lab, crate::web::gpu_name(&state.gpu));
+                self.page.frame_drawn(
+                    &mut self.lab,
+                    &self.ui.params.sliders,
+                    crate::ui::page::gpu_name(&state.gpu),
+                );
                 if self.timing_logged.elapsed() >= TIMING_LOG_INTERVAL {
                     self.timing_logged = Instant::now();
                     let stats = self.lab.stats;
@@ -345,7 +354,7 @@ impl WindowState {
         use winit::platform::web::WindowAttributesExtWebSys;
         let attributes = Window::default_attributes()
             .with_title("particle-lab")
-            .with_canvas(Some(crate::web::canvas()?))
+            .with_canvas(Some(crate::ui::page::canvas()?))
             .with_prevent_default(true)
             .with_focusable(true);
         let window =
@@ -354,7 +363,7 @@ impl WindowState {
             })?);
         wasm_bindgen_futures::spawn_local(async move {
             let result = async {
-                let instance = crate::web::instance().await;
+                let instance = crate::ui::page::instance().await;
                 let surface = instance.create_surface(window.clone()).map_err(|e| {
                     format!("cannot draw into the page: {}", crate::messages::plain(&e.to_string()))
                 })?;
@@ -580,6 +589,14 @@ impl WindowState {
                 self.surface.configure(device, &self.config);
             }
         }
+        // In a browser the canvas still holds this frame until the page's task ends: it
+        // is the screenshot, downloaded.
+        #[cfg(target_arch = "wasm32")]
+        if std::mem::take(&mut lab.requests.screenshot) {
+            lab.status = crate::ui::page::download_canvas(&lab.entry.info.name);
+            log::info!("{}", lab.status);
+        }
+        #[cfg(not(target_arch = "wasm32"))]
         if std::mem::take(&mut lab.requests.screenshot) {
             let ui = UiFrame { primitives: &primitives, pixels_per_point: ppp };
             lab.status = match self.screenshot(lab, target_size, viewport, ui) {
@@ -594,6 +611,7 @@ impl WindowState {
 
     /// Draws the frame again into an off-screen texture and writes it as a PNG in the
     /// current directory.
+    #[cfg(not(target_arch = "wasm32"))]
     fn screenshot(
         &mut self,
         lab: &Lab,

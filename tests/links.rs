@@ -6,7 +6,8 @@
 use std::process::Command;
 
 use particle_lab::physics::{Integrator, SolverKind};
-use particle_lab::settings::{self, Launch, Link, Store};
+use particle_lab::settings::{self, Launch, Store};
+use particle_lab::ui::lab::Link;
 
 fn pairs(query: &str) -> Vec<(String, String)> {
     query

@@ -129,9 +129,9 @@ impl Gpu {
 /// The least a device is asked for: the downlevel defaults, or WebGL2's (no storage
 /// buffers, the spheres drawn as instances) for an adapter without vertex storage.
 fn base_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
-    match crate::render::SpherePath::for_adapter(adapter) {
-        crate::render::SpherePath::Storage => wgpu::Limits::downlevel_defaults(),
-        crate::render::SpherePath::Instanced => wgpu::Limits::downlevel_webgl2_defaults(),
+    match super::renderer::SpherePath::for_adapter(adapter) {
+        super::renderer::SpherePath::Storage => wgpu::Limits::downlevel_defaults(),
+        super::renderer::SpherePath::Instanced => wgpu::Limits::downlevel_webgl2_defaults(),
     }
 }
 

@@ -149,7 +149,7 @@ pub static SHIPPED: &[(&str, &str)] = &[
 ];
 
 /// Largest scene file read (bytes): far more than any hand-written scene.
-const MAX_FILE_BYTES: u64 = 4 << 20;
+pub const MAX_FILE_BYTES: u64 = 4 << 20;
 
 /// A scene file that could not be read or built: where and why.
 #[derive(Clone, Debug, PartialEq)]

@@ -30,12 +30,11 @@
 //!
 //! Rooms: `format` (the file's fields, checked and described), `store` (reading,
 //! writing and setting aside the file), `medium` (where its text lives: a file, or a
-//! browser's local storage), `link` (a web page's query string as the command line), `launch` (the command line over the saved
+//! browser's local storage), `launch` (the command line over the saved
 //! settings, and the lab the window opens on).
 
 mod format;
 mod launch;
-mod link;
 mod medium;
 mod store;
 
@@ -46,5 +45,4 @@ pub use format::{
     VERSION, ViewSettings, WindowSize,
 };
 pub use launch::{Launch, Opened, open};
-pub use link::Link;
 pub use store::{AUTOSAVE_INTERVAL, FILE_NAME, Loaded, MAX_FILE_BYTES, Store};

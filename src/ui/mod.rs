@@ -7,6 +7,8 @@
 //! - `views/` one struct per panel or menu, with its own drafts;
 //! - `keys` the controls table and its handler; `layout` what the settings save of the
 //!   panel; `plot` line plots; `style` colours and number formats;
+//! - `page` (in a browser only) the web page around the canvas: its GPU, files,
+//!   downloads, link and state element;
 //! - `paint` the 3D frame and the labels over it;
 //! - `compare` the Compare copy; `lab/` the model: scene, world, clocks, history.
 //!
@@ -16,6 +18,8 @@ pub mod compare;
 pub mod keys;
 pub mod lab;
 pub mod layout;
+#[cfg(target_arch = "wasm32")]
+pub mod page;
 pub mod paint;
 pub mod plot;
 pub mod shell;

@@ -4,7 +4,9 @@
 //! Its rooms: `model` (the `Lab` and its scene), `clock` (stepping in real time),
 //! `grab` (dragging and picking), `forces` (the inspector's forces and the arrows'
 //! scale), `camera` (framing, side view, follow), `bars` (energy bars), `tape`,
-//! `snapshots`, `scene_file` (open and hot-reload a scene file, with `watch`); and two leaves every room may read, `limits` (the constants) and
+//! `snapshots`, `scene_file` (open and hot-reload a scene file, with `watch`), `link`
+//! (a web page's query string as the window's command line, and the link of what is on
+//! screen); and two leaves every room may read, `limits` (the constants) and
 //! `records` (plain data). Only this facade re-exports; no room imports it.
 
 mod bars;
@@ -13,6 +15,7 @@ mod clock;
 mod forces;
 mod grab;
 pub mod limits;
+mod link;
 mod model;
 pub mod records;
 mod scene_file;
@@ -24,5 +27,6 @@ pub use crate::physics::inspect::CONSTRAINT_FORCE;
 pub use forces::round_scale;
 pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;
+pub use link::Link;
 pub use model::Lab;
 pub use records::{EnergyBars, EnergySample, Grab, Requests, Stats};

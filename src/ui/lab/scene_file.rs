@@ -28,6 +28,24 @@ impl Lab {
         }
     }
 
+    /// Opens a scene file's text that came from elsewhere than a path (a browser's file
+    /// input); `name` names it in messages. As [`Self::open_scene_file`], unwatched.
+    pub fn open_scene_text(&mut self, name: &str, text: &str) -> bool {
+        match file::load_text(text, name, None) {
+            Ok(entry) => {
+                log::info!("scene file opened: {name}");
+                self.switch_scene(entry);
+                self.scene_file = None;
+                self.status = format!("Opened {name}");
+                true
+            }
+            Err(error) => {
+                self.report(&error);
+                false
+            }
+        }
+    }
+
     /// Starts watching the running scene's file, if it was read from one.
     pub fn watch_scene_file(&mut self) {
         let Some(path) = file::definition(self.entry).and_then(|d| d.path().map(Path::to_path_buf)) else {

@@ -56,6 +56,29 @@ impl Lab {
         };
     }
 
+    /// Loads a snapshot's text that came from elsewhere than a path (a browser's file
+    /// input), named `name` in messages; a bad one changes nothing, as
+    /// [`Self::load_snapshot_from`].
+    pub fn load_snapshot_text(&mut self, name: &str, text: &str) {
+        let name = crate::messages::one_line(name);
+        let loaded = Snapshot::from_json(text).and_then(|snapshot| self.load_snapshot(&snapshot));
+        self.status = match loaded {
+            Ok(()) => {
+                let world = self.scene.world();
+                format!("Loaded {name} (step {}, t = {:.3} s)", world.steps(), world.time())
+            }
+            Err(error) => format!("{name}: {}", crate::messages::one_line(&error)),
+        };
+        log::info!("{}", self.status);
+    }
+
+    /// The snapshot of now as its file's name and text, for a browser to download.
+    pub fn snapshot_download(&self) -> Result<(String, String), String> {
+        let snapshot = self.snapshot()?;
+        let world = self.scene.world();
+        Ok((format!("particle-lab-{}-step{}.json", self.entry.info.name, world.steps()), snapshot.to_json()))
+    }
+
     /// Loads the snapshot at `path`; a bad file leaves the running scene as it was
     /// and the status line says what is wrong.
     pub fn load_snapshot_from(&mut self, path: &std::path::Path) {

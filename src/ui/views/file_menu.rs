@@ -1,8 +1,11 @@
 //! The File menu: open a scene file, save and load snapshots, quick save. Open and
 //! Save go through the platform's file dialog (the `rfd` crate: the desktop portal,
 //! else zenity); the typed paths stay below as the fallback where there is no dialog
-//! (a bare X server, a remote session), and for those who prefer typing.
+//! (a bare X server, a remote session), and for those who prefer typing. In a browser
+//! files come from the browser's file chooser and snapshots go out as downloads.
+//! Copy link gives the link that opens the experiment on screen in the web lab.
 
+#[cfg(not(target_arch = "wasm32"))]
 use std::path::{Path, PathBuf};
 
 use egui::containers::menu::{MenuButton, MenuConfig};
@@ -30,9 +33,9 @@ impl Default for FileMenu {
 }
 
 /// What a file dialog gave.
+#[cfg(not(target_arch = "wasm32"))]
 enum Picked {
-    /// A path the user chose (no dialog gives one in a browser yet).
-    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+    /// A path the user chose.
     Path(PathBuf),
     /// Cancelled, or no dialog could be shown.
     Nothing,
@@ -51,13 +54,6 @@ fn dialog(kind: &str, extension: &str, folder: &Path, save: bool) -> Picked {
     }
 }
 
-/// In a browser rfd has only its asynchronous dialog, which this synchronous menu cannot
-/// wait for: no dialog opens there yet (issue 20 gives the page its own file input).
-#[cfg(target_arch = "wasm32")]
-fn dialog(_kind: &str, _extension: &str, _folder: &Path, _save: bool) -> Picked {
-    Picked::Nothing
-}
-
 /// The status line's word when a dialog gave nothing.
 pub const NO_DIALOG: &str =
     "No file chosen (where no file dialog can open, type the path in the File menu instead)";
@@ -68,42 +64,105 @@ impl FileMenu {
     pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab, layout: &mut PanelLayout) {
         let config = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
         MenuButton::new("File").config(config).ui(ui, |ui| {
-            if ui.button("Open scene file…").on_hover_text("A TOML scene file, in the file dialog").clicked()
+            #[cfg(target_arch = "wasm32")]
             {
-                ui.close();
-                match dialog("scene file", "toml", Path::new(SCENE_FOLDER), false) {
-                    Picked::Path(path) => {
-                        lab.open_scene_file(&path);
-                    }
-                    Picked::Nothing => lab.status = NO_DIALOG.into(),
-                }
-            }
-            ui.label("or type its path:");
-            let field = ui.add(
-                egui::TextEdit::singleline(&mut self.scene_path)
-                    .hint_text("assets/scenes/cloth.toml")
-                    .desired_width(260.0),
-            );
-            let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-            let path = self.scene_path.trim().to_string();
-            if (ui.button("Open").clicked() || entered)
-                && !path.is_empty()
-                && lab.open_scene_file(Path::new(&path))
-            {
-                ui.close();
-            }
-            if let Some((_, Some(path))) = lab.scene.source() {
+                Self::page_items(ui, lab);
                 ui.separator();
-                ui.label(format!("Watching {} for changes", path.display()));
+                Self::quick_save_items(ui, lab, layout);
+                ui.separator();
+                Self::link_item(ui, lab);
             }
-            ui.separator();
-            self.snapshot_items(ui, lab, layout);
+            #[cfg(not(target_arch = "wasm32"))]
+            {
+                self.scene_items(ui, lab);
+                ui.separator();
+                self.snapshot_items(ui, lab);
+                ui.separator();
+                Self::quick_save_items(ui, lab, layout);
+                ui.separator();
+                Self::link_item(ui, lab);
+            }
         });
+    }
+
+    /// In a browser: files come from the visitor's disk through the browser's file
+    /// chooser, and snapshots go back as downloads.
+    #[cfg(target_arch = "wasm32")]
+    fn page_items(ui: &mut egui::Ui, lab: &mut Lab) {
+        if ui.button("Open scene file…").on_hover_text("A TOML scene file from your disk").clicked() {
+            crate::ui::page::pick_file(crate::ui::page::FileKind::Scene);
+            ui.close();
+        }
+        if ui.button("Download snapshot").on_hover_text("The whole state, as a JSON file").clicked() {
+            lab.status = match lab.snapshot_download().and_then(|(name, text)| {
+                crate::ui::page::download(&name, "application/json", text.as_bytes()).map(|()| name)
+            }) {
+                Ok(name) => format!("Downloaded {name}"),
+                Err(error) => error,
+            };
+            ui.close();
+        }
+        if ui.button("Open snapshot…").on_hover_text("A snapshot JSON file from your disk").clicked() {
+            crate::ui::page::pick_file(crate::ui::page::FileKind::Snapshot);
+            ui.close();
+        }
+    }
+
+    /// Copy link: the query string that opens this experiment as it is now.
+    fn link_item(ui: &mut egui::Ui, lab: &mut Lab) {
+        let hover = "A link that opens this scene with its parameters, solver and integrator in the web \
+                     version of the lab";
+        if ui.button("Copy link").on_hover_text(hover).clicked() {
+            let query = crate::ui::lab::Link::of(lab, false);
+            #[cfg(target_arch = "wasm32")]
+            {
+                lab.status = format!("Link copied: {}", crate::ui::page::copy_link(&query));
+            }
+            #[cfg(not(target_arch = "wasm32"))]
+            {
+                ui.ctx().copy_text(query.clone());
+                lab.status = format!("Link (after the web page's address): {query}");
+            }
+            ui.close();
+        }
+    }
+
+    /// The scene items: Open… through the dialog, and the typed path.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn scene_items(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
+        if ui.button("Open scene file…").on_hover_text("A TOML scene file, in the file dialog").clicked() {
+            ui.close();
+            match dialog("scene file", "toml", Path::new(SCENE_FOLDER), false) {
+                Picked::Path(path) => {
+                    lab.open_scene_file(&path);
+                }
+                Picked::Nothing => lab.status = NO_DIALOG.into(),
+            }
+        }
+        ui.label("or type its path:");
+        let field = ui.add(
+            egui::TextEdit::singleline(&mut self.scene_path)
+                .hint_text("assets/scenes/cloth.toml")
+                .desired_width(260.0),
+        );
+        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        let path = self.scene_path.trim().to_string();
+        if (ui.button("Open").clicked() || entered)
+            && !path.is_empty()
+            && lab.open_scene_file(Path::new(&path))
+        {
+            ui.close();
+        }
+        if let Some((_, Some(path))) = lab.scene.source() {
+            ui.separator();
+            ui.label(format!("Watching {} for changes", path.display()));
+        }
     }
 
     /// The snapshot items: Save as… and Open… through the dialog, the typed path
     /// with Save and Load, and the quick save keys.
-    fn snapshot_items(&mut self, ui: &mut egui::Ui, lab: &mut Lab, layout: &mut PanelLayout) {
+    #[cfg(not(target_arch = "wasm32"))]
+    fn snapshot_items(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
         ui.horizontal(|ui| {
             if ui.button("Save snapshot as…").clicked() {
                 ui.close();
@@ -145,7 +204,10 @@ impl FileMenu {
                 ui.close();
             }
         });
-        ui.separator();
+    }
+
+    /// Quick save and back to it (F5, F9).
+    fn quick_save_items(ui: &mut egui::Ui, lab: &mut Lab, layout: &mut PanelLayout) {
         if ui.button("Quick save (F5)").clicked() {
             keys::run(Command::QuickSave, lab, layout);
             ui.close();

@@ -1,11 +1,13 @@
 //! A link to an experiment: the web page's query string, read as the window's command
 //! line. `?scene=bridge&set=load_x=1.5&set=g=5&solver=paper&integrator=rk4` is
 //! `--scene=bridge --set=load_x=1.5 --set=g=5 --solver=paper --integrator=rk4`, so it is
-//! checked by the same parser, and refused with the same one-line messages, as those
-//! flags typed. Besides the command line's keys a link has the page's own: `steps=N`
+//! checked by the same parser (`settings::Launch::from_args`), and refused with the same
+//! one-line messages, as those flags typed. Besides the command line's keys a link has the page's own: `steps=N`
 //! runs N physics steps at once and pauses there (a link can show a moment, and a
 //! test can compare it with `simulate --steps N`), and `gpu=webgl2` leaves WebGPU out.
 //! [`Link::of`] writes the link of what is on screen.
+
+use super::model::Lab;
 
 /// The keys a link may have: the window's flags, and the page's own.
 const LINK_KEYS: &[&str] = &["scene", "set", "solver", "integrator", "substeps", "fresh", "steps", "gpu"];
@@ -70,7 +72,7 @@ fn encode(text: &str) -> String {
 impl Link {
     /// `steps=N`: runs N physics steps at once, as `simulate --steps N` does, and
     /// pauses there. Without it, nothing.
-    pub fn run_steps(&self, lab: &mut crate::ui::Lab) {
+    pub fn run_steps(&self, lab: &mut Lab) {
         if let Some(steps) = self.steps {
             lab.paused = false;
             lab.run_steps_recorded(steps);
@@ -82,7 +84,7 @@ impl Link {
     /// parameter, the solver, its substeps and the integrator; with `steps`, paused at
     /// the step it is at.
     #[must_use]
-    pub fn of(lab: &crate::ui::Lab, with_steps: bool) -> String {
+    pub fn of(lab: &Lab, with_steps: bool) -> String {
         let solver = lab.solver();
         let mut pairs = vec![("scene".to_string(), lab.entry.info.name.to_string())];
         // f32's Display is the shortest text that reads back as the same value.

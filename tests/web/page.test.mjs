@@ -1,0 +1,262 @@
+// The web build in headless Chromium (issue 20), on WebGPU and on WebGL2:
+// - every compiled scene opened through a link with steps=N reaches step N with the
+//   state hash `simulate --steps N` prints on the desktop (the same bits);
+// - the page drew the scene and the panel (pixels of a screenshot, not "no error");
+// - dragging a slider changes the parameter, and the Scene menu switches scene;
+// - a bad link shows its one-line message in the status line and the lab still opens.
+//
+// Usage: node tests/web/page.test.mjs BINARY DIST [SHOTS]
+//   BINARY: the native particle-lab (for `scenes` and `simulate`); DIST: web/dist;
+//   SHOTS: a folder to keep each page's screenshot in (optional).
+// Prints one line per check and exits non-zero on any failure.
+
+import { spawn, execFileSync } from 'node:child_process';
+import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { gzipSync, inflateSync } from 'node:zlib';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const [binary, dist, shots] = process.argv.slice(2);
+if (!binary || !dist) {
+  console.error('usage: node tests/web/page.test.mjs BINARY DIST [SHOTS]');
+  process.exit(2);
+}
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+const VIEWPORT = { width: 1280, height: 800 };
+// The steps each scene is run to: enough for the physics to have done something
+// (contacts, links, rounds in flight), few enough for a software GPU's page.
+const STEPS = 240;
+// Flags that draw here without a GPU (WEB.md): ANGLE on SwiftShader for WebGL2, and
+// Dawn on SwiftShader's Vulkan for WebGPU.
+const BASE_FLAGS = ['--no-sandbox', '--disable-background-networking', '--disable-component-update',
+  '--disable-sync', '--no-first-run', '--disable-quic', '--enable-unsafe-swiftshader', '--use-angle=swiftshader'];
+const WEBGPU_FLAGS = ['--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader',
+  '--use-webgpu-adapter=swiftshader'];
+
+let failures = 0;
+function check(ok, what, detail = '') {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}${detail ? ': ' + detail : ''}`);
+  if (!ok) failures += 1;
+}
+
+// ------------------------------------------------------------------ the desktop's answers
+
+const scenes = JSON.parse(execFileSync(binary, ['scenes', '--format', 'json'], { encoding: 'utf8' }))
+  .map((s) => s.name);
+function nativeHash(scene, steps) {
+  const out = execFileSync(binary, ['simulate', '--scene', scene, '--steps', String(steps)],
+    { encoding: 'utf8', maxBuffer: 1 << 30 });
+  const lines = out.trim().split('\n');
+  const last = JSON.parse(lines[lines.length - 1]);
+  if (last.step !== steps) throw new Error(`simulate ended at step ${last.step}`);
+  return last.hash;
+}
+
+// ------------------------------------------------------------------ a PNG, decoded
+
+// Decodes an 8-bit RGB or RGBA PNG (what Chromium's screenshots are) into RGBA.
+function decodePng(buffer) {
+  let offset = 8;
+  let width = 0, height = 0, channels = 0;
+  const data = [];
+  while (offset < buffer.length) {
+    const length = buffer.readUInt32BE(offset);
+    const type = buffer.toString('ascii', offset + 4, offset + 8);
+    const body = buffer.subarray(offset + 8, offset + 8 + length);
+    if (type === 'IHDR') {
+      width = body.readUInt32BE(0);
+      height = body.readUInt32BE(4);
+      const [depth, colour] = [body[8], body[9]];
+      if (depth !== 8 || (colour !== 2 && colour !== 6)) throw new Error(`PNG depth ${depth} colour ${colour}`);
+      channels = colour === 6 ? 4 : 3;
+    } else if (type === 'IDAT') {
+      data.push(body);
+    }
+    offset += 12 + length;
+  }
+  const raw = inflateSync(Buffer.concat(data));
+  const stride = width * channels;
+  const out = Buffer.alloc(width * height * 4);
+  const line = Buffer.alloc(stride);
+  const previous = Buffer.alloc(stride);
+  for (let y = 0; y < height; y++) {
+    const filter = raw[y * (stride + 1)];
+    const source = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+    for (let i = 0; i < stride; i++) {
+      const a = i >= channels ? line[i - channels] : 0;
+      const b = previous[i];
+      const c = i >= channels ? previous[i - channels] : 0;
+      let value = source[i];
+      if (filter === 1) value += a;
+      else if (filter === 2) value += b;
+      else if (filter === 3) value += (a + b) >> 1;
+      else if (filter === 4) {
+        const p = a + b - c;
+        const [pa, pb, pc] = [Math.abs(p - a), Math.abs(p - b), Math.abs(p - c)];
+        value += pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+      }
+      line[i] = value & 255;
+    }
+    for (let x = 0; x < width; x++) {
+      for (let k = 0; k < 4; k++) {
+        out[(y * width + x) * 4 + k] = k < channels ? line[x * channels + k] : 255;
+      }
+    }
+    line.copy(previous);
+  }
+  return { width, height, pixels: out };
+}
+
+// Share of pixels in the rectangle that differ from `colour` by more than 40 in a
+// channel, and how many distinct colours (quantised) it has.
+function region(image, [x0, y0, x1, y1], colour) {
+  let differing = 0, total = 0;
+  const colours = new Set();
+  for (let y = y0; y < y1; y++) {
+    for (let x = x0; x < x1; x++) {
+      const i = (y * image.width + x) * 4;
+      const [r, g, b] = [image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]];
+      total += 1;
+      if (Math.abs(r - colour[0]) > 40 || Math.abs(g - colour[1]) > 40 || Math.abs(b - colour[2]) > 40) differing++;
+      colours.add(((r >> 4) << 8) | ((g >> 4) << 4) | (b >> 4));
+    }
+  }
+  return { share: differing / total, colours: colours.size };
+}
+
+// ------------------------------------------------------------------ the page
+
+const server = spawn('python3', [join(root, 'scripts', 'serve.py'), dist, '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+const address = await new Promise((resolve, reject) => {
+  server.stdout.once('data', (chunk) => {
+    const match = /http:\/\/[^ \n]+\//.exec(String(chunk));
+    match ? resolve(match[0]) : reject(new Error(`server said: ${chunk}`));
+  });
+  server.once('exit', (code) => reject(new Error(`the server exited (${code})`)));
+});
+
+async function state(page) {
+  return page.evaluate(() => {
+    const d = document.getElementById('state').dataset;
+    return { ...d, failure: document.getElementById('failure').textContent };
+  });
+}
+
+async function open(page, query, steps) {
+  const started = Date.now();
+  await page.goto(address + query);
+  await page.waitForFunction(
+    (n) => document.getElementById('state').dataset.step === String(n)
+      || document.getElementById('failure').className === 'shown',
+    steps, { timeout: 120000 });
+  return { ms: Date.now() - started, ...(await state(page)) };
+}
+
+// A click as a hand makes it: the pointer arrives, then presses and lets go (egui
+// takes a press without a move before it as a press where the pointer last was).
+async function click(page, x, y) {
+  await page.mouse.move(x, y, { steps: 3 });
+  await page.waitForTimeout(100);
+  await page.mouse.down();
+  await page.waitForTimeout(50);
+  await page.mouse.up();
+}
+
+async function screenshot(page, name) {
+  const png = await page.screenshot();
+  if (shots) {
+    mkdirSync(shots, { recursive: true });
+    writeFileSync(join(shots, `${name}.png`), png);
+  }
+  return decodePng(png);
+}
+
+// Small: the wasm at most 4 MB gzipped.
+const wasm = readFileSync(join(dist, 'particle-lab_bg.wasm'));
+const gzipped = gzipSync(wasm, { level: 9 }).length;
+check(gzipped <= 4 * 1024 * 1024, 'the wasm is at most 4 MB gzipped',
+  `${(wasm.length / 1048576).toFixed(2)} MB, ${(gzipped / 1048576).toFixed(2)} MB gzipped`);
+
+const hashes = {};
+for (const scene of scenes) hashes[scene] = nativeHash(scene, STEPS);
+
+const PANEL = [0, 30, 320, 400];
+const VIEW = [340, 30, 1270, 790];
+const BACKGROUND = [60, 63, 72];
+
+try {
+  for (const gpu of ['webgpu', 'webgl2']) {
+    const browser = await chromium.launch({
+      executablePath: '/usr/bin/chromium', headless: true,
+      args: gpu === 'webgpu' ? [...BASE_FLAGS, ...WEBGPU_FLAGS] : BASE_FLAGS,
+    });
+    try {
+      const page = await browser.newPage({ viewport: VIEWPORT });
+      const errors = [];
+      page.on('pageerror', (e) => errors.push(e.message));
+      page.on('console', (m) => { if (m.type() === 'error' && !m.text().includes('404')) errors.push(m.text()); });
+      let first = true;
+      for (const scene of scenes) {
+        const got = await open(page, `?scene=${scene}&steps=${STEPS}&gpu=${gpu}`, STEPS);
+        if (first) {
+          console.log(`     ${gpu}: first frame of the first page in ${got.ms} ms`);
+          check(got.ms < 30000, `${gpu}: the first page draws within 30 s`, `${got.ms} ms`);
+          first = false;
+        }
+        check(got.failure === '', `${gpu} ${scene}: the page runs`, got.failure);
+        check(got.gpu === gpu, `${gpu} ${scene}: drawn with ${gpu}`, got.gpu);
+        check(got.hash === hashes[scene], `${gpu} ${scene}: step ${STEPS} hash equals simulate's`,
+          `${got.hash} vs ${hashes[scene]}`);
+        check(got.paused === 'true', `${gpu} ${scene}: paused at the moment`);
+        const image = await screenshot(page, `${gpu}-${scene}`);
+        const panel = region(image, PANEL, [27, 27, 27]);
+        const view = region(image, VIEW, BACKGROUND);
+        check(panel.colours >= 8 && panel.share > 0.02, `${gpu} ${scene}: the panel is drawn`,
+          `${panel.colours} colours, ${(panel.share * 100).toFixed(1)}% text and widgets`);
+        check(view.share > 0.01 && view.colours >= 16, `${gpu} ${scene}: the scene is drawn`,
+          `${(view.share * 100).toFixed(1)}% off the background, ${view.colours} colours`);
+      }
+
+      // A slider: drag bridge's g to the right; the parameter rises.
+      await open(page, `?scene=bridge&steps=1&gpu=${gpu}`, 1);
+      const before = await state(page);
+      const [left, top, , bottom] = JSON.parse(before.sliders).g;
+      const y = (top + bottom) / 2;
+      await page.mouse.move(left + 20, y);
+      await page.mouse.down();
+      for (let step = 1; step <= 6; step++) await page.mouse.move(left + 20 + step * 8, y, { steps: 2 });
+      await page.mouse.up();
+      await page.waitForFunction((g) => JSON.parse(document.getElementById('state').dataset.params).g !== g,
+        JSON.parse(before.params).g, { timeout: 20000 }).catch(() => {});
+      const after = await state(page);
+      const [g0, g1] = [JSON.parse(before.params).g, JSON.parse(after.params).g];
+      check(g1 > g0, `${gpu}: dragging the g slider right raises g`, `${g0} -> ${g1}`);
+
+      // The Scene menu: pick pile (the fourth entry), as the window test does.
+      await click(page, 58, 12);
+      await page.waitForTimeout(300);
+      await click(page, 68, 108);
+      await page.waitForFunction(() => document.getElementById('state').dataset.scene === 'pile',
+        null, { timeout: 20000 }).catch(() => {});
+      check((await state(page)).scene === 'pile', `${gpu}: the Scene menu switches to pile`);
+
+      // A bad link: its message in the status line, the lab open on the defaults.
+      await page.goto(address + `?scene=bridge&set=load_x=99&gpu=${gpu}`);
+      await page.waitForFunction(() => document.getElementById('state').dataset.step !== '',
+        null, { timeout: 60000 });
+      const bad = await state(page);
+      check(bad.status.includes("'load_x' = 99 is out of range"), `${gpu}: a bad link says why`, bad.status);
+      check(bad.failure === '' && bad.scene !== '', `${gpu}: and the lab still opens`, bad.scene);
+
+      check(errors.length === 0, `${gpu}: no errors in the console`, errors.join(' | '));
+    } finally {
+      await browser.close();
+    }
+  }
+} finally {
+  server.kill();
+}
+
+console.log(failures === 0 ? 'web: all checks passed' : `web: ${failures} checks failed`);
+process.exit(failures === 0 ? 0 : 1);
