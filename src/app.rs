@@ -364,10 +364,16 @@ impl WindowState {
         wasm_bindgen_futures::spawn_local(async move {
             let result = async {
                 let instance = crate::ui::page::instance().await;
-                let surface = instance.create_surface(window.clone()).map_err(|e| {
-                    format!("cannot draw into the page: {}", crate::messages::plain(&e.to_string()))
+                let surface = instance
+                    .create_surface(window.clone())
+                    .map_err(|e| crate::ui::page::no_gpu(&crate::messages::plain(&e.to_string())))?;
+                let gpu = Gpu::request(instance, Some(&surface)).await.map_err(|e| {
+                    let why = match e {
+                        GpuError::NoAdapter(why) | GpuError::NoDevice(why) | GpuError::Surface(why) => why,
+                        GpuError::Unsupported(why) => why,
+                    };
+                    crate::ui::page::no_gpu(&why)
                 })?;
-                let gpu = Gpu::request(instance, Some(&surface)).await.map_err(|e| e.to_string())?;
                 Self::new(window.clone(), surface, gpu)
             }
             .await;

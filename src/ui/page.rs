@@ -49,16 +49,36 @@ pub async fn instance() -> wgpu::Instance {
     wgpu::util::new_instance_with_webgpu_detection(descriptor).await
 }
 
+/// The page's words when the browser gives it no GPU to draw with (`why`: wgpu's).
+#[must_use]
+pub fn no_gpu(why: &str) -> String {
+    format!(
+        "This browser gave the page neither WebGPU nor WebGL2 to draw with ({why}). A current Chrome, \
+         Edge, Firefox or Safari has both; check that hardware acceleration is on in its settings."
+    )
+}
+
 /// Shows `message` in the page in place of the lab (`<div id="failure">`), and takes
 /// the loading message away.
 pub fn show_failure(message: &str) {
     if let Some(loading) = element("loading") {
         loading.set_class_name("hidden");
     }
-    if let Some(failure) = element("failure") {
-        failure.set_text_content(Some(message));
-        failure.set_class_name("shown");
+    let Some(failure) = element("failure") else { return };
+    // A heading and the message as text (never as markup: it can quote a link).
+    let document = web_sys::window().and_then(|w| w.document());
+    let made = document.and_then(|d| Some((d.create_element("div").ok()?, d.create_element("h1").ok()?)));
+    match made {
+        Some((body, heading)) => {
+            heading.set_text_content(Some("particle-lab cannot run here"));
+            failure.set_text_content(None);
+            let _ = body.append_child(&heading);
+            let _ = body.append_with_str_1(message);
+            let _ = failure.append_child(&body);
+        }
+        None => failure.set_text_content(Some(message)),
     }
+    failure.set_class_name("shown");
 }
 
 /// `webgpu` or `webgl2`: which of the browser's GPUs the lab draws with.

@@ -178,6 +178,81 @@ const gzipped = gzipSync(wasm, { level: 9 }).length;
 check(gzipped <= 4 * 1024 * 1024, 'the wasm is at most 4 MB gzipped',
   `${(wasm.length / 1048576).toFixed(2)} MB, ${(gzipped / 1048576).toFixed(2)} MB gzipped`);
 
+// The File menu's items, as the menu lays them out at this size (the first column of
+// the menu, a row each: see its screenshot in the README's web section).
+const FILE_MENU = { open: [20, 12] };
+const FILE_ITEMS = { openScene: [67, 39], downloadSnapshot: [74, 62], openSnapshot: [67, 85], copyLink: [43, 172] };
+
+async function fileItem(page, item) {
+  await click(page, ...FILE_MENU.open);
+  await page.waitForTimeout(300);
+  await click(page, ...FILE_ITEMS[item]);
+}
+
+async function waitFor(page, predicate, arg) {
+  return page.waitForFunction(predicate, arg, { timeout: 30000 }).then(() => true, () => false);
+}
+
+// What the desktop does with files, the page does with the browser's: downloads and
+// its file chooser. Each round trip is checked against the page's own state.
+async function files(page) {
+  // Download snapshot at step 120, open it again at step 200: back at step 120, same hash.
+  await open(page, '?scene=bridge&set=g=5&steps=120&gpu=webgpu', 120);
+  const saved = await state(page);
+  const [download] = await Promise.all([page.waitForEvent('download'), fileItem(page, 'downloadSnapshot')]);
+  const path = await download.path();
+  const snapshot = JSON.parse(readFileSync(path, 'utf8'));
+  check(download.suggestedFilename() === 'particle-lab-bridge-step120.json', 'Download snapshot names the file',
+    download.suggestedFilename());
+  check(JSON.stringify(snapshot).includes('"bridge"'), 'the downloaded snapshot holds the scene');
+  await open(page, '?scene=bridge&set=g=5&steps=200&gpu=webgpu', 200);
+  const [chooser] = await Promise.all([page.waitForEvent('filechooser'), fileItem(page, 'openSnapshot')]);
+  await chooser.setFiles(path);
+  const back = await waitFor(page, (n) => document.getElementById('state').dataset.step === String(n), 120);
+  const reloaded = await state(page);
+  check(back && reloaded.hash === saved.hash, 'Open snapshot returns to the saved step and state',
+    `step ${reloaded.step}, ${reloaded.hash} vs ${saved.hash}`);
+
+  // Open scene file: a shipped file opens; a broken one says why and changes nothing.
+  const [sceneChooser] = await Promise.all([page.waitForEvent('filechooser'), fileItem(page, 'openScene')]);
+  await sceneChooser.setFiles(join(root, 'assets', 'scenes', 'chain.toml'));
+  const opened = await waitFor(page, () => document.getElementById('state').dataset.scene === 'chain');
+  check(opened, 'Open scene file opens chain.toml', (await state(page)).status);
+  const broken = join(dirname(path), 'broken.toml');
+  writeFileSync(broken, '[scene]\nname = "broken"\n[[particle]]\nposition = [0, "up", 0]\n');
+  const [badChooser] = await Promise.all([page.waitForEvent('filechooser'), fileItem(page, 'openScene')]);
+  await badChooser.setFiles(broken);
+  await waitFor(page, () => document.getElementById('state').dataset.status.includes('broken.toml'));
+  const refused = await state(page);
+  check(refused.scene === 'chain' && refused.status.includes('broken.toml'),
+    'a broken scene file says why and the running scene stays', refused.status);
+
+  // Copy link: the address bar gets the link of what is on screen, which opens it again.
+  await open(page, '?scene=projectile&set=g=3.5&solver=paper&steps=0&gpu=webgpu', 0);
+  const shown = await state(page);
+  await fileItem(page, 'copyLink');
+  // The copied link names every setting (the opening one named three).
+  await waitFor(page, () => location.search.includes('integrator='));
+  const link = page.url();
+  const copied = (await state(page)).status;
+  check(link.includes('scene=projectile') && link.includes('set=g=3.5&') && link.includes('solver=paper')
+    && link.includes('substeps=4') && !link.includes('steps=0') && copied === `Link copied: ${link}`,
+  'Copy link puts the experiment in the address bar and says so', `${link} (${copied})`);
+  await page.goto(link + '&steps=0');
+  await waitFor(page, () => document.getElementById('state').dataset.step === '0');
+  const again = await state(page);
+  check(again.params === shown.params && again.scene === 'projectile', 'the copied link opens the same experiment',
+    `${again.params} vs ${shown.params}`);
+
+  // F12: a screenshot of the canvas, downloaded as a PNG of the page's size.
+  await click(page, 800, 500);
+  const [shot] = await Promise.all([page.waitForEvent('download'), page.keyboard.press('F12')]);
+  const image = decodePng(readFileSync(await shot.path()));
+  const drawn = region(image, [0, 0, image.width, image.height], BACKGROUND);
+  check(image.width === VIEWPORT.width && image.height === VIEWPORT.height && drawn.colours >= 16,
+    'F12 downloads a screenshot of the lab', `${image.width}x${image.height}, ${drawn.colours} colours`);
+}
+
 const hashes = {};
 for (const scene of scenes) hashes[scene] = nativeHash(scene, STEPS);
 
@@ -249,10 +324,28 @@ try {
       check(bad.status.includes("'load_x' = 99 is out of range"), `${gpu}: a bad link says why`, bad.status);
       check(bad.failure === '' && bad.scene !== '', `${gpu}: and the lab still opens`, bad.scene);
 
+      if (gpu === 'webgpu') await files(page);
+
       check(errors.length === 0, `${gpu}: no errors in the console`, errors.join(' | '));
     } finally {
       await browser.close();
     }
+  }
+
+  // A browser with neither GPU: the page says so in words, not a blank canvas.
+  const bare = await chromium.launch({
+    executablePath: '/usr/bin/chromium', headless: true,
+    args: [...BASE_FLAGS.filter((f) => !f.includes('swiftshader')), '--disable-gpu', '--disable-webgl',
+      '--disable-3d-apis'],
+  });
+  try {
+    const page = await bare.newPage({ viewport: VIEWPORT });
+    await page.goto(address + '?scene=bridge');
+    const shown = await waitFor(page, () => document.getElementById('failure').className === 'shown');
+    const text = await page.evaluate(() => document.getElementById('failure').textContent);
+    check(shown && text.includes('neither WebGPU nor WebGL2'), 'without a GPU the page says why', text);
+  } finally {
+    await bare.close();
   }
 } finally {
   server.kill();

@@ -67,20 +67,25 @@ impl Lab {
         EnergyBars { subject, reference, bars }
     }
 
-    /// Writes the energy history (every sample kept, not only the plotted window) as
-    /// CSV to `path`: `t,kinetic,potential,total,dissipated,work,removed,error`, in J.
-    pub fn export_energy_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
-        use std::io::Write;
-        let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-        writeln!(out, "t,kinetic,potential,total,dissipated,work,removed,error")?;
+    /// The energy history (every sample kept, not only the plotted window) as CSV:
+    /// `t,kinetic,potential,total,dissipated,work,removed,error`, in J.
+    #[must_use]
+    pub fn energy_csv(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::from("t,kinetic,potential,total,dissipated,work,removed,error\n");
         for s in &self.energy {
             let total = s.kinetic + s.potential;
-            writeln!(
+            let _ = writeln!(
                 out,
                 "{},{},{},{total},{},{},{},{}",
                 s.t, s.kinetic, s.potential, s.dissipated, s.work, s.removed, s.error
-            )?;
+            );
         }
-        out.flush()
+        out
+    }
+
+    /// Writes [`Self::energy_csv`] to `path`.
+    pub fn export_energy_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
+        std::fs::write(path, self.energy_csv())
     }
 }

@@ -56,20 +56,28 @@ impl EnergyPanel {
     pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
         self.plot = None;
         self.energy_plot(ui, lab);
-        if ui
-            .small_button("Export energy as CSV")
-            .on_hover_text("Every sample kept, to the current directory")
-            .clicked()
-        {
-            let path = std::path::PathBuf::from(format!(
-                "energy-{}-t{:.0}s.csv",
-                lab.entry.info.name,
-                lab.scene.world().time()
-            ));
-            lab.status = match lab.export_energy_csv(&path) {
-                Ok(()) => format!("energy written to {}", path.display()),
-                Err(error) => format!("could not write {}: {error}", path.display()),
-            };
+        let hover = if cfg!(target_arch = "wasm32") {
+            "Every sample kept, downloaded"
+        } else {
+            "Every sample kept, to the current directory"
+        };
+        if ui.small_button("Export energy as CSV").on_hover_text(hover).clicked() {
+            let name = format!("energy-{}-t{:.0}s.csv", lab.entry.info.name, lab.scene.world().time());
+            #[cfg(target_arch = "wasm32")]
+            {
+                lab.status = match crate::ui::page::download(&name, "text/csv", lab.energy_csv().as_bytes()) {
+                    Ok(()) => format!("energy downloaded as {name}"),
+                    Err(error) => error,
+                };
+            }
+            #[cfg(not(target_arch = "wasm32"))]
+            {
+                let path = std::path::PathBuf::from(name);
+                lab.status = match lab.export_energy_csv(&path) {
+                    Ok(()) => format!("energy written to {}", path.display()),
+                    Err(error) => format!("could not write {}: {error}", path.display()),
+                };
+            }
         }
         error_plot(ui, lab);
         ui.separator();
