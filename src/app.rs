@@ -253,6 +253,12 @@ impl ApplicationHandler for App {
                         state.frames
                     );
                 }
+                // A page is left by closing its tab; its settings are saved already.
+                #[cfg(target_arch = "wasm32")]
+                if std::mem::take(&mut self.lab.requests.quit) {
+                    self.save_settings();
+                    self.lab.status = "Settings saved; close the tab to leave the lab".into();
+                }
                 if self.lab.requests.quit {
                     log::info!("quit");
                     self.save_settings();

@@ -316,6 +316,14 @@ try {
         null, { timeout: 20000 }).catch(() => {});
       check((await state(page)).scene === 'pile', `${gpu}: the Scene menu switches to pile`);
 
+      // The settings persist in the page's localStorage: past an autosave (every 2 s),
+      // the page opened without a link comes back on pile.
+      await page.waitForTimeout(2500);
+      await page.goto(address + `?gpu=${gpu}`);
+      await waitFor(page, () => document.getElementById('state').dataset.step !== '');
+      const kept = await state(page);
+      check(kept.scene === 'pile', `${gpu}: the page opens again on the scene it was left on`, kept.scene);
+
       // A bad link: its message in the status line, the lab open on the defaults.
       await page.goto(address + `?scene=bridge&set=load_x=99&gpu=${gpu}`);
       await page.waitForFunction(() => document.getElementById('state').dataset.step !== '',
