@@ -1,6 +1,6 @@
 // The web build in headless Chromium (issue 20), on WebGPU and on WebGL2:
-// - every compiled scene opened through a link with steps=N reaches step N with the
-//   state hash `simulate --steps N` prints on the desktop (the same bits);
+// - every compiled scene opened through a link with steps=N (its default run) reaches
+//   step N with the state hash `simulate --steps N` prints on the desktop (the same bits);
 // - the page drew the scene and the panel (pixels of a screenshot, not "no error");
 // - dragging a slider changes the parameter, and the Scene menu switches scene;
 // - a bad link shows its one-line message in the status line and the lab still opens.
@@ -24,9 +24,8 @@ if (!binary || !dist) {
 }
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const VIEWPORT = { width: 1280, height: 800 };
-// The steps each scene is run to: enough for the physics to have done something
-// (contacts, links, rounds in flight), few enough for a software GPU's page.
-const STEPS = 240;
+// Each scene is run to its own `default_steps` (what `simulate` runs without
+// --steps: 600 to 2,400 steps, rounds fired and landed, piles settled, chains swung).
 // Flags that draw here without a GPU (WEB.md): ANGLE on SwiftShader for WebGL2, and
 // Dawn on SwiftShader's Vulkan for WebGPU.
 const BASE_FLAGS = ['--no-sandbox', '--disable-background-networking', '--disable-component-update',
@@ -42,8 +41,9 @@ function check(ok, what, detail = '') {
 
 // ------------------------------------------------------------------ the desktop's answers
 
-const scenes = JSON.parse(execFileSync(binary, ['scenes', '--format', 'json'], { encoding: 'utf8' }))
-  .map((s) => s.name);
+const listed = JSON.parse(execFileSync(binary, ['scenes', '--format', 'json'], { encoding: 'utf8' }));
+const scenes = listed.map((s) => s.name);
+const STEPS = Object.fromEntries(listed.map((s) => [s.name, s.default_steps]));
 function nativeHash(scene, steps) {
   const out = execFileSync(binary, ['simulate', '--scene', scene, '--steps', String(steps)],
     { encoding: 'utf8', maxBuffer: 1 << 30 });
@@ -254,7 +254,7 @@ async function files(page) {
 }
 
 const hashes = {};
-for (const scene of scenes) hashes[scene] = nativeHash(scene, STEPS);
+for (const scene of scenes) hashes[scene] = nativeHash(scene, STEPS[scene]);
 
 const PANEL = [0, 30, 320, 400];
 const VIEW = [340, 30, 1270, 790];
@@ -273,7 +273,7 @@ try {
       page.on('console', (m) => { if (m.type() === 'error' && !m.text().includes('404')) errors.push(m.text()); });
       let first = true;
       for (const scene of scenes) {
-        const got = await open(page, `?scene=${scene}&steps=${STEPS}&gpu=${gpu}`, STEPS);
+        const got = await open(page, `?scene=${scene}&steps=${STEPS[scene]}&gpu=${gpu}`, STEPS[scene]);
         if (first) {
           console.log(`     ${gpu}: first frame of the first page in ${got.ms} ms`);
           check(got.ms < 30000, `${gpu}: the first page draws within 30 s`, `${got.ms} ms`);
@@ -281,7 +281,7 @@ try {
         }
         check(got.failure === '', `${gpu} ${scene}: the page runs`, got.failure);
         check(got.gpu === gpu, `${gpu} ${scene}: drawn with ${gpu}`, got.gpu);
-        check(got.hash === hashes[scene], `${gpu} ${scene}: step ${STEPS} hash equals simulate's`,
+        check(got.hash === hashes[scene], `${gpu} ${scene}: step ${STEPS[scene]} hash equals simulate's`,
           `${got.hash} vs ${hashes[scene]}`);
         check(got.paused === 'true', `${gpu} ${scene}: paused at the moment`);
         const image = await screenshot(page, `${gpu}-${scene}`);
