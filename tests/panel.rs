@@ -433,3 +433,42 @@ fn at_800x600_the_panel_leaves_the_view_most_of_the_window() {
     assert!(run.right() <= particle_lab::ui::PANEL_WIDTH + 1.0);
     assert!(shell.run.solver_menu.is_some_and(|r| r.bottom() < SMALL[1]), "the run controls are in view");
 }
+
+/// File → Copy link (issue 20): in the window the status line gives the query string
+/// of what is on screen, and that query opens the same experiment again.
+#[test]
+fn copy_link_in_the_file_menu_gives_the_query_that_opens_this_experiment() {
+    use particle_lab::settings::{self, Launch, Store};
+    use particle_lab::ui::lab::Link;
+    let ctx = egui::Context::default();
+    let mut shell = LabUi::default();
+    let mut lab = Lab::new("bridge", &["g=4.5".into(), "load_x=2".into()]).unwrap();
+    let size = [1280.0, 800.0];
+    let menu = settle(&ctx, &mut shell, &mut lab, size).find("File").expect("the File menu").1;
+    click_at(&ctx, &mut shell, &mut lab, size, menu.center());
+    let item = frame(&ctx, &mut shell, &mut lab, size, Vec::new()).find("Copy link").expect("Copy link").1;
+    click_at(&ctx, &mut shell, &mut lab, size, item.center());
+    let query = lab.status.split_once(": ").map(|(_, q)| q.to_string()).expect(&lab.status);
+    assert_eq!(query, Link::of(&lab, false), "{}", lab.status);
+    assert!(
+        query.starts_with("?scene=bridge&")
+            && query.contains("set=g=4.5&")
+            && query.contains("set=load_x=2&")
+    );
+    // The query, read back as a page would (its pairs split and decoded), opens it.
+    let pairs: Vec<(String, String)> = query[1..]
+        .split('&')
+        .map(|p| {
+            let (k, v) = p.split_once('=').unwrap();
+            (k.to_string(), v.to_string())
+        })
+        .collect();
+    let link = Link::parse(&pairs).unwrap();
+    let dir = std::env::temp_dir().join(format!("particle-lab-panel-link-{}", std::process::id()));
+    let again = settings::open(&Launch::from_args(&link.args).unwrap(), Store::in_dir(&dir)).unwrap().lab;
+    let values =
+        |lab: &Lab| lab.scene.params().iter().map(|(p, v)| (p.name, v.to_bits())).collect::<Vec<_>>();
+    assert_eq!(values(&again), values(&lab));
+    assert_eq!(again.solver(), lab.solver());
+    let _ = std::fs::remove_dir_all(dir);
+}
