@@ -265,6 +265,11 @@ impl ApplicationHandler for App {
                     event_loop.exit();
                     return;
                 }
+                // A page is never told it closes, and a still one draws no frames: it saves
+                // each frame drawn (the store writes only what changed).
+                #[cfg(target_arch = "wasm32")]
+                self.store.save_reporting(&Settings::of(&self.lab, &self.ui.layout, self.window_size));
+                #[cfg(not(target_arch = "wasm32"))]
                 self.store.autosave(|| Settings::of(&self.lab, &self.ui.layout, self.window_size));
             }
             _ => {}
