@@ -237,16 +237,22 @@ pub fn download(name: &str, mime: &str, bytes: &[u8]) -> Result<(), String> {
     options.set_type(mime);
     let blob = web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &options).map_err(fail)?;
     let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(fail)?;
-    let document = web_sys::window().and_then(|w| w.document()).ok_or("no document")?;
-    let anchor = document
-        .create_element("a")
-        .map_err(fail)?
-        .dyn_into::<web_sys::HtmlAnchorElement>()
-        .map_err(|_| "no anchor".to_string())?;
-    anchor.set_href(&url);
+    let saved = save_as(&url, name);
+    let _ = web_sys::Url::revoke_object_url(&url);
+    saved
+}
+
+/// Has the browser save what `href` names (an object or data URL) as `name`, the way
+/// a link with a `download` attribute does when clicked.
+fn save_as(href: &str, name: &str) -> Result<(), String> {
+    let anchor = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.create_element("a").ok())
+        .and_then(|a| a.dyn_into::<web_sys::HtmlAnchorElement>().ok())
+        .ok_or_else(|| format!("no page to download {name} from"))?;
+    anchor.set_href(href);
     anchor.set_download(name);
     anchor.click();
-    let _ = web_sys::Url::revoke_object_url(&url);
     Ok(())
 }
 
@@ -278,17 +284,8 @@ pub fn download_canvas(scene: &str) -> String {
         Ok(url) => url,
         Err(_) => return "screenshot failed: the browser would not give the canvas's picture".into(),
     };
-    let anchor = web_sys::window()
-        .and_then(|w| w.document())
-        .and_then(|d| d.create_element("a").ok())
-        .and_then(|a| a.dyn_into::<web_sys::HtmlAnchorElement>().ok());
-    match anchor {
-        Some(anchor) => {
-            anchor.set_href(&url);
-            anchor.set_download(&name);
-            anchor.click();
-            format!("screenshot downloaded as {name}")
-        }
-        None => "screenshot failed: no page to download from".into(),
+    match save_as(&url, &name) {
+        Ok(()) => format!("screenshot downloaded as {name}"),
+        Err(why) => format!("screenshot failed: {why}"),
     }
 }
