@@ -37,7 +37,7 @@ fn pass(
     let (xa, xb) = if moving_both { (-0.5 * start, 0.5 * start) } else { (-start, 0.0) };
     world.add_particle(ball(Vec3::new(xa, 0.0, 0.0), Vec3::X * va)).unwrap();
     world.add_particle(ball(Vec3::new(xb, offset, 0.0), Vec3::X * vb)).unwrap();
-    world.add_contact_generator(SphereCollisions { restitution, friction }).unwrap();
+    world.add_contact_generator(SphereCollisions::new(restitution, friction)).unwrap();
     let mut first_change = Vec3::ZERO;
     for _ in 0..((2.0 * start / speed) / DT).ceil() as usize + 4 {
         world.step(DT).unwrap();

@@ -124,7 +124,7 @@ fn column_of_ten_spheres_stays_a_column() {
     // Awake throughout: a sleeping column would not drift by construction.
     world.set_solver(SolverSettings { sleep: false, ..SolverSettings::default() }).unwrap();
     world.add_contact_generator(Plane::ground(0.0, 0.0, 0.5)).unwrap();
-    world.add_contact_generator(SphereCollisions { restitution: 0.0, friction: 0.5 }).unwrap();
+    world.add_contact_generator(SphereCollisions::new(0.0, 0.5)).unwrap();
     // Touching, each a fraction of a millimetre off the axis, alternating.
     let start: Vec<Vec3> = (0..10)
         .map(|i| {

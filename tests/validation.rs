@@ -174,7 +174,7 @@ fn add_contact_generator_rejects_bad_surfaces_and_links() {
         w.add_contact_generator(SphereCollisions::elastic(2.0))
     });
     rejects(&["friction"], |w| {
-        w.add_contact_generator(SphereCollisions { restitution: 0.5, friction: -1.0 })
+        w.add_contact_generator(SphereCollisions::new(0.5, -1.0))
     });
     rejects(&["restitution"], |w| w.add_contact_generator(Plane::ground(0.0, 2.0, 0.0)));
     rejects(&["restitution"], |w| {

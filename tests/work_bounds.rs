@@ -23,7 +23,7 @@ fn coincident(count: usize) -> World {
         world.add_particle(desc).unwrap();
     }
     world.add_contact_generator(Plane::ground(0.0, 0.0, 0.5)).unwrap();
-    world.add_contact_generator(SphereCollisions { restitution: 0.0, friction: 0.3 }).unwrap();
+    world.add_contact_generator(SphereCollisions::new(0.0, 0.3)).unwrap();
     world
 }
 

@@ -16,8 +16,10 @@ use crate::physics::particles::Particles;
 /// which is the integrator's (and the solver's numerical) error, shown as such.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energy {
-    /// `Σ ½ m v²` over movable particles.
+    /// `Σ ½ m v²` over movable particles, plus `Σ ½ I ω²` over the spheres that roll.
     pub kinetic: f32,
+    /// The rotational part of `kinetic`, `Σ ½ I ω²` (0 when nothing rolls).
+    pub rotational: f32,
     /// Gravitational (from each particle's constant acceleration and from gravity
     /// generators) plus elastic energy stored in springs.
     pub potential: f32,
@@ -67,6 +69,7 @@ impl Ledger {
         // `+ 0.0` turns a negative zero (an empty sum) into zero: no figure reads "-0".
         Energy {
             kinetic: kinetic as f32 + 0.0,
+            rotational: 0.0,
             potential: potential as f32 + 0.0,
             gravitational: gravitational as f32 + 0.0,
             dissipated: self.dissipated as f32 + 0.0,
@@ -123,7 +126,10 @@ pub(crate) fn particle_energy(
     if w <= 0.0 {
         return None;
     }
-    let kinetic = 0.5 * p.velocity[i].length_squared() / w;
+    let mut kinetic = 0.5 * p.velocity[i].length_squared() / w;
+    if p.inverse_inertia[i] != 0.0 {
+        kinetic += 0.5 * p.angular_velocity[i].length_squared() / p.inverse_inertia[i];
+    }
     let mut gravitational = -p.acceleration[i].dot(p.position[i]) / w;
     let mut stored = 0.0;
     for force in forces.kinds().filter(|g| g.generator().involves(id)) {

@@ -6,7 +6,7 @@
 //! particle is removed, even when other particles are removed and the arrays are
 //! compacted.
 
-use glam::Vec3;
+use glam::{Quat, Vec3};
 
 use super::error::{PhysicsError, Shown};
 use super::hash::StateHasher;
@@ -119,6 +119,22 @@ pub struct Particles {
     pub(crate) inverse_mass: Vec<f32>,
     /// Collision radii (m).
     pub(crate) radius: Vec<f32>,
+    /// Inverse moments of inertia (1/(kg·m²)): `1 / (2/5 m r²)` for a sphere that
+    /// rolls (a solid sphere), 0 for a point mass, which never turns (the paper's
+    /// particles, and every particle unless [`Particles::set_rolling`] says otherwise).
+    #[serde(default)]
+    pub(crate) inverse_inertia: Vec<f32>,
+    /// Whether each particle was made a sphere that rolls ([`Particles::set_rolling`]);
+    /// an immovable one has inverse inertia 0 all the same, and rolls once set free.
+    #[serde(default)]
+    rolling: Vec<bool>,
+    /// Angular velocities (rad/s); zero for particles that do not roll.
+    #[serde(default)]
+    pub(crate) angular_velocity: Vec<Vec3>,
+    /// Orientations (unit quaternions), turned by the angular velocity each step; what
+    /// the renderer shows of a sphere's spin.
+    #[serde(default)]
+    pub(crate) orientation: Vec<Quat>,
     /// Fraction of velocity kept per second.
     damping: Vec<f32>,
     /// `damping.powf(damping_dt)`, cached so the step does not call `powf` per particle.
@@ -152,6 +168,10 @@ impl Particles {
             force: Vec::with_capacity(n),
             inverse_mass: Vec::with_capacity(n),
             radius: Vec::with_capacity(n),
+            inverse_inertia: Vec::with_capacity(n),
+            rolling: Vec::with_capacity(n),
+            angular_velocity: Vec::with_capacity(n),
+            orientation: Vec::with_capacity(n),
             damping: Vec::with_capacity(n),
             damping_per_step: Vec::with_capacity(n),
             damping_dt: 0.0,
@@ -174,6 +194,10 @@ impl Particles {
             self.force.len(),
             self.inverse_mass.len(),
             self.radius.len(),
+            self.inverse_inertia.len(),
+            self.rolling.len(),
+            self.angular_velocity.len(),
+            self.orientation.len(),
             self.damping.len(),
             self.damping_per_step.len(),
             self.sleep.len(),
@@ -190,9 +214,9 @@ impl Particles {
             return Err(PhysicsError::InvalidParticle("particle ids and slots do not agree".into()));
         }
         let vectors = self.position.iter().chain(&self.velocity).chain(&self.acceleration).chain(&self.force);
-        if !vectors.copied().all(Vec3::is_finite) {
+        if !vectors.chain(&self.angular_velocity).copied().all(Vec3::is_finite) {
             return Err(PhysicsError::InvalidParticle(
-                "a position, velocity, acceleration or force is not finite".into(),
+                "a position, velocity, angular velocity, acceleration or force is not finite".into(),
             ));
         }
         for i in 0..n {
@@ -211,6 +235,20 @@ impl Particles {
             if !(self.radius[i].is_finite() && self.radius[i] >= 0.0) {
                 return fail("radius must be finite and >= 0");
             }
+            let rolls = self.inverse_inertia[i] != 0.0;
+            if rolls != (self.rolling[i] && w > 0.0 && self.radius[i] > 0.0) {
+                return fail("its inverse inertia does not follow from whether it rolls");
+            }
+            if rolls && self.inverse_inertia[i] != sphere_inverse_inertia(w, self.radius[i]) {
+                return fail("its inverse inertia must be that of a solid sphere of its mass and radius, or 0");
+            }
+            if !rolls && self.angular_velocity[i] != Vec3::ZERO {
+                return fail("a particle that does not roll cannot have an angular velocity");
+            }
+            let q = self.orientation[i];
+            if !(q.is_finite() && (q.length() - 1.0).abs() < 1e-3) {
+                return fail("orientation must be a unit quaternion");
+            }
             if !(0.0..=1.0).contains(&self.damping[i]) || !(0.0..=1.0).contains(&self.damping_per_step[i]) {
                 return fail("damping must be between 0 and 1");
             }
@@ -220,8 +258,8 @@ impl Particles {
                 return fail("sleep state out of range");
             }
             // Asleep: movable, and at rest unless moved from outside since (a NaN rest).
-            if sleep.island != AWAKE && (w == 0.0 || (self.velocity[i] != Vec3::ZERO && !sleep.rest.is_nan()))
-            {
+            let moving = self.velocity[i] != Vec3::ZERO || self.angular_velocity[i] != Vec3::ZERO;
+            if sleep.island != AWAKE && (w == 0.0 || (moving && !sleep.rest.is_nan())) {
                 return fail("only a movable particle at rest can be asleep");
             }
         }
@@ -254,6 +292,18 @@ impl Particles {
             hasher.f32(sleep.timer);
             hasher.u64(u64::from(sleep.island));
         }
+        // Only spheres that roll have rotation to hash, so a world of point masses
+        // hashes as it did before spheres could roll.
+        let turning = self.inverse_inertia.iter().zip(&self.angular_velocity).zip(&self.orientation);
+        for (i, ((&inverse_inertia, &w), &q)) in turning.enumerate() {
+            if inverse_inertia != 0.0 {
+                hasher.u64(i as u64);
+                hasher.f32(inverse_inertia);
+                hasher.vec3(w);
+                hasher.vec3(q.xyz());
+                hasher.f32(q.w);
+            }
+        }
     }
 
     /// Number of live particles.
@@ -283,6 +333,10 @@ impl Particles {
         self.force.push(Vec3::ZERO);
         self.inverse_mass.push(inverse_mass);
         self.radius.push(desc.radius);
+        self.inverse_inertia.push(0.0);
+        self.rolling.push(false);
+        self.angular_velocity.push(Vec3::ZERO);
+        self.orientation.push(Quat::IDENTITY);
         self.damping.push(desc.damping);
         self.damping_per_step.push(damping_factor(desc.damping, self.damping_dt));
         self.sleep.push(Sleep::default());
@@ -301,6 +355,10 @@ impl Particles {
         self.force.swap_remove(index);
         self.inverse_mass.swap_remove(index);
         self.radius.swap_remove(index);
+        self.inverse_inertia.swap_remove(index);
+        self.rolling.swap_remove(index);
+        self.angular_velocity.swap_remove(index);
+        self.orientation.swap_remove(index);
         self.damping.swap_remove(index);
         self.damping_per_step.swap_remove(index);
         self.sleep.swap_remove(index);
@@ -324,6 +382,10 @@ impl Particles {
         self.force.clear();
         self.inverse_mass.clear();
         self.radius.clear();
+        self.inverse_inertia.clear();
+        self.rolling.clear();
+        self.angular_velocity.clear();
+        self.orientation.clear();
         self.damping.clear();
         self.damping_per_step.clear();
         self.sleep.clear();
@@ -369,6 +431,115 @@ impl Particles {
     #[must_use]
     pub fn radii(&self) -> &[f32] {
         &self.radius
+    }
+
+    /// Angular velocities (rad/s), by dense index: zero for particles that do not roll.
+    #[inline]
+    #[must_use]
+    pub fn angular_velocities(&self) -> &[Vec3] {
+        &self.angular_velocity
+    }
+
+    /// Orientations (unit quaternions), by dense index: the identity for particles
+    /// that do not roll.
+    #[inline]
+    #[must_use]
+    pub fn orientations(&self) -> &[Quat] {
+        &self.orientation
+    }
+
+    /// Inverse moments of inertia (1/(kg·m²)), by dense index: 0 for point masses.
+    #[inline]
+    #[must_use]
+    pub fn inverse_inertias(&self) -> &[f32] {
+        &self.inverse_inertia
+    }
+
+    /// Whether the particle at `index` rolls: a movable solid sphere with a radius.
+    #[inline]
+    #[must_use]
+    pub fn rolls(&self, index: usize) -> bool {
+        self.inverse_inertia[index] != 0.0
+    }
+
+    /// Whether any particle rolls.
+    #[must_use]
+    pub fn any_rolling(&self) -> bool {
+        self.inverse_inertia.iter().any(|&i| i != 0.0)
+    }
+
+    /// Makes a particle a solid sphere that rolls (`true`: it gets the moment of
+    /// inertia `2/5 m r²`, and friction at its surface turns it), or a point mass that
+    /// never turns (`false`, the paper's particles: its spin and orientation are
+    /// reset). A sphere needs a radius > 0; an immovable particle is accepted and
+    /// stays still (it has no inertia to turn).
+    pub fn set_rolling(&mut self, id: ParticleId, rolls: bool) -> Result<(), PhysicsError> {
+        let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        if rolls && self.radius[index] <= 0.0 {
+            return Err(PhysicsError::InvalidParticle(format!(
+                "particle {} has no radius, so it cannot roll (a point mass has no surface to turn)",
+                id.0
+            )));
+        }
+        self.rolling[index] = rolls;
+        self.refresh_inertia(index);
+        self.disturb(index);
+        Ok(())
+    }
+
+    /// Sets the angular velocity of a particle that rolls (rad/s, finite). A particle
+    /// that does not roll keeps 0: a non-zero value is refused.
+    pub fn set_angular_velocity(&mut self, id: ParticleId, spin: Vec3) -> Result<(), PhysicsError> {
+        let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
+        if !spin.is_finite() {
+            return Err(PhysicsError::InvalidParticle(format!("angular velocity must be finite, got {spin}")));
+        }
+        if self.inverse_inertia[index] == 0.0 && spin != Vec3::ZERO {
+            return Err(PhysicsError::InvalidParticle(format!(
+                "particle {} does not roll, so its angular velocity stays 0",
+                id.0
+            )));
+        }
+        self.angular_velocity[index] = spin;
+        self.disturb(index);
+        Ok(())
+    }
+
+    /// Recomputes the inverse inertia of the particle at `index` from its mass, radius
+    /// and whether it rolls; a particle that stops rolling loses its spin.
+    fn refresh_inertia(&mut self, index: usize) {
+        let w = self.inverse_mass[index];
+        let rolls = self.rolling[index] && w > 0.0 && self.radius[index] > 0.0;
+        self.inverse_inertia[index] = if rolls { sphere_inverse_inertia(w, self.radius[index]) } else { 0.0 };
+        if !rolls {
+            self.angular_velocity[index] = Vec3::ZERO;
+            self.orientation[index] = Quat::IDENTITY;
+        }
+    }
+
+    /// Gives a store read from an old snapshot (made before spheres could roll) its
+    /// rotation arrays: every particle a point mass at rest.
+    pub(crate) fn fill_missing_rotation(&mut self) {
+        let n = self.ids.len();
+        if self.inverse_inertia.is_empty() && self.angular_velocity.is_empty() && self.orientation.is_empty() {
+            self.inverse_inertia.resize(n, 0.0);
+            self.angular_velocity.resize(n, Vec3::ZERO);
+            self.orientation.resize(n, Quat::IDENTITY);
+        }
+        if self.rolling.is_empty() {
+            self.rolling.extend(self.inverse_inertia.iter().map(|&i| i != 0.0));
+        }
+    }
+
+    /// Turns every rolling, awake sphere by its angular velocity over `dt` (the exact
+    /// rotation for a constant spin; the step's contacts change the spin, not this).
+    pub(crate) fn turn(&mut self, dt: f32) {
+        let spins = self.angular_velocity.iter().zip(&self.inverse_inertia);
+        for (q, (&w, &inverse_inertia)) in self.orientation.iter_mut().zip(spins) {
+            if inverse_inertia != 0.0 && w != Vec3::ZERO {
+                *q = (Quat::from_scaled_axis(w * dt) * *q).normalize();
+            }
+        }
     }
 
     /// Moves a particle (a teleport: its velocity is kept). The position must be finite.
@@ -472,6 +643,7 @@ impl Particles {
             )));
         }
         self.inverse_mass[index] = inverse_mass(mass)?;
+        self.refresh_inertia(index);
         self.disturb(index);
         Ok(())
     }
@@ -487,6 +659,7 @@ impl Particles {
                 0.0
             }
         };
+        self.refresh_inertia(index);
         self.disturb(index);
         Ok(())
     }
@@ -528,10 +701,19 @@ impl Particles {
         }
     }
 
-    /// Kinetic energy of the movable particles (J), in f64 and in index order.
+    /// Kinetic energy of the movable particles (J), in f64 and in index order: of
+    /// their motion, `Σ ½ m v²`, plus of the rolling spheres' rotation (see
+    /// [`Particles::rotational_energy`]).
     pub(crate) fn kinetic_energy(&self) -> f64 {
         let bodies = self.velocity.iter().zip(&self.inverse_mass).filter(|(_, w)| **w > 0.0);
-        0.5 * bodies.map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum::<f64>()
+        let moving = 0.5 * bodies.map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum::<f64>();
+        moving + self.rotational_energy()
+    }
+
+    /// Kinetic energy of rotation (J), `Σ ½ I ω²` over the rolling spheres, in f64.
+    pub(crate) fn rotational_energy(&self) -> f64 {
+        let spins = self.angular_velocity.iter().zip(&self.inverse_inertia).filter(|(_, i)| **i != 0.0);
+        0.5 * spins.map(|(w, &i)| f64::from(w.length_squared()) / f64::from(i)).sum::<f64>()
     }
 
     /// Adds to `dissipated` what damping took this step: each damped particle's end
@@ -625,6 +807,14 @@ impl Particles {
 #[must_use]
 pub(crate) fn kicked(v: Vec3, acceleration: Vec3, h: f32, damping_per_step: f32) -> Vec3 {
     (v + acceleration * h) * damping_per_step
+}
+
+/// Inverse moment of inertia of a solid sphere of inverse mass `w` and radius `r`:
+/// `1 / (2/5 m r²)` (1/(kg·m²)).
+#[inline]
+#[must_use]
+pub(crate) fn sphere_inverse_inertia(w: f32, r: f32) -> f32 {
+    2.5 * w / (r * r)
 }
 
 /// `Sleep::island` of a particle that is awake.

@@ -206,6 +206,7 @@ impl World {
             SolverKind::Paper => self.step_paper(dt),
         };
         self.ledger.dissipated += self.particles.dissipated;
+        self.particles.turn(dt);
         self.ledger.last = self.mechanical_energy();
         self.time += f64::from(dt);
         self.steps += 1;
@@ -424,7 +425,8 @@ impl World {
     /// Kinetic and potential energy now.
     #[must_use]
     pub fn energy(&self) -> Energy {
-        self.ledger.energy(energy::energies(&self.particles, &self.forces))
+        let energy = self.ledger.energy(energy::energies(&self.particles, &self.forces));
+        Energy { rotational: self.particles.rotational_energy() as f32 + 0.0, ..energy }
     }
 
     /// What measuring gravitational energy from the height `height` (m) instead of
@@ -519,8 +521,9 @@ impl World {
     /// calls would (and that the parts agree with each other): a state read from a file
     /// that passes cannot make a step panic. Steps on with the same bits as the world
     /// the state came from.
-    pub fn from_state(state: WorldState) -> Result<Self, PhysicsError> {
+    pub fn from_state(mut state: WorldState) -> Result<Self, PhysicsError> {
         let invalid = PhysicsError::InvalidSetting;
+        state.particles.fill_missing_rotation();
         state.particles.check_loaded()?;
         state.check_references().map_err(invalid)?;
         state.solver.validate()?;

@@ -42,9 +42,11 @@ impl ContactGenerator {
                 let unit = plane.normal.is_finite() && (plane.normal.length() - 1.0).abs() < 1e-4;
                 check(unit, "plane normal", plane.normal, "a unit vector")?;
                 check(plane.offset.is_finite(), "plane offset", plane.offset, "a finite distance (m)")?;
-                check_surface(plane.restitution, plane.friction)
+                check_surface(plane.restitution, plane.friction, plane.rolling_resistance)
             }
-            Self::Spheres(spheres) => check_surface(spheres.restitution, spheres.friction),
+            Self::Spheres(spheres) => {
+                check_surface(spheres.restitution, spheres.friction, spheres.rolling_resistance)
+            }
             Self::Link(link) => link.validate(),
         }
     }

@@ -22,6 +22,11 @@ pub struct Plane {
     pub restitution: f32,
     /// Coulomb friction coefficient against the plane, >= 0.
     pub friction: f32,
+    /// Rolling resistance coefficient against the plane, >= 0 (default 0): the
+    /// largest torque opposing a rolling sphere's spin is this times its radius times
+    /// the normal force (see [`SphereCollisions::rolling_resistance`]).
+    #[serde(default)]
+    pub rolling_resistance: f32,
 }
 
 impl Plane {
@@ -33,14 +38,21 @@ impl Plane {
         if !point.is_finite() {
             return Err(PhysicsError::InvalidSetting(format!("plane point must be finite, got {point}")));
         }
-        check_surface(restitution, friction)?;
-        Ok(Self { normal: unit, offset: unit.dot(point), restitution, friction })
+        check_surface(restitution, friction, 0.0)?;
+        Ok(Self { normal: unit, offset: unit.dot(point), restitution, friction, rolling_resistance: 0.0 })
     }
 
     /// The horizontal plane `y = height`, free side up.
     #[must_use]
     pub fn ground(height: f32, restitution: f32, friction: f32) -> Self {
-        Self { normal: Vec3::Y, offset: height, restitution, friction }
+        Self { normal: Vec3::Y, offset: height, restitution, friction, rolling_resistance: 0.0 }
+    }
+
+    /// The same plane with rolling resistance `coefficient` (checked when the plane
+    /// joins a world).
+    #[must_use]
+    pub fn with_rolling_resistance(self, coefficient: f32) -> Self {
+        Self { rolling_resistance: coefficient, ..self }
     }
 
     /// Signed distance of a point from the plane, positive on the free side (m).
@@ -64,10 +76,11 @@ impl Plane {
     }
 }
 
-/// Checks a restitution and friction pair.
-pub(crate) fn check_surface(restitution: f32, friction: f32) -> Result<(), PhysicsError> {
+/// Checks a surface's restitution, friction and rolling resistance.
+pub(crate) fn check_surface(restitution: f32, friction: f32, rolling: f32) -> Result<(), PhysicsError> {
     check((0.0..=1.0).contains(&restitution), "restitution", restitution, UNIT)?;
-    check(non_negative(friction), "friction", friction, NON_NEGATIVE)
+    check(non_negative(friction), "friction", friction, NON_NEGATIVE)?;
+    check(non_negative(rolling), "rolling resistance", rolling, NON_NEGATIVE)
 }
 
 /// The horizontal plane `y = height` with no friction: the paper's ground.
@@ -87,13 +100,29 @@ pub struct SphereCollisions {
     pub restitution: f32,
     /// Coulomb friction coefficient between particles, >= 0.
     pub friction: f32,
+    /// Rolling resistance coefficient between spheres that roll, >= 0 (default 0, the
+    /// soft solver only). The contact resists the two spheres' relative spin with a
+    /// torque of at most this times the contact's rolling radius (`r_a r_b / (r_a +
+    /// r_b)`, or the sphere's radius against a plane) times the normal force: the
+    /// constant-torque ("type A") model of DEM codes, solved as a clamped constraint as
+    /// Box2D v3 does, so a sphere can also rest on a gentle slope (while `tan θ` is at
+    /// most the coefficient). A rolling sphere on flat ground then slows at `5/7 μ_r g`.
+    /// Without it rolling spheres roll forever and heaps spread flat.
+    #[serde(default)]
+    pub rolling_resistance: f32,
 }
 
 impl SphereCollisions {
     /// Frictionless collisions with the given restitution (the paper's).
     #[must_use]
     pub fn elastic(restitution: f32) -> Self {
-        Self { restitution, friction: 0.0 }
+        Self { restitution, friction: 0.0, rolling_resistance: 0.0 }
+    }
+
+    /// Collisions with restitution and friction and no rolling resistance.
+    #[must_use]
+    pub fn new(restitution: f32, friction: f32) -> Self {
+        Self { restitution, friction, rolling_resistance: 0.0 }
     }
 
     pub(super) fn generate(

@@ -95,7 +95,7 @@ impl SoftStep {
             let separation = plane.distance(p) - r;
             if w > 0.0 && !asleep && separation < margin {
                 self.fresh_keys.push(key(i as u32, NONE));
-                self.fresh.push(SoftContact {
+                let contact = SoftContact {
                     a: i as u32,
                     b: NONE,
                     normal: plane.normal,
@@ -103,8 +103,10 @@ impl SoftStep {
                     restitution: plane.restitution,
                     friction: plane.friction,
                     mass: 1.0 / w,
+                    tangent_mass: 1.0 / w,
                     ..SoftContact::default()
-                });
+                };
+                self.fresh.push(rolling_terms(contact, particles, plane.rolling_resistance));
             }
         }
     }
@@ -140,7 +142,7 @@ impl SoftStep {
             let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
             let Some((normal, separation)) = swept else { continue };
             self.fresh_keys.push(key(a, b));
-            self.fresh.push(SoftContact {
+            let contact = SoftContact {
                 a,
                 b,
                 normal,
@@ -148,8 +150,10 @@ impl SoftStep {
                 restitution: spheres.restitution,
                 friction: spheres.friction,
                 mass: 1.0 / total,
+                tangent_mass: 1.0 / total,
                 ..SoftContact::default()
-            });
+            };
+            self.fresh.push(rolling_terms(contact, particles, spheres.rolling_resistance));
         }
     }
 
@@ -197,6 +201,32 @@ impl SoftStep {
             generator,
         });
     }
+}
+
+/// A contact's rolling terms, for spheres that roll (a contact of point masses comes
+/// back as it was): the levers of the contact point, the tangential effective mass
+/// with the spheres' turning, and the rolling resistance `coefficient` times the
+/// rolling radius (`r_a r_b / (r_a + r_b)` for two spheres that roll, else the radius
+/// of the one that does).
+#[inline]
+fn rolling_terms(mut c: SoftContact, particles: &Particles, coefficient: f32) -> SoftContact {
+    let inertia = &particles.inverse_inertia;
+    let (ia, ib) = (inertia[c.a as usize], if c.b == NONE { 0.0 } else { inertia[c.b as usize] });
+    if ia == 0.0 && ib == 0.0 {
+        return c;
+    }
+    let radius = &particles.radius;
+    c.lever_a = if ia > 0.0 { radius[c.a as usize] } else { 0.0 };
+    c.lever_b = if ib > 0.0 { radius[c.b as usize] } else { 0.0 };
+    c.tangent_mass = 1.0 / (1.0 / c.mass + ia * c.lever_a * c.lever_a + ib * c.lever_b * c.lever_b);
+    let rolling_radius = if c.lever_a > 0.0 && c.lever_b > 0.0 {
+        c.lever_a * c.lever_b / (c.lever_a + c.lever_b)
+    } else {
+        c.lever_a.max(c.lever_b)
+    };
+    c.rolling = coefficient * rolling_radius;
+    c.rolling_mass = 1.0 / (ia + ib);
+    c
 }
 
 /// The contact of two spheres `offset = p_a - p_b` apart, closing with relative velocity

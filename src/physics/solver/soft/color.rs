@@ -117,11 +117,6 @@ impl SoftStep {
             "a colour holds two contacts of one movable particle"
         );
     }
-
-    /// Runs `f` on every contact, colour by colour; large colours across threads.
-    pub(super) fn for_each_contact(&mut self, f: impl Fn(&mut SoftContact) + Sync) {
-        for_each_contact(&mut self.contacts, &self.color_starts, f);
-    }
 }
 
 /// Runs `f` on every contact, colour by colour; a large colour is split across threads

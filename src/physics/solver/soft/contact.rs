@@ -1,5 +1,6 @@
 //! One contact's solve: the normal impulse with soft position feedback, then Coulomb
-//! friction clamped to the normal impulse.
+//! friction clamped to the normal impulse (at the contact point, turning spheres that
+//! roll), then rolling resistance clamped to it.
 
 use glam::Vec3;
 
@@ -21,6 +22,35 @@ pub(super) fn contact_terms(s: f32, context: Context) -> (f32, f32, f32) {
     }
 }
 
+/// What the solve reads of the particles besides velocities: inverse masses, inverse
+/// inertias, how far each moved this step, and the spins (shared like the velocities,
+/// under the same colouring invariant: only a movable sphere that rolls is written).
+#[derive(Clone, Copy)]
+pub(super) struct Bodies<'a> {
+    pub(super) w: &'a [f32],
+    pub(super) inertia: &'a [f32],
+    pub(super) delta: &'a [Vec3],
+    pub(super) spins: SharedVelocities<'a>,
+}
+
+/// Turns `a` and `b` by a contact's tangential impulse `p` (applied to `a` at `-lever_a
+/// n` from its centre, its opposite to `b` at `+lever_b n`) and its rolling impulse
+/// `rolling` (to `a`, its opposite to `b`).
+#[inline]
+pub(super) fn turn(c: &SoftContact, bodies: Bodies<'_>, p: Vec3, rolling: Vec3) {
+    let torque = c.normal.cross(p);
+    let (a, ia) = (c.a as usize, bodies.inertia[c.a as usize]);
+    if ia > 0.0 {
+        bodies.spins.set(a, bodies.spins.get(a) + (rolling - torque * c.lever_a) * ia);
+    }
+    if c.b != NONE {
+        let (b, ib) = (c.b as usize, bodies.inertia[c.b as usize]);
+        if ib > 0.0 {
+            bodies.spins.set(b, bodies.spins.get(b) - (rolling + torque * c.lever_b) * ib);
+        }
+    }
+}
+
 /// Adds `impulse` to `a` and its opposite to `b`, each divided by its mass.
 #[inline]
 pub(super) fn apply(velocities: SharedVelocities<'_>, w: &[f32], a: u32, b: u32, impulse: Vec3) {
@@ -37,16 +67,22 @@ pub(super) fn apply(velocities: SharedVelocities<'_>, w: &[f32], a: u32, b: u32,
 }
 
 /// One contact: the normal impulse with soft feedback, then Coulomb friction clamped to
-/// `μ` times it (a disc, since a particle's tangent plane has two directions). Both
-/// velocities are read once and written once.
+/// `μ` times it (a disc, since a particle's tangent plane has two directions), then
+/// rolling resistance. Both velocities are read once and written once.
+///
+/// For spheres that roll, friction acts on the velocity of the contact point, `v_a +
+/// ω_a × (-r_a n) - v_b - ω_b × (r_b n)`, and its impulse `P` turns each sphere by
+/// `I⁻¹ (lever × ±P)`. Rolling resistance drives the relative spin `ω_a - ω_b` to
+/// zero with an angular impulse clamped to `rolling` times the normal impulse: a
+/// torque that at most balances `μ_r r N` (static while it holds, like friction).
 #[inline]
 pub(super) fn solve_contact(
     c: &mut SoftContact,
     velocities: SharedVelocities<'_>,
-    w: &[f32],
-    delta: &[Vec3],
+    bodies: Bodies<'_>,
     context: Context,
 ) {
+    let (w, delta) = (bodies.w, bodies.delta);
     let (a, b) = (c.a as usize, c.b as usize);
     let has_b = c.b != NONE;
     let wa = w[a];
@@ -68,20 +104,43 @@ pub(super) fn solve_contact(
     let applied = total - c.normal_impulse;
     c.normal_impulse = total;
     let mut p = c.normal * applied;
+    let rolls = c.lever_a > 0.0 || c.lever_b > 0.0;
 
     if c.friction > 0.0 {
         // Velocities after the normal impulse, in registers.
-        let v = (va + p * wa) - (vb - p * wb);
+        let mut v = (va + p * wa) - (vb - p * wb);
+        if rolls {
+            let spin_a = bodies.spins.get(a) * c.lever_a;
+            let spin_b = if has_b { bodies.spins.get(b) * c.lever_b } else { Vec3::ZERO };
+            v -= (spin_a + spin_b).cross(c.normal);
+        }
         let tangential = v - c.normal * v.dot(c.normal);
         let old = c.tangent_impulse;
-        let mut total = old - tangential * c.mass;
+        let mut total = old - tangential * c.tangent_mass;
         let limit = c.friction * c.normal_impulse;
         let squared = total.length_squared();
         if squared > limit * limit {
             total *= limit / squared.sqrt();
         }
         c.tangent_impulse = total;
-        p += total - old;
+        let friction = total - old;
+        if rolls {
+            turn(c, bodies, friction, Vec3::ZERO);
+        }
+        p += friction;
+    }
+    if c.rolling > 0.0 {
+        let spin_b = if has_b { bodies.spins.get(b) } else { Vec3::ZERO };
+        let relative = bodies.spins.get(a) - spin_b;
+        let old = c.rolling_impulse;
+        let mut total = old - relative * c.rolling_mass;
+        let limit = c.rolling * c.normal_impulse;
+        let squared = total.length_squared();
+        if squared > limit * limit {
+            total *= limit / squared.sqrt();
+        }
+        c.rolling_impulse = total;
+        turn(c, bodies, Vec3::ZERO, total - old);
     }
     if wa > 0.0 {
         va += p * wa;

@@ -81,6 +81,23 @@ pub struct SoftContact {
     pub normal_impulse: f32,
     /// Friction impulse of the current substep (N·s), in the tangent plane.
     pub tangent_impulse: Vec3,
+    /// Lever of `a`'s contact point (m): its radius if it rolls (the contact point is
+    /// `-lever_a · normal` from its centre), else 0.
+    pub lever_a: f32,
+    /// Lever of `b`'s contact point (m): its radius if it rolls (at `+lever_b ·
+    /// normal` from its centre), else 0.
+    pub lever_b: f32,
+    /// Effective mass of the contact point along a tangent (kg): `1 / (1/m_a + 1/m_b
+    /// + r_a²/I_a + r_b²/I_b)`, which is [`mass`](Self::mass) when nothing rolls.
+    pub tangent_mass: f32,
+    /// Largest rolling-resistance torque per newton of normal force (m): the
+    /// coefficient times the rolling radius; 0 for none.
+    pub rolling: f32,
+    /// Effective inertia against relative spin (kg·m²), `1 / (1/I_a + 1/I_b)`.
+    pub rolling_mass: f32,
+    /// Rolling-resistance angular impulse of the current substep (N·m·s), applied to
+    /// `a` (and its opposite to `b`).
+    pub rolling_impulse: Vec3,
     /// Index in generation order, for storing the warm start.
     origin: u32,
 }
@@ -121,6 +138,8 @@ struct Warm {
     key: u64,
     normal_impulse: f32,
     tangent_impulse: Vec3,
+    #[serde(default)]
+    rolling_impulse: Vec3,
 }
 
 /// The part of the soft solver that carries from one step to the next (see
@@ -182,6 +201,9 @@ pub struct SoftStep {
     kicked: Vec<Vec3>,
     /// Velocities at the start of the substep, kept while anything can bounce.
     substep_velocity: Vec<Vec3>,
+    /// Angular velocities at the start of the substep, kept while spheres roll
+    /// (energy budget).
+    substep_spin: Vec<Vec3>,
     /// Per particle: asleep at the start of this collide pass.
     asleep: Vec<bool>,
     /// Labels of sleeping islands to wake.

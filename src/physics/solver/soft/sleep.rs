@@ -13,8 +13,8 @@ impl SoftStep {
     pub(super) fn wake_disturbed(&mut self, particles: &mut Particles) {
         self.to_wake.clear();
         let bodies = particles.sleep.iter().zip(&particles.position).zip(&particles.velocity);
-        for ((sleep, &p), &v) in bodies {
-            if sleep.island != AWAKE && (v != Vec3::ZERO || p != sleep.rest) {
+        for (((sleep, &p), &v), &spin) in bodies.zip(&particles.angular_velocity) {
+            if sleep.island != AWAKE && (v != Vec3::ZERO || spin != Vec3::ZERO || p != sleep.rest) {
                 self.to_wake.push(sleep.island);
             }
         }
@@ -28,7 +28,9 @@ impl SoftStep {
         let mut ready = false;
         self.to_wake.clear();
         let bodies = particles.velocity.iter().zip(&particles.force).zip(&particles.inverse_mass);
-        for ((sleep, ((v, f), &w)), moved) in particles.sleep.iter_mut().zip(bodies).zip(&self.delta) {
+        let turning = particles.angular_velocity.iter().zip(&particles.radius);
+        let states = particles.sleep.iter_mut().zip(bodies).zip(&self.delta).zip(turning);
+        for (((sleep, ((v, f), &w)), moved), (spin, &r)) in states {
             if sleep.island != AWAKE {
                 // A force started acting on it (a new spring, a float reaching water).
                 if *f != Vec3::ZERO {
@@ -39,7 +41,8 @@ impl SoftStep {
             // Slow by its velocity and by how far it moved: the relax pass leaves a
             // particle still being pushed out of an overlap with almost no velocity.
             // Particles that forces keep holding never sleep: the force may change.
-            let speed = v.length().max(moved.length() / dt);
+            // A sphere that spins in place is not at rest: its surface moves at |ω| r.
+            let speed = v.length().max(moved.length() / dt).max(spin.length() * r);
             let slow = w > 0.0 && speed < settings.sleep_speed && *f == Vec3::ZERO;
             sleep.timer = if slow { sleep.timer + dt } else { 0.0 };
             ready |= sleep.timer >= settings.sleep_time;
@@ -83,6 +86,11 @@ impl SoftStep {
                 particles.dissipated +=
                     0.5 * f64::from(v.length_squared()) / f64::from(particles.inverse_mass[i]);
                 particles.velocity[i] = Vec3::ZERO;
+                let (spin, inverse_inertia) = (particles.angular_velocity[i], particles.inverse_inertia[i]);
+                if inverse_inertia != 0.0 {
+                    particles.dissipated += 0.5 * f64::from(spin.length_squared()) / f64::from(inverse_inertia);
+                    particles.angular_velocity[i] = Vec3::ZERO;
+                }
                 particles.sleep[i] = Sleep { timer: 0.0, island: root, rest: particles.position[i] };
             }
         }

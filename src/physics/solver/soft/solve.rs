@@ -2,7 +2,7 @@
 //! rod and cable on its exact geometry.
 
 use super::color::{SharedVelocities, for_each_contact};
-use super::contact::{apply, contact_terms, solve_contact};
+use super::contact::{Bodies, apply, contact_terms, solve_contact, turn};
 use super::{Context, NONE, SoftLink, SoftStep};
 use crate::physics::links::direction_or_zero;
 use crate::physics::particles::Particles;
@@ -11,11 +11,21 @@ use glam::Vec3;
 impl SoftStep {
     pub(super) fn warm_start(&mut self, particles: &mut Particles) {
         let velocities = SharedVelocities::new(&mut particles.velocity);
-        let w = &particles.inverse_mass;
-        self.for_each_contact(|c| {
+        let bodies = Bodies {
+            w: &particles.inverse_mass,
+            inertia: &particles.inverse_inertia,
+            delta: &self.delta,
+            spins: SharedVelocities::new(&mut particles.angular_velocity),
+        };
+        let w = bodies.w;
+        for_each_contact(&mut self.contacts, &self.color_starts, |c| {
             let impulse = c.normal * c.normal_impulse + c.tangent_impulse;
             apply(velocities, w, c.a, c.b, impulse);
+            if c.lever_a > 0.0 || c.lever_b > 0.0 {
+                turn(c, bodies, c.tangent_impulse, c.rolling_impulse);
+            }
         });
+        let w = &particles.inverse_mass;
         let velocities = &mut particles.velocity;
         for link in &self.links {
             // Warm start along the link's start-of-step direction is close enough; the
@@ -31,10 +41,14 @@ impl SoftStep {
 
     pub(super) fn solve(&mut self, particles: &mut Particles, contacts: Context, joints: Context) {
         let velocities = SharedVelocities::new(&mut particles.velocity);
-        let (w, delta) = (&particles.inverse_mass, &self.delta);
-        for_each_contact(&mut self.contacts, &self.color_starts, |c| {
-            solve_contact(c, velocities, w, delta, contacts)
-        });
+        let bodies = Bodies {
+            w: &particles.inverse_mass,
+            inertia: &particles.inverse_inertia,
+            delta: &self.delta,
+            spins: SharedVelocities::new(&mut particles.angular_velocity),
+        };
+        for_each_contact(&mut self.contacts, &self.color_starts, |c| solve_contact(c, velocities, bodies, contacts));
+        let w = &particles.inverse_mass;
         for link in &mut self.links {
             link.solve(&particles.position, &mut particles.velocity, w, joints);
         }

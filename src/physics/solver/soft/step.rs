@@ -72,9 +72,14 @@ impl SoftStep {
         // integrator's separate moving and end velocities.
         let semi_implicit = integrator == Integrator::SemiImplicitEuler && !forces.has_closed_form();
         let mut constraint_work = 0.0;
+        // Spheres that roll: the contacts change their spin as well (nothing else does).
+        let rolling = constrained && particles.any_rolling();
         for _ in 0..substeps {
             if bouncy || constrained {
                 self.substep_velocity.clone_from(&particles.velocity);
+            }
+            if rolling {
+                self.substep_spin.clone_from(&particles.angular_velocity);
             }
             if semi_implicit {
                 particles.clear_forces();
@@ -97,7 +102,8 @@ impl SoftStep {
             self.solve(particles, contact_context, joint_context);
             if constrained {
                 constraint_work += if semi_implicit {
-                    self.kick_and_solve_work(particles)
+                    let turning = if rolling { self.turning_work(particles) } else { 0.0 };
+                    self.kick_and_solve_work(particles) + turning
                 } else {
                     particles.kinetic_energy() - before
                 };
@@ -156,6 +162,21 @@ impl SoftStep {
             let damping_loss = 0.5 * kicked.length_squared() * (1.0 / (d * d) - 1.0);
             work += (0.5 * (v.length_squared() - v0.length_squared()) - kick.dot(v) + damping_loss)
                 / f64::from(w);
+        }
+        work
+    }
+
+    /// Work done by the contacts on the spheres' rotation in a substep's solve (J): the
+    /// change of `½ I ω²` since the substep began (no force generator turns a sphere,
+    /// so all of it is the contacts').
+    fn turning_work(&self, particles: &Particles) -> f64 {
+        let spins = particles.angular_velocity.iter().zip(&self.substep_spin);
+        let mut work = 0.0;
+        for ((&w, &w0), &inverse_inertia) in spins.zip(&particles.inverse_inertia) {
+            if inverse_inertia != 0.0 && w != w0 {
+                let change = f64::from(w.length_squared()) - f64::from(w0.length_squared());
+                work += 0.5 * change / f64::from(inverse_inertia);
+            }
         }
         work
     }

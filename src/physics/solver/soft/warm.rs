@@ -35,7 +35,9 @@ impl SoftStep {
             }
         }
         let impulses =
-            memory.warm.iter().all(|w| w.normal_impulse.is_finite() && w.tangent_impulse.is_finite());
+            memory.warm.iter().all(|w| {
+                w.normal_impulse.is_finite() && w.tangent_impulse.is_finite() && w.rolling_impulse.is_finite()
+            });
         let links = memory
             .warm_links
             .iter()
@@ -58,6 +60,11 @@ impl SoftStep {
             hasher.u64(warm.key);
             hasher.f32(warm.normal_impulse);
             hasher.vec3(warm.tangent_impulse);
+            // Only contacts of spheres that roll resist rolling: a world of point
+            // masses hashes as it did before spheres could roll.
+            if warm.rolling_impulse != glam::Vec3::ZERO {
+                hasher.vec3(warm.rolling_impulse);
+            }
         }
         for &(generator, impulse) in &self.warm_links {
             hasher.u64(u64::from(generator));
@@ -84,6 +91,9 @@ impl SoftStep {
                     // The normal turned a little since: keep the tangential part.
                     let t = warm.tangent_impulse;
                     contact.tangent_impulse = t - contact.normal * t.dot(contact.normal);
+                    if contact.rolling > 0.0 {
+                        contact.rolling_impulse = warm.rolling_impulse;
+                    }
                 }
             }
         }
@@ -116,6 +126,7 @@ impl SoftStep {
                 key: self.fresh_keys[origin],
                 normal_impulse: contact.normal_impulse,
                 tangent_impulse: contact.tangent_impulse,
+                rolling_impulse: contact.rolling_impulse,
             };
         }
         std::mem::swap(&mut self.warm_groups, &mut self.fresh_groups);

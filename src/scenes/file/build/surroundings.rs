@@ -102,6 +102,7 @@ impl Builder<'_> {
             let spheres = SphereCollisions {
                 restitution: self.eval(&restitution, &[], "restitution", UNIT)?,
                 friction: self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+                rolling_resistance: 0.0,
             };
             self.world
                 .add_contact_generator(spheres)
