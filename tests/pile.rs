@@ -66,7 +66,7 @@ fn a_bouncy_pile_comes_to_rest_and_falls_asleep_too() {
 
 #[test]
 fn a_sleeping_pile_wakes_when_touched_moved_or_regravitated_and_sleeps_again() {
-    let (mut scene, _) = settle(500, 6.0, &["width=8"]);
+    let (mut scene, _) = settle(500, 10.0, &["width=8"]);
     assert_eq!(scene.world().particles.asleep_count(), 500, "settled pile should be asleep");
     let dt = scene.info().dt;
     // Moved from outside (as the mouse does): its island wakes on the next step.

@@ -8,7 +8,9 @@
 use glam::Vec3;
 
 use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
-use crate::physics::{ParticleDesc, PhysicsError, Plane, ResolveReport, SphereCollisions, World};
+use crate::physics::{
+    DEFAULT_ROLLING_RESISTANCE, ParticleDesc, PhysicsError, Plane, ResolveReport, SphereCollisions, World,
+};
 
 /// Gap between neighbours on the starting grid, as a fraction of the diameter.
 const GRID_GAP: f32 = 0.25;
@@ -25,6 +27,8 @@ static PARAMS: &[Param] = &[
     Param { name: "width", unit: "m", default: 16.0, min: 1.0, max: 1000.0, help: "Inner width of the box (its walls stand at ±width/2)", logarithmic: true, integer: false },
     Param { name: "restitution", unit: "", default: 0.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between spheres, walls and ground", logarithmic: false, integer: false },
     Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between spheres, walls and ground", logarithmic: false, integer: false },
+    Param { name: "rolling_resistance", unit: "", default: DEFAULT_ROLLING_RESISTANCE, min: 0.0, max: 1.0, help: "Rolling resistance coefficient: the torque opposing a sphere's roll is at most this times its radius times the normal force", logarithmic: false, integer: false },
+    Param { name: "rolls", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "1: solid spheres that roll (I = 2/5 m r²); 0: the paper's point masses, which slide but never turn", logarithmic: false, integer: true },
     Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
 ];
 
@@ -55,6 +59,7 @@ fn count(params: &ParamValues) -> usize {
 fn build_world(params: &ParamValues) -> World {
     let (radius, mass, width) = (params.get("radius"), params.get("mass"), params.get("width"));
     let (restitution, friction, g) = (params.get("restitution"), params.get("friction"), params.get("g"));
+    let (rolling, rolls) = (params.get("rolling_resistance"), params.get("rolls") >= 0.5);
     let mut world = World::new();
     let half = width / 2.0;
     let walls = [
@@ -65,15 +70,16 @@ fn build_world(params: &ParamValues) -> World {
         (Vec3::NEG_Z, Vec3::new(0.0, 0.0, half)),
     ];
     for (normal, point) in walls {
-        let plane =
-            Plane::new(normal, point, restitution, friction).expect("parameter ranges keep planes valid");
+        let plane = Plane::new(normal, point, restitution, friction)
+            .expect("parameter ranges keep planes valid")
+            .with_rolling_resistance(rolling);
         world.add_contact_generator(plane).expect("a plane from Plane::new is valid");
     }
     world
-        .add_contact_generator(SphereCollisions::new(restitution, friction))
+        .add_contact_generator(SphereCollisions { rolling_resistance: rolling, ..SphereCollisions::new(restitution, friction) })
         .expect("parameter ranges keep restitution and friction valid");
     for position in starting_grid(count(params), radius, width) {
-        world
+        let id = world
             .add_particle(ParticleDesc {
                 position,
                 acceleration: Vec3::new(0.0, -g, 0.0),
@@ -83,6 +89,7 @@ fn build_world(params: &ParamValues) -> World {
                 ..ParticleDesc::default()
             })
             .expect("parameter ranges keep every sphere valid");
+        world.particles.set_rolling(id, rolls).expect("every sphere has a radius");
     }
     world
 }

@@ -13,7 +13,7 @@ pub mod constraints;
 pub mod narrow_phase;
 
 pub use broad_phase::{BroadPhase, Scratch};
-pub use narrow_phase::{GroundPlane, Plane, SphereCollisions};
+pub use narrow_phase::{DEFAULT_ROLLING_RESISTANCE, GroundPlane, Plane, SphereCollisions};
 
 use crate::physics::contact::Contact;
 use crate::physics::error::{PhysicsError, check};
