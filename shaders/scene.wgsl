@@ -19,7 +19,7 @@ fn orthographic() -> bool {
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 
-// Mirrors `SphereInstance` (32 bytes).
+// Mirrors `SphereInstance` (48 bytes).
 struct Sphere {
     // Centre (m).
     center: vec3<f32>,
@@ -27,6 +27,8 @@ struct Sphere {
     radius: f32,
     // Linear RGBA colour.
     color: vec4<f32>,
+    // Orientation of a sphere that rolls (unit quaternion xyzw); all zero: unmarked.
+    spin: vec4<f32>,
 };
 
 // The spheres come to the vertex shaders one of two ways, both below. By index from a
@@ -38,6 +40,7 @@ struct SphereIn {
     @location(0) center: vec3<f32>,
     @location(1) radius: f32,
     @location(2) color: vec4<f32>,
+    @location(3) spin: vec4<f32>,
 };
 
 const SKY: vec3<f32> = vec3<f32>(0.55, 0.65, 0.80);
@@ -127,11 +130,12 @@ struct SphereOut {
     @location(1) center: vec3<f32>,
     @location(2) radius: f32,
     @location(3) color: vec4<f32>,
+    @location(4) spin: vec4<f32>,
 };
 
 @vertex
 fn vs_sphere_instanced(@builtin(vertex_index) corner: u32, sphere: SphereIn) -> SphereOut {
-    return sphere_vertex(Sphere(sphere.center, sphere.radius, sphere.color), corner);
+    return sphere_vertex(Sphere(sphere.center, sphere.radius, sphere.color, sphere.spin), corner);
 }
 
 // Corner `k` (0..2) of the triangle drawn around `sphere`.
@@ -169,7 +173,27 @@ fn sphere_vertex(sphere: Sphere, k: u32) -> SphereOut {
     out.center = sphere.center;
     out.radius = sphere.radius;
     out.color = sphere.color;
+    out.spin = sphere.spin;
     return out;
+}
+
+// `v` turned by the inverse of the unit quaternion `q`: from the world into the
+// sphere's own frame.
+fn unrotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
+    let u = -q.xyz;
+    return v + 2.0 * cross(u, cross(u, v) + q.w * v);
+}
+
+// The marking of a sphere that rolls, at the unit surface normal `n` (world): 0 plain,
+// 1 the dark band around its own equator, 2 the light dot on the band; edges blended.
+// (Derivatives are taken before the choice: they must be in uniform control flow.)
+fn marking(spin: vec4<f32>, n: vec3<f32>) -> vec2<f32> {
+    let body = unrotate(spin, n);
+    let band_width = fwidth(body.y) + 1e-4;
+    let dot_width = fwidth(body.x) + 1e-4;
+    let band = 1.0 - smoothstep(0.16 - band_width, 0.16 + band_width, abs(body.y));
+    let spot = smoothstep(0.93 - dot_width, 0.93 + dot_width, body.x);
+    return select(vec2<f32>(band, spot), vec2<f32>(0.0, 0.0), dot(spin, spin) < 0.25);
 }
 
 struct SphereFragment {
@@ -211,7 +235,8 @@ fn fs_sphere(in: SphereOut) -> SphereFragment {
     let specular = s32 * s8;
     let edge = 1.0 - max(dot(normal, -ray), 0.0);
     let rim = edge * edge * edge * 0.15;
-    let base = in.color.rgb;
+    let mark = marking(in.spin, normal);
+    let base = mix(mix(in.color.rgb, in.color.rgb * 0.35, mark.x), vec3<f32>(0.95, 0.95, 0.9), mark.y);
     let lit = base * (0.35 * ambient + 0.8 * diffuse) + vec3<f32>(0.35 * specular + rim);
     var out: SphereFragment;
     out.color = vec4<f32>(lit, coverage);
@@ -231,7 +256,7 @@ struct ShadowOut {
 
 @vertex
 fn vs_shadow_instanced(@builtin(vertex_index) corner: u32, sphere: SphereIn) -> ShadowOut {
-    return shadow_vertex(Sphere(sphere.center, sphere.radius, sphere.color), corner);
+    return shadow_vertex(Sphere(sphere.center, sphere.radius, sphere.color, sphere.spin), corner);
 }
 
 fn shadow_vertex(sphere: Sphere, k: u32) -> ShadowOut {

@@ -258,10 +258,11 @@ fn a_sphere_resting_on_the_paper_ground_books_no_energy() {
 #[test]
 fn the_pile_scenes_friction_parameter_stops_a_sliding_sphere_on_both_solvers() {
     // The slider that did nothing on the paper solver: one sphere of the pile scene,
-    // landed, then pushed along the floor at 4 m/s.
+    // landed, then pushed along the floor at 4 m/s. A point mass (`rolls=0`) slides to
+    // a stop; a sphere that rolls turns to rolling instead (tests/rolling.rs).
     for kind in SolverKind::ALL {
         for mu in [0.25, 0.5] {
-            let settings = ["count=1".to_string(), format!("friction={mu}")];
+            let settings = ["count=1".to_string(), format!("friction={mu}"), "rolls=0".to_string()];
             let mut scene = particle_lab::scenes::build("pile", &settings).unwrap();
             scene.world_mut().set_solver(SolverSettings { kind, ..SolverSettings::default() }).unwrap();
             let g = scene.params().get("g");

@@ -172,3 +172,33 @@ fn rolling_resistance_holds_a_sphere_on_a_gentle_slope_only() {
     let expected = 5.0 / 7.0 * G * (sin - 0.1 * cos);
     assert!(within(a, expected, 0.02), "a = {a} m/s², closed form {expected}");
 }
+
+#[test]
+fn a_pushed_sphere_of_the_pile_scene_slides_rolls_and_stops_where_the_closed_form_says() {
+    // One sphere of the pile scene, landed, pushed along the floor at 4 m/s without
+    // spin. It slides (slowed at μ g) while friction spins it up against the rolling
+    // resistance (α = 5 g (μ - μ_r) / 2r) until v = ω r, then rolls, slowed at
+    // 5/7 μ_r g, to a stop.
+    let (mu, mu_r, v0) = (0.5f32, 0.1f32, 4.0f32);
+    let settings = ["count=1".to_string(), format!("friction={mu}"), format!("rolling_resistance={mu_r}")];
+    let mut scene = particle_lab::scenes::build("pile", &settings).unwrap();
+    let dt = 1.0 / 240.0;
+    for _ in 0..1200 {
+        scene.step(dt).unwrap();
+    }
+    let world = scene.world_mut();
+    let id = world.particles.ids()[0];
+    assert!(world.particles.velocities()[0].length() < 1e-3, "landed and still moving");
+    let start = world.particles.positions()[0];
+    world.particles.set_velocity(id, Vec3::new(v0, 0.0, 0.0)).unwrap();
+    for _ in 0..1500 {
+        scene.step(dt).unwrap();
+    }
+    let t1 = 2.0 * v0 / (G * (7.0 * mu - 5.0 * mu_r));
+    let v1 = v0 - mu * G * t1;
+    let expected = v0 * t1 - 0.5 * mu * G * t1 * t1 + v1 * v1 / (2.0 * 5.0 / 7.0 * mu_r * G);
+    let p = &scene.world().particles;
+    let travelled = p.positions()[0].x - start.x;
+    assert!(p.velocities()[0].length() < 1e-3, "still moving at {}", p.velocities()[0]);
+    assert!(within(travelled, expected, 0.01), "travelled {travelled} m, closed form {expected} m");
+}

@@ -201,6 +201,9 @@ struct ParticleJson {
     id: u32,
     p: [f32; 3],
     v: [f32; 3],
+    /// Angular velocity (rad/s) of a sphere that rolls; absent for a point mass.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    w: Option<[f32; 3]>,
     /// Radius (m).
     r: f32,
     /// Mass (kg); `null` for an immovable particle.
@@ -227,7 +230,11 @@ struct LinkJson {
 
 #[derive(Serialize)]
 struct EnergyJson {
+    /// Of motion and, for spheres that roll, of rotation (J).
     kinetic: f32,
+    /// The rotational part of `kinetic`, `Σ ½ I ω²` (J); absent when nothing rolls.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rotational: Option<f32>,
     potential: f32,
     /// Taken out since step 0 (damping, drag, contacts and links), cumulative (J).
     dissipated: f32,
@@ -340,6 +347,7 @@ fn write_state(
                 id: id.0,
                 p: figure(p.position[i]).to_array(),
                 v: figure(p.velocity[i]).to_array(),
+                w: p.rolls(i).then(|| figure(p.angular_velocities()[i]).to_array()),
                 r: p.radius[i],
                 m: (p.inverse_mass[i] > 0.0).then(|| p.mass(i)),
                 f,
@@ -381,6 +389,7 @@ fn write_state(
         },
         energy: EnergyJson {
             kinetic: energy.kinetic,
+            rotational: p.any_rolling().then_some(energy.rotational),
             potential: energy.potential,
             dissipated: energy.dissipated,
             work: energy.work,

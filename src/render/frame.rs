@@ -20,7 +20,13 @@ pub struct SphereInstance {
     pub radius: f32,
     /// Linear RGBA colour.
     pub color: [f32; 4],
+    /// Orientation of a sphere that rolls (a unit quaternion, x, y, z, w), drawn as a
+    /// dark band with a light dot that turn with it; [`UNMARKED`] for none.
+    pub spin: [f32; 4],
 }
+
+/// [`SphereInstance::spin`] of a sphere drawn plain: a point mass, a marker, a ghost.
+pub const UNMARKED: [f32; 4] = [0.0; 4];
 
 /// One thick line segment, drawn as a screen-space quad.
 #[repr(C)]
@@ -307,8 +313,9 @@ impl FrameBuilder {
         frame.shadows = particles.len() <= SHADOW_LIMIT;
         let speed_table = &*SPEED_TABLE;
         let each = particles.ids().iter().zip(&particles.position).zip(&particles.radius);
-        for (((&id, position), &radius), (&inverse_mass, velocity)) in
-            each.zip(particles.inverse_mass.iter().zip(&particles.velocity))
+        let turning = particles.orientations().iter().zip(particles.inverse_inertias());
+        for ((((&id, position), &radius), (&inverse_mass, velocity)), (orientation, &inverse_inertia)) in
+            each.zip(particles.inverse_mass.iter().zip(&particles.velocity)).zip(turning)
         {
             let immovable = inverse_mass == 0.0;
             let mut color = if options.color_by_speed && !immovable {
@@ -317,14 +324,18 @@ impl FrameBuilder {
                 particle_color(id, immovable)
             };
             let mut radius = radius.max(0.05);
+            let mut spin = if inverse_inertia != 0.0 { orientation.to_array() } else { UNMARKED };
             if highlight == Some(id) {
+                // Plain yellow, a little larger: the one picked stands out.
                 color = [1.0, 0.95, 0.3];
                 radius *= 1.15;
+                spin = UNMARKED;
             }
             frame.spheres.push(SphereInstance {
                 center: position.to_array(),
                 radius,
                 color: [color[0], color[1], color[2], 1.0],
+                spin,
             });
         }
         self.markers.clear();
@@ -335,6 +346,7 @@ impl FrameBuilder {
                 center: marker.position.to_array(),
                 radius: marker.radius,
                 color: [r, g, b, 1.0],
+                spin: UNMARKED,
             });
         }
 
@@ -370,6 +382,7 @@ impl FrameBuilder {
                     center: anchor.to_array(),
                     radius: 0.08,
                     color: [0.35, 0.35, 0.38, 1.0],
+                    spin: UNMARKED,
                 });
             }
             if options.contacts {
@@ -607,6 +620,7 @@ fn swept_paths(
             center: start.to_array(),
             radius: radius.max(0.05),
             color: [0.35, 0.85, 1.0, 0.35],
+            spin: UNMARKED,
         });
     }
 }

@@ -248,7 +248,8 @@ impl Renderer {
             step_mode: wgpu::VertexStepMode::Instance,
             attributes: &segment_attributes,
         };
-        let sphere_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x4];
+        let sphere_attributes =
+            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x4, 3 => Float32x4];
         let sphere_layout = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<SphereInstance>() as u64,
             step_mode: wgpu::VertexStepMode::Instance,

@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use crate::physics::LinkState;
-use crate::render::frame::{SegmentInstance, SphereInstance};
+use crate::render::frame::{SegmentInstance, SphereInstance, UNMARKED};
 use crate::render::renderer::DEFAULT_SAMPLE_COUNT;
 use crate::render::{FrameBuilder, FrameData, Renderer, SpherePath};
 use crate::ui::lab::{ACCELERATION_ARROW, CONSTRAINT_FORCE, Lab, VELOCITY_ARROW};
@@ -203,6 +203,7 @@ fn compare_ghosts(lab: &Lab, links: &mut Vec<LinkState>, frame: &mut FrameData) 
             center: position.to_array(),
             radius: radius.max(0.05) * 1.02,
             color: [r, g, b, 0.4],
+            spin: UNMARKED,
         });
     }
     world.links_into(links);

@@ -183,6 +183,10 @@ pub struct ParticleTable {
     /// Immovable.
     #[serde(default)]
     pub fixed: bool,
+    /// A solid sphere that rolls (friction turns it; needs a radius), default false:
+    /// the paper's point mass.
+    #[serde(default)]
+    pub rolls: bool,
 }
 
 /// `[[row]]`.
@@ -210,6 +214,10 @@ pub struct RowTable {
     /// Every particle immovable.
     #[serde(default)]
     pub fixed: bool,
+    /// Every particle a solid sphere that rolls (friction turns it; needs a radius), default false:
+    /// the paper's point mass.
+    #[serde(default)]
+    pub rolls: bool,
     /// Indices made immovable (negative counts from the end).
     #[serde(default)]
     pub pin: Vec<SNum>,
@@ -259,6 +267,10 @@ pub struct GridTable {
     /// Every particle immovable.
     #[serde(default)]
     pub fixed: bool,
+    /// Every particle a solid sphere that rolls (friction turns it; needs a radius), default false:
+    /// the paper's point mass.
+    #[serde(default)]
+    pub rolls: bool,
     /// `[row, col]` pairs made immovable (negative counts from the end).
     #[serde(default)]
     pub pin: Vec<Spanned<Vec<SNum>>>,
@@ -377,6 +389,8 @@ pub struct SurfaceTable {
     pub restitution: Option<SNum>,
     /// Friction, default 0.5.
     pub friction: Option<SNum>,
+    /// Rolling resistance against spheres that roll, default 0.1.
+    pub rolling_resistance: Option<SNum>,
 }
 
 /// `[[wall]]`.
@@ -391,6 +405,8 @@ pub struct WallTable {
     pub restitution: Option<SNum>,
     /// Friction, default 0.5.
     pub friction: Option<SNum>,
+    /// Rolling resistance against spheres that roll, default 0.1.
+    pub rolling_resistance: Option<SNum>,
 }
 
 /// `[collisions]`.
@@ -401,6 +417,8 @@ pub struct CollisionsTable {
     pub restitution: Option<SNum>,
     /// Friction between particles, default 0.3.
     pub friction: Option<SNum>,
+    /// Rolling resistance between spheres that roll, default 0.1.
+    pub rolling_resistance: Option<SNum>,
 }
 
 /// `[camera]`.

@@ -20,8 +20,13 @@ impl Builder<'_> {
         self.groups.push(group);
     }
 
-    pub(super) fn add(&mut self, desc: ParticleDesc, span: &Range<usize>) -> Result<(), Located> {
+    pub(super) fn add(&mut self, desc: ParticleDesc, rolls: bool, span: &Range<usize>) -> Result<(), Located> {
         let id = self.world.add_particle(desc).map_err(|e| Located::at(span, e.to_string()))?;
+        if rolls {
+            self.world.particles.set_rolling(id, true).map_err(|_| {
+                Located::at(span, "rolls = true needs a radius > 0: a point mass has no surface to roll on")
+            })?;
+        }
         self.ids.push(id);
         Ok(())
     }
@@ -52,7 +57,7 @@ impl Builder<'_> {
                 radius: self.eval(&radius, &[], "radius", NON_NEGATIVE)?,
             };
             self.push_group(Group { name, single: true, first: self.ids.len(), rows: 1, cols: 1 });
-            self.add(desc, &span)?;
+            self.add(desc, t.rolls, &span)?;
         }
         Ok(())
     }
@@ -128,7 +133,7 @@ impl Builder<'_> {
                     damping: self.eval(&damping, &local, "damping", UNIT)?,
                     radius: self.eval(&radius, &local, "radius", NON_NEGATIVE)?,
                 };
-                self.add(desc, &span)?;
+                self.add(desc, t.rolls, &span)?;
             }
             self.push_group(Group { name, single: false, first, rows: 1, cols: count });
             if let Some(kind) = &t.link {
@@ -203,7 +208,7 @@ impl Builder<'_> {
                         damping: self.eval(&damping, &local, "damping", UNIT)?,
                         radius: self.eval(&radius, &local, "radius", NON_NEGATIVE)?,
                     };
-                    self.add(desc, &span)?;
+                    self.add(desc, t.rolls, &span)?;
                 }
             }
             self.push_group(Group { name, single: false, first, rows, cols });

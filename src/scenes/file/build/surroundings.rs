@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::{ANY, Bounds, Builder, Located, NON_NEGATIVE, POSITIVE, UNIT, spend};
-use crate::physics::{Buoyancy, Drag, ForceId, Plane, SphereCollisions};
+use crate::physics::{Buoyancy, DEFAULT_ROLLING_RESISTANCE, Drag, ForceId, Plane, SphereCollisions};
 use crate::scenes::CameraHint;
 use crate::scenes::file::format::Document;
 
@@ -73,11 +73,14 @@ impl Builder<'_> {
             let height = self.compile_or(ground.height.as_ref(), 0.0, &[])?;
             let restitution = self.compile_or(ground.restitution.as_ref(), 0.3, &[])?;
             let friction = self.compile_or(ground.friction.as_ref(), 0.5, &[])?;
+            let rolling =
+                self.compile_or(ground.rolling_resistance.as_ref(), DEFAULT_ROLLING_RESISTANCE.into(), &[])?;
             let plane = Plane::ground(
                 self.eval(&height, &[], "height", ANY)?,
                 self.eval(&restitution, &[], "restitution", UNIT)?,
                 self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
-            );
+            )
+            .with_rolling_resistance(self.eval(&rolling, &[], "rolling_resistance", NON_NEGATIVE)?);
             self.world.add_contact_generator(plane).map_err(|e| Located::at(&height.span, e.to_string()))?;
         }
         for wall in &doc.wall {
@@ -85,13 +88,16 @@ impl Builder<'_> {
             let point = self.compile_vec(&wall.point, &[])?;
             let restitution = self.compile_or(wall.restitution.as_ref(), 0.3, &[])?;
             let friction = self.compile_or(wall.friction.as_ref(), 0.5, &[])?;
+            let rolling =
+                self.compile_or(wall.rolling_resistance.as_ref(), DEFAULT_ROLLING_RESISTANCE.into(), &[])?;
             let plane = Plane::new(
                 self.eval_vec(&normal, &[], "normal")?,
                 self.eval_vec(&point, &[], "point")?,
                 self.eval(&restitution, &[], "restitution", UNIT)?,
                 self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
             )
-            .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?;
+            .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?
+            .with_rolling_resistance(self.eval(&rolling, &[], "rolling_resistance", NON_NEGATIVE)?);
             self.world
                 .add_contact_generator(plane)
                 .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?;
@@ -99,10 +105,15 @@ impl Builder<'_> {
         if let Some(collisions) = &doc.collisions {
             let restitution = self.compile_or(collisions.restitution.as_ref(), 0.5, &[])?;
             let friction = self.compile_or(collisions.friction.as_ref(), 0.3, &[])?;
+            let rolling = self.compile_or(
+                collisions.rolling_resistance.as_ref(),
+                DEFAULT_ROLLING_RESISTANCE.into(),
+                &[],
+            )?;
             let spheres = SphereCollisions {
                 restitution: self.eval(&restitution, &[], "restitution", UNIT)?,
                 friction: self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
-                rolling_resistance: 0.0,
+                rolling_resistance: self.eval(&rolling, &[], "rolling_resistance", NON_NEGATIVE)?,
             };
             self.world
                 .add_contact_generator(spheres)
