@@ -24,7 +24,36 @@ pub fn round_scale(x: f32) -> f32 {
         .unwrap_or_else(|| decimal(1, exponent + 1))
 }
 
+/// What the inspector shows of a sphere that rolls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spin {
+    /// Angular velocity (rad/s).
+    pub angular_velocity: Vec3,
+    /// Kinetic energy of its rotation, `½ I ω²` with `I = 2/5 m r²` (J).
+    pub energy: f32,
+    /// Speed of its surface relative to its centre at the equator of the spin, `|ω| r`
+    /// (m/s): equal to its speed while it rolls without slipping on still ground.
+    pub surface_speed: f32,
+}
+
 impl Lab {
+    /// The spin of a sphere that rolls; `None` for a point mass or an unknown particle.
+    #[must_use]
+    pub fn spin(&self, id: ParticleId) -> Option<Spin> {
+        let particles = &self.scene.world().particles;
+        let i = particles.index(id)?;
+        let inverse_inertia = particles.inverse_inertias()[i];
+        if inverse_inertia == 0.0 {
+            return None;
+        }
+        let w = particles.angular_velocities()[i];
+        Some(Spin {
+            angular_velocity: w,
+            energy: 0.5 * w.length_squared() / inverse_inertia + 0.0,
+            surface_speed: w.length() * particles.radii()[i],
+        })
+    }
+
     /// The forces on a particle now, one by one (N): from the current state, its
     /// weight, each force generator's and damping's ([`World::free_body`]); and, for the
     /// selected particle while a contact or link acts on it, what they did over the

@@ -24,7 +24,7 @@ mod tape;
 mod watch;
 
 pub use crate::physics::inspect::CONSTRAINT_FORCE;
-pub use forces::round_scale;
+pub use forces::{Spin, round_scale};
 pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;
 pub use link::Link;

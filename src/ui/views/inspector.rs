@@ -50,12 +50,17 @@ impl Inspector {
                 lab.select(None);
             }
         });
-        let rows = [
+        let mut rows = vec![
             ("mass", if movable { format!("{mass:.3} kg") } else { "immovable".into() }),
             ("position", vector(p, "m")),
             ("velocity", vector(v, "m/s")),
             ("speed", format!("{} m/s", fixed(v.length(), 2))),
         ];
+        if let Some(spin) = lab.spin(id) {
+            rows.push(("angular velocity", vector(spin.angular_velocity, "rad/s")));
+            rows.push(("surface speed", format!("{} m/s", fixed(spin.surface_speed, 2))));
+            rows.push(("spin energy", format!("{} J", fixed(spin.energy, 3))));
+        }
         let forces = lab.free_body(id);
         // Short names and monospace values of a fixed size: the grid then fits the
         // panel's width. The long names say what they mean when hovered.
