@@ -2,7 +2,7 @@
 
 struct Globals {
     view_proj: mat4x4<f32>,
-    // xyz: eye position (m).
+    // xyz: eye position (m); w: height of the ground (m).
     eye: vec4<f32>,
     // x, y: viewport size (px); z: 1 when the grid is on; w: near plane distance (m).
     viewport: vec4<f32>,
@@ -79,7 +79,7 @@ fn vs_ground(@builtin(vertex_index) index: u32) -> GroundOut {
     );
     // Wider for a camera backed off far (a kilometres-long projectile path).
     let c = corners[index] * max(GROUND_HALF_SIZE, 8.0 * globals.light.w);
-    let world = vec3<f32>(c.x + floor(globals.eye.x), 0.0, c.y + floor(globals.eye.z));
+    let world = vec3<f32>(c.x + floor(globals.eye.x), globals.eye.w, c.y + floor(globals.eye.z));
     var out: GroundOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
     out.world = world;
@@ -261,15 +261,16 @@ fn vs_shadow_instanced(@builtin(vertex_index) corner: u32, sphere: SphereIn) -> 
 
 fn shadow_vertex(sphere: Sphere, k: u32) -> ShadowOut {
     let corner = triangle_corner(k);
-    let height = max(sphere.center.y - sphere.radius, 0.0);
+    let ground = globals.eye.w;
+    let height = max(sphere.center.y - sphere.radius - ground, 0.0);
     let size = sphere.radius * (1.1 + height * 0.12);
-    let world = vec3<f32>(sphere.center.x + corner.x * size, 0.0, sphere.center.z + corner.y * size);
+    let world = vec3<f32>(sphere.center.x + corner.x * size, ground, sphere.center.z + corner.y * size);
     var out: ShadowOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
     out.local = corner;
     // Nothing under the ground casts a shadow on it; far away it fades with the ground.
     let strength = 0.65 * clamp(1.0 - height / 15.0, 0.0, 1.0) * (1.0 - fog(world));
-    out.strength = select(strength, 0.0, sphere.center.y < 0.0);
+    out.strength = select(strength, 0.0, sphere.center.y < ground);
     return out;
 }
 

@@ -27,6 +27,7 @@ fn scenes_lists_every_scene_in_text_and_json() {
         "pile",
         "pendulum",
         "cradle",
+        "hourglass",
         "chain",
         "cloth",
         "platform",
@@ -38,7 +39,7 @@ fn scenes_lists_every_scene_in_text_and_json() {
     assert!(json.status.success());
     let list: Value = serde_json::from_slice(&json.stdout).unwrap();
     let list = list.as_array().unwrap();
-    assert_eq!(list.len(), 10, "six compiled scenes and four shipped files");
+    assert_eq!(list.len(), 11, "seven compiled scenes and four shipped files");
     let projectile = list.iter().find(|s| s["name"] == "projectile").unwrap();
     let g = projectile["params"].as_array().unwrap().iter().find(|p| p["name"] == "g").unwrap();
     assert_eq!(g["default"], 20.0);

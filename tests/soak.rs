@@ -12,16 +12,16 @@ use common::Random;
 const STEPS: u32 = 100_000;
 const EVERY: u32 = 50;
 
-/// The slider range the soak draws from: the parameter's own, except the pile's
-/// sphere count, held to 400 so that 100,000 steps fit in a test run (its cost is per
-/// sphere; the other parameters still go over their whole range).
+/// The slider range the soak draws from: the parameter's own, except the pile's and
+/// the hourglass's grain counts, held to 400 so that 100,000 steps fit in a test run
+/// (their cost is per sphere; the other parameters still go over their whole range).
 fn range(scene: &str, name: &str, min: f32, max: f32) -> (f32, f32) {
-    if scene == "pile" && name == "count" { (min, max.min(400.0)) } else { (min, max) }
+    if matches!(scene, "pile" | "hourglass") && name == "count" { (min, max.min(400.0)) } else { (min, max) }
 }
 
 fn soak(name: &str, seed: u64) {
     let entry = scenes::find(name).unwrap();
-    let start = if name == "pile" { vec!["count=300".to_string()] } else { Vec::new() };
+    let start = if matches!(name, "pile" | "hourglass") { vec!["count=300".to_string()] } else { Vec::new() };
     let mut lab = Lab::new(name, &start).unwrap();
     let mut random = Random(seed);
     let mut changes = Vec::new();
@@ -93,6 +93,11 @@ fn cradle_soaks() {
 }
 
 #[test]
+fn hourglass_soaks() {
+    soak("hourglass", 11);
+}
+
+#[test]
 fn the_chain_file_soaks() {
     soak("chain", 7);
 }
@@ -121,6 +126,7 @@ fn every_compiled_scene_and_shipped_file_is_soaked() {
         "pile",
         "pendulum",
         "cradle",
+        "hourglass",
         "chain",
         "cloth",
         "platform",

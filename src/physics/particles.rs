@@ -870,6 +870,10 @@ mod nan_as_null {
 /// target rounds it alike.
 fn turned(q: Quat, turn: Vec3) -> Quat {
     let angle = turn.length();
+    if angle == 0.0 {
+        // A spin so slow that its step's turn squares to nothing (|ω dt| < 1e-19 rad).
+        return q;
+    }
     let (sin, cos) = half_angle_sin_cos(angle);
     let s = sin / angle;
     let (ax, ay, az, aw) = (turn.x * s, turn.y * s, turn.z * s, cos);
@@ -909,13 +913,16 @@ mod tests {
     /// glam) to f32 resolution, over small, large and wrapped-around angles.
     #[test]
     fn the_portable_turn_agrees_with_glam() {
+        let q = Quat::from_xyzw(0.3, -0.5, 0.1, 0.8).normalize();
+        // A turn too small to square (the spin of a sphere all but at rest) leaves q.
+        assert_eq!(turned(q, Vec3::new(1e-25, 0.0, 0.0)), q);
+        assert!(turned(q, Vec3::new(1e-18, 1e-30, 0.0)).is_finite());
         for i in 0..2000 {
             let angle = (i as f32) * 0.013 - 5.0 + if i % 7 == 0 { 1000.0 } else { 0.0 };
             let (sin, cos) = half_angle_sin_cos(angle);
             let (s, c) = (f64::from(angle) * 0.5).sin_cos();
             assert!((f64::from(sin) - s).abs() < 2e-7 && (f64::from(cos) - c).abs() < 2e-7, "{angle}");
             if angle != 0.0 {
-                let q = Quat::from_xyzw(0.3, -0.5, 0.1, 0.8).normalize();
                 let turn = Vec3::new(0.6, 0.0, -0.8) * angle;
                 let ours = turned(q, turn);
                 let glam = (Quat::from_scaled_axis(turn) * q).normalize();

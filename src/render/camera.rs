@@ -3,7 +3,7 @@
 use glam::camera::rh;
 use glam::{Mat4, Vec2, Vec3};
 
-use crate::scenes::CameraHint;
+use crate::scenes::{CameraHint, Scene};
 
 /// A camera that orbits a target point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,6 +21,8 @@ pub struct OrbitCamera {
     /// Parallel projection: no perspective, sizes read the same at every depth (the 2D
     /// side view). It shows what a perspective view shows at the target's distance.
     pub orthographic: bool,
+    /// Height of the ground drawn under the scene (m), which the eye stays above.
+    pub ground: f32,
 }
 
 impl OrbitCamera {
@@ -33,7 +35,7 @@ impl OrbitCamera {
     /// Lowest elevation: a little below the horizon, not under the ground.
     const PITCH_MIN: f32 = -0.15;
 
-    /// A camera placed as a scene asks.
+    /// A camera placed as a scene asks, over the ground at y = 0.
     #[must_use]
     pub fn from_hint(hint: CameraHint) -> Self {
         Self {
@@ -43,7 +45,14 @@ impl OrbitCamera {
             pitch: hint.pitch,
             fov_y: 45f32.to_radians(),
             orthographic: false,
+            ground: 0.0,
         }
+    }
+
+    /// A camera framing `scene` as it asks, over the ground it stands on.
+    #[must_use]
+    pub fn framing(scene: &dyn Scene) -> Self {
+        Self { ground: scene.ground(), ..Self::from_hint(scene.camera()) }
     }
 
     /// Position of the eye (m).
@@ -110,8 +119,9 @@ impl OrbitCamera {
 
     /// Raises the target to the ground and the pitch until the eye is above it.
     fn keep_above_ground(&mut self) {
-        self.target.y = self.target.y.max(0.0);
-        let lowest = ((Self::MIN_EYE_HEIGHT - self.target.y) / self.distance).clamp(-1.0, 1.0).asin();
+        self.target.y = self.target.y.max(self.ground);
+        let above = self.target.y - self.ground;
+        let lowest = ((Self::MIN_EYE_HEIGHT - above) / self.distance).clamp(-1.0, 1.0).asin();
         self.pitch = self.pitch.max(lowest).min(Self::PITCH_MAX);
     }
 

@@ -416,7 +416,7 @@ impl Renderer {
         let light = Vec3::new(0.4, 0.8, 0.45).normalize();
         let globals = Globals {
             view_proj: camera.view_projection(aspect).to_cols_array_2d(),
-            eye: camera.eye().extend(1.0).to_array(),
+            eye: camera.eye().extend(camera.ground).to_array(),
             viewport: [width, height, if frame.grid { 1.0 } else { 0.0 }, camera.near()],
             light: light.extend(camera.distance).to_array(),
             forward: camera.forward().extend(if camera.orthographic { 1.0 } else { 0.0 }).to_array(),

@@ -28,6 +28,7 @@ mod bridge;
 mod cradle;
 pub mod file;
 pub mod ghost;
+pub mod hourglass;
 mod params;
 mod pendulum;
 pub mod pile;
@@ -176,6 +177,12 @@ pub trait Scene: Send {
     /// Where to put the camera initially.
     fn camera(&self) -> CameraHint;
 
+    /// Height of the ground the view draws under the scene (m): y = 0 but where the
+    /// scene reaches below it (the hourglass's basin lies under its floor at y = 0).
+    fn ground(&self) -> f32 {
+        0.0
+    }
+
     /// Named read-outs for the panel, e.g. a spring's stability number at `dt`.
     fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
         Vec::new()
@@ -266,7 +273,7 @@ impl SceneEntry {
 
 /// Every scene, in menu order.
 pub static SCENES: &[SceneEntry] =
-    &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY, pile::ENTRY, pendulum::ENTRY, cradle::ENTRY];
+    &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY, pile::ENTRY, pendulum::ENTRY, cradle::ENTRY, hourglass::ENTRY];
 
 /// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works):
 /// the compiled scenes, then the shipped scene files.

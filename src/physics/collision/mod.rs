@@ -13,7 +13,7 @@ pub mod constraints;
 pub mod narrow_phase;
 
 pub use broad_phase::{BroadPhase, Scratch};
-pub use narrow_phase::{DEFAULT_ROLLING_RESISTANCE, GroundPlane, Plane, SphereCollisions};
+pub use narrow_phase::{DEFAULT_ROLLING_RESISTANCE, GroundPlane, Plane, Plate, SphereCollisions};
 
 use crate::physics::contact::Contact;
 use crate::physics::error::{PhysicsError, check};
@@ -27,6 +27,8 @@ use narrow_phase::check_surface;
 pub enum ContactGenerator {
     /// A plane: ground or wall.
     Plane(Plane),
+    /// A thin plate with a round opening: a silo's or an hourglass's floor.
+    Plate(Plate),
     /// Sphere-sphere collisions between all particles with a radius.
     Spheres(SphereCollisions),
     /// A rod or cable, between particles or to an anchor.
@@ -44,6 +46,7 @@ impl ContactGenerator {
                 check(plane.offset.is_finite(), "plane offset", plane.offset, "a finite distance (m)")?;
                 check_surface(plane.restitution, plane.friction, plane.rolling_resistance)
             }
+            Self::Plate(plate) => plate.validate(),
             Self::Spheres(spheres) => {
                 check_surface(spheres.restitution, spheres.friction, spheres.rolling_resistance)
             }
@@ -63,6 +66,7 @@ impl ContactGenerator {
     ) {
         match self {
             Self::Plane(plane) => plane.generate(particles, out),
+            Self::Plate(plate) => plate.generate(particles, out),
             Self::Spheres(spheres) => spheres.generate(particles, broad_phase, scratch, out),
             Self::Link(link) => link.generate(particles, source, out),
         }
@@ -73,7 +77,7 @@ impl ContactGenerator {
     pub fn involves(&self, id: ParticleId) -> bool {
         match self {
             Self::Link(link) => link.involves(id),
-            Self::Plane(_) | Self::Spheres(_) => false,
+            Self::Plane(_) | Self::Plate(_) | Self::Spheres(_) => false,
         }
     }
 
@@ -82,7 +86,7 @@ impl ContactGenerator {
     pub fn link(&self) -> Option<LinkSpec> {
         match self {
             Self::Link(link) => Some(link.spec()),
-            Self::Plane(_) | Self::Spheres(_) => None,
+            Self::Plane(_) | Self::Plate(_) | Self::Spheres(_) => None,
         }
     }
 }
@@ -90,6 +94,12 @@ impl ContactGenerator {
 impl From<Plane> for ContactGenerator {
     fn from(plane: Plane) -> Self {
         Self::Plane(plane)
+    }
+}
+
+impl From<Plate> for ContactGenerator {
+    fn from(plate: Plate) -> Self {
+        Self::Plate(plate)
     }
 }
 

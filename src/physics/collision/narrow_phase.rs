@@ -82,6 +82,86 @@ impl Plane {
 /// 0.05–0.1 (Ai et al. 2011); at 0.05 it spreads to about 18°.
 pub const DEFAULT_ROLLING_RESISTANCE: f32 = 0.1;
 
+/// A thin plate with a round opening: an infinite two-sided plane through `center`
+/// with the disc of `opening` radius around `center` cut out, the floor of a silo or
+/// an hourglass. A sphere touches it by its radius on either face, or at the rim of
+/// the opening (the circle of the cut), whichever point of the plate is closest.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Plate {
+    /// Unit normal of the plate.
+    pub normal: Vec3,
+    /// Centre of the opening, a point of the plate (m).
+    pub center: Vec3,
+    /// Radius of the opening (m), >= 0 (0: a plate with no opening).
+    pub opening: f32,
+    /// Coefficient of restitution against the plate, in [0, 1].
+    pub restitution: f32,
+    /// Coulomb friction coefficient against the plate, >= 0.
+    pub friction: f32,
+    /// Rolling resistance coefficient against the plate, >= 0.
+    pub rolling_resistance: f32,
+}
+
+impl Plate {
+    /// The plate through `center` with normal `normal` (any length > 0) and an opening
+    /// of radius `opening` around `center`.
+    pub fn new(normal: Vec3, center: Vec3, opening: f32, restitution: f32, friction: f32) -> Result<Self, PhysicsError> {
+        let unit = normal.try_normalize().ok_or_else(|| {
+            PhysicsError::InvalidSetting(format!("plate normal must be finite and non-zero, got {normal}"))
+        })?;
+        let plate = Self { normal: unit, center, opening, restitution, friction, rolling_resistance: 0.0 };
+        plate.validate()?;
+        Ok(plate)
+    }
+
+    /// The same plate with rolling resistance `coefficient` (checked when the plate
+    /// joins a world).
+    #[must_use]
+    pub fn with_rolling_resistance(self, coefficient: f32) -> Self {
+        Self { rolling_resistance: coefficient, ..self }
+    }
+
+    /// Checks every field; the error names the first that is off.
+    pub fn validate(&self) -> Result<(), PhysicsError> {
+        let unit = self.normal.is_finite() && (self.normal.length() - 1.0).abs() < 1e-4;
+        check(unit, "plate normal", self.normal, "a unit vector")?;
+        check(self.center.is_finite(), "plate centre", self.center, "a finite point (m)")?;
+        check(non_negative(self.opening), "plate opening", self.opening, "a finite radius >= 0 (m)")?;
+        check_surface(self.restitution, self.friction, self.rolling_resistance)
+    }
+
+    /// The unit normal pointing from the plate's nearest point towards `p`, and the
+    /// distance from that point to `p` (m).
+    #[inline]
+    #[must_use]
+    pub fn nearest(&self, p: Vec3) -> (Vec3, f32) {
+        let offset = p - self.center;
+        let height = offset.dot(self.normal);
+        let across = offset - self.normal * height;
+        let radial = across.length();
+        if radial >= self.opening {
+            // Over the plate itself: straight to its face, on whichever side.
+            let side = if height < 0.0 { -self.normal } else { self.normal };
+            return (side, height.abs());
+        }
+        // Over the opening: to the nearest point of its rim.
+        let outward = if radial > 0.0 { across / radial } else { self.normal.any_orthonormal_vector() };
+        let (direction, distance) = direction_or_zero(p - (self.center + outward * self.opening));
+        (if direction == Vec3::ZERO { self.normal } else { direction }, distance)
+    }
+
+    pub(super) fn generate(&self, particles: &Particles, out: &mut Vec<Contact>) {
+        let positions = particles.position.iter().zip(&particles.radius);
+        for (i, ((&p, &r), &inverse_mass)) in positions.zip(&particles.inverse_mass).enumerate() {
+            let (normal, distance) = self.nearest(p);
+            let penetration = r - distance;
+            if penetration > 0.0 && inverse_mass > 0.0 {
+                out.push(Contact::new(i, None, normal, penetration, self.restitution).with_friction(self.friction));
+            }
+        }
+    }
+}
+
 /// Checks a surface's restitution, friction and rolling resistance.
 pub(crate) fn check_surface(restitution: f32, friction: f32, rolling: f32) -> Result<(), PhysicsError> {
     check((0.0..=1.0).contains(&restitution), "restitution", restitution, UNIT)?;

@@ -16,7 +16,7 @@ impl Lab {
     /// Points the camera where the scene asks, backing off in a view narrower than the
     /// one the scenes' camera hints were made for, so the whole scene stays in sight.
     pub fn frame_scene(&mut self) {
-        self.camera = OrbitCamera::from_hint(self.scene.camera());
+        self.camera = OrbitCamera::framing(self.scene.as_ref());
         if self.view_aspect > 0.0 && self.view_aspect < FRAMING_ASPECT {
             self.camera.distance *= FRAMING_ASPECT / self.view_aspect;
         }
@@ -90,7 +90,7 @@ impl Lab {
         self.camera.yaw = 0.0;
         self.camera.pitch = 0.0;
         // Level with the target, which must be above the ground for the eye to be.
-        self.camera.target.y = self.camera.target.y.max(0.5);
+        self.camera.target.y = self.camera.target.y.max(self.camera.ground + 0.5);
     }
 
     /// With follow on: puts the camera's target on the selected particle, or else the
@@ -107,10 +107,11 @@ impl Lab {
         });
         if let Some(i) = chosen {
             let p = particles.positions()[i];
+            let ground = self.camera.ground;
             self.camera.target = if self.side_view {
-                Vec3::new(p.x, p.y.max(0.5), self.camera.target.z)
+                Vec3::new(p.x, p.y.max(ground + 0.5), self.camera.target.z)
             } else {
-                Vec3::new(p.x, p.y.max(0.0), p.z)
+                Vec3::new(p.x, p.y.max(ground), p.z)
             };
         }
     }

@@ -122,7 +122,7 @@ impl Lab {
         scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
         let mut lab = Self {
             solver,
-            camera: OrbitCamera::from_hint(scene.camera()),
+            camera: OrbitCamera::framing(scene.as_ref()),
             physics_rate: 1.0 / entry.info.dt,
             scene,
             entry,

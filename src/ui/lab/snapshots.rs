@@ -13,7 +13,7 @@ impl Lab {
         let (entry, scene) = snapshot.restore_with_entry()?;
         let mut lab = Self::from_entry(entry, &[], snapshot.world.solver())?;
         lab.install(entry, scene, snapshot.dt);
-        lab.camera = OrbitCamera::from_hint(lab.scene.camera());
+        lab.camera = OrbitCamera::framing(lab.scene.as_ref());
         Ok(lab)
     }
 

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::warm::key;
 use super::{NONE, SoftContact, SoftLink, SoftStep, ms};
-use crate::physics::collision::{BroadPhase, ContactGenerator, Plane, Scratch, SphereCollisions};
+use crate::physics::collision::{BroadPhase, ContactGenerator, Plane, Plate, Scratch, SphereCollisions};
 use crate::physics::ids::ContactGeneratorId;
 use crate::physics::links::{Constraint, LinkEnd, direction_or_zero};
 use crate::physics::particles::{AWAKE, Particles};
@@ -56,6 +56,7 @@ impl SoftStep {
             let start = self.fresh.len();
             match generator {
                 ContactGenerator::Plane(plane) => self.collide_plane(plane, particles),
+                ContactGenerator::Plate(plate) => self.collide_plate(plate, particles),
                 ContactGenerator::Spheres(_) if !any_awake_sphere => {}
                 ContactGenerator::Spheres(spheres) => {
                     let broad = Instant::now();
@@ -107,6 +108,35 @@ impl SoftStep {
                     ..SoftContact::default()
                 };
                 self.fresh.push(rolling_terms(contact, particles, plane.rolling_resistance));
+            }
+        }
+    }
+
+    /// A plate's contacts: against its nearest point (a face or the opening's rim),
+    /// with the normal from that point, fixed for the step as a sphere pair's is.
+    fn collide_plate(&mut self, plate: &Plate, particles: &Particles) {
+        let positions = particles.position.iter().zip(&particles.radius);
+        let bodies = particles.inverse_mass.iter().zip(&self.margin);
+        for (i, (((&p, &r), (&w, &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
+            if w <= 0.0 || asleep {
+                continue;
+            }
+            let (normal, distance) = plate.nearest(p);
+            let separation = distance - r;
+            if separation < margin {
+                self.fresh_keys.push(key(i as u32, NONE));
+                let contact = SoftContact {
+                    a: i as u32,
+                    b: NONE,
+                    normal,
+                    separation,
+                    restitution: plate.restitution,
+                    friction: plate.friction,
+                    mass: 1.0 / w,
+                    tangent_mass: 1.0 / w,
+                    ..SoftContact::default()
+                };
+                self.fresh.push(rolling_terms(contact, particles, plate.rolling_resistance));
             }
         }
     }
