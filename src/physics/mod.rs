@@ -8,6 +8,7 @@
 //! The engine is layered rooms; a room imports only rooms on the floors below it (see
 //! ARCHITECTURE.md, "The engine", and `scripts/imports.py`, which checks it):
 //! 1. [`ids`], [`hash`], [`error`]: handles, the state hash, errors and range checks;
+//!    `wide`: four lanes of `f32` at once (SSE, or arrays), for the contact solve;
 //! 2. [`particles`]: the struct-of-arrays store;
 //! 3. [`links`], [`contact`]: what a link and a contact are;
 //! 4. [`forces`]: force generators; [`collision`]: broad and narrow phase;
@@ -33,6 +34,7 @@ pub mod links;
 pub mod particles;
 pub mod solver;
 pub mod state;
+pub(crate) mod wide;
 pub mod world;
 
 /// The broad phase, under the path it had before `collision/` (`physics::broad_phase`).

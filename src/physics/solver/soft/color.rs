@@ -7,6 +7,8 @@ use std::marker::PhantomData;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::batch::{ContactBatch, LANES};
+use crate::physics::wide::V4;
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 
@@ -48,22 +50,26 @@ impl<'a> SharedVelocities<'a> {
         Self { ptr: velocities.as_mut_ptr(), len: velocities.len(), _borrow: PhantomData }
     }
 
-    /// The velocity of particle `i` (m/s).
-    #[inline]
-    pub(super) fn get(&self, i: usize) -> Vec3 {
-        assert!(i < self.len);
-        // SAFETY: in bounds (checked above), within the borrow `'a`; no other task
-        // writes element `i` meanwhile (the invariant above).
-        unsafe { *self.ptr.add(i) }
+    /// The velocities of the particles of a batch's four lanes. The batch's indices
+    /// were checked against the particle count when it was made (`SoftStep::batch`).
+    #[inline(always)]
+    pub(super) fn gather(&self, indices: [u32; LANES]) -> V4 {
+        debug_assert!(indices.iter().all(|&i| (i as usize) < self.len));
+        // SAFETY: every index is in bounds (checked when the batch was made), within
+        // the borrow `'a`; no other task writes these elements meanwhile (the
+        // invariant above: a lane's particle is written only by its own contact).
+        unsafe { V4::gather(self.ptr, indices) }
     }
 
-    /// Sets the velocity of particle `i` (m/s); `i` must be a movable particle.
-    #[inline]
-    pub(super) fn set(&self, i: usize, v: Vec3) {
-        assert!(i < self.len);
-        // SAFETY: in bounds (checked above), within the borrow `'a`; `i` is movable, so
-        // by the invariant above no other task of this colour reads or writes it.
-        unsafe { *self.ptr.add(i) = v }
+    /// Sets the velocities of the lanes set in `lanes` (bit `i`: lane `i`), whose
+    /// particles must be movable; the batch's indices were checked when it was made.
+    #[inline(always)]
+    pub(super) fn scatter(&self, indices: [u32; LANES], lanes: u32, value: V4) {
+        debug_assert!(indices.iter().all(|&i| (i as usize) < self.len));
+        // SAFETY: in bounds (checked when the batch was made), within the borrow `'a`;
+        // the lanes written are movable particles of one colour's contacts, distinct,
+        // and by the invariant above read or written by no other task meanwhile.
+        unsafe { value.scatter(self.ptr, indices, lanes) }
     }
 }
 
@@ -119,19 +125,21 @@ impl SoftStep {
     }
 }
 
-/// Runs `f` on every contact, colour by colour; a large colour is split across threads
-/// (its contacts share no movable particle, so the order within it does not matter).
-pub(super) fn for_each_contact(
-    contacts: &mut [SoftContact],
+/// Runs `f` on every batch of contacts, colour by colour, a run of batches at a time; a
+/// large colour is split across threads (its contacts share no movable particle, so
+/// the order within it does not matter). The overflow colour's batches, one contact
+/// each, run in order.
+pub(super) fn for_each_batch(
+    batches: &mut [ContactBatch],
     starts: &[usize; COLORS + 2],
-    f: impl Fn(&mut SoftContact) + Sync,
+    f: impl Fn(&mut [ContactBatch]) + Sync,
 ) {
     for color in 0..=COLORS {
-        let slice = &mut contacts[starts[color]..starts[color + 1]];
-        if color != OVERFLOW && slice.len() >= PARALLEL_CONTACTS {
-            slice.par_chunks_mut(TASK).for_each(|chunk| chunk.iter_mut().for_each(&f));
-        } else {
-            slice.iter_mut().for_each(&f);
+        let slice = &mut batches[starts[color]..starts[color + 1]];
+        if color != OVERFLOW && slice.len() * LANES >= PARALLEL_CONTACTS {
+            slice.par_chunks_mut(TASK / LANES).for_each(&f);
+        } else if !slice.is_empty() {
+            f(slice);
         }
     }
 }

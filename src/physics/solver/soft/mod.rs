@@ -33,6 +33,7 @@
 //! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking).
 //! This file holds the data every stage shares.
 
+mod batch;
 mod collide;
 mod color;
 mod contact;
@@ -174,6 +175,11 @@ pub struct SoftStep {
     contacts: Vec<SoftContact>,
     /// Start of each colour in `contacts`, and the end.
     color_starts: [usize; COLORS + 2],
+    /// The contacts in batches of four of a colour (one for the overflow colour), as
+    /// the substeps solve them; their impulses go back to `contacts` after the step.
+    batches: Vec<batch::ContactBatch>,
+    /// First batch of each colour, and the end.
+    batch_starts: [usize; COLORS + 2],
     colors: Vec<u8>,
     masks: Vec<u32>,
     links: Vec<SoftLink>,

@@ -1,8 +1,8 @@
 //! The solve of a substep: warm start, then every contact (colour by colour) and every
 //! rod and cable on its exact geometry.
 
-use super::color::{SharedVelocities, for_each_contact};
-use super::contact::{Bodies, apply, contact_terms, solve_contact, turn};
+use super::color::{SharedVelocities, for_each_batch};
+use super::contact::{Bodies, contact_terms, solve_batches, warm_start_batches};
 use super::{Context, NONE, SoftLink, SoftStep};
 use crate::physics::links::direction_or_zero;
 use crate::physics::particles::Particles;
@@ -10,21 +10,12 @@ use glam::Vec3;
 
 impl SoftStep {
     pub(super) fn warm_start(&mut self, particles: &mut Particles) {
-        let velocities = SharedVelocities::new(&mut particles.velocity);
         let bodies = Bodies {
-            w: &particles.inverse_mass,
-            inertia: &particles.inverse_inertia,
-            delta: &self.delta,
+            velocities: SharedVelocities::new(&mut particles.velocity),
             spins: SharedVelocities::new(&mut particles.angular_velocity),
+            delta: &self.delta,
         };
-        let w = bodies.w;
-        for_each_contact(&mut self.contacts, &self.color_starts, |c| {
-            let impulse = c.normal * c.normal_impulse + c.tangent_impulse;
-            apply(velocities, w, c.a, c.b, impulse);
-            if c.lever_a > 0.0 || c.lever_b > 0.0 {
-                turn(c, bodies, c.tangent_impulse, c.rolling_impulse);
-            }
-        });
+        for_each_batch(&mut self.batches, &self.batch_starts, |run| warm_start_batches(run, bodies));
         let w = &particles.inverse_mass;
         let velocities = &mut particles.velocity;
         for link in &self.links {
@@ -40,14 +31,12 @@ impl SoftStep {
     }
 
     pub(super) fn solve(&mut self, particles: &mut Particles, contacts: Context, joints: Context) {
-        let velocities = SharedVelocities::new(&mut particles.velocity);
         let bodies = Bodies {
-            w: &particles.inverse_mass,
-            inertia: &particles.inverse_inertia,
-            delta: &self.delta,
+            velocities: SharedVelocities::new(&mut particles.velocity),
             spins: SharedVelocities::new(&mut particles.angular_velocity),
+            delta: &self.delta,
         };
-        for_each_contact(&mut self.contacts, &self.color_starts, |c| solve_contact(c, velocities, bodies, contacts));
+        for_each_batch(&mut self.batches, &self.batch_starts, |run| solve_batches(run, bodies, contacts));
         let w = &particles.inverse_mass;
         for link in &mut self.links {
             link.solve(&particles.position, &mut particles.velocity, w, joints);

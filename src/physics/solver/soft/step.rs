@@ -49,6 +49,7 @@ impl SoftStep {
         let collided = Instant::now();
         self.warm_start_from_last_step(generators.len());
         self.color(particles);
+        self.batch(particles);
 
         let contact_hertz = settings.contact_hertz.min(0.25 / h);
         let joint_hertz = settings.joint_hertz.min(0.25 / h);
@@ -119,6 +120,7 @@ impl SoftStep {
             }
         }
         particles.dissipated -= constraint_work;
+        self.unbatch();
         self.store(h, link_tension);
         let max_penetration = self.deepest_overlap();
         if settings.sleep {

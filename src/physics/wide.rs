@@ -1,0 +1,601 @@
+//! Four lanes of `f32` at once: the contact solver works on four contacts of one colour
+//! together (Box2D v3's idea), with SSE where the target has it (every x86-64) and
+//! plain arrays elsewhere (wasm32).
+//!
+//! Both give the same bits as scalar `f32` code doing the same operations lane by lane:
+//! every operation here is one IEEE-754 operation per lane (`+ - * /`, `sqrt`, compare,
+//! select), with no fused multiply-add and no reordering, so a lane computes exactly
+//! what the scalar formula it mirrors computes. [`F4::max`] is defined
+//! as SSE's `maxps` is (`a > b ? a : b`), on both paths, so that the two agree even on
+//! ±0 and NaN.
+
+/// Four `f32` lanes.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct F4(imp::Raw);
+
+/// Four lanes of true or false, the result of a comparison of [`F4`]s.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct M4(imp::Raw);
+
+impl Default for F4 {
+    fn default() -> Self {
+        Self::ZERO
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod imp {
+    //! SSE, which every x86-64 processor has.
+    use std::arch::x86_64::*;
+
+    pub type Raw = __m128;
+
+    // SAFETY (every function below): SSE and SSE2 are part of the x86-64 baseline, so
+    // these intrinsics are always available on this target; none of them touches
+    // memory except `loadu`/`storeu`, whose pointers come from arrays of four `f32`.
+
+    #[inline(always)]
+    pub fn splat(x: f32) -> Raw {
+        unsafe { _mm_set1_ps(x) }
+    }
+    #[inline(always)]
+    pub fn from_array(a: [f32; 4]) -> Raw {
+        unsafe { _mm_loadu_ps(a.as_ptr()) }
+    }
+    #[inline(always)]
+    pub fn to_array(x: Raw) -> [f32; 4] {
+        let mut out = [0.0; 4];
+        unsafe { _mm_storeu_ps(out.as_mut_ptr(), x) };
+        out
+    }
+    #[inline(always)]
+    pub fn add(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_add_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn sub(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_sub_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn mul(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_mul_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn div(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_div_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn neg(a: Raw) -> Raw {
+        unsafe { _mm_xor_ps(a, _mm_set1_ps(-0.0)) }
+    }
+    #[inline(always)]
+    pub fn sqrt(a: Raw) -> Raw {
+        unsafe { _mm_sqrt_ps(a) }
+    }
+    #[inline(always)]
+    pub fn max(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_max_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn gt(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_cmpgt_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn eq(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_cmpeq_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn and(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_and_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn or(a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_or_ps(a, b) }
+    }
+    #[inline(always)]
+    pub fn select(mask: Raw, a: Raw, b: Raw) -> Raw {
+        unsafe { _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)) }
+    }
+    #[inline(always)]
+    pub fn bits(mask: Raw) -> u32 {
+        unsafe { _mm_movemask_ps(mask) as u32 }
+    }
+    #[inline(always)]
+    pub fn mask_from(bits: [bool; 4]) -> Raw {
+        let lane = |on: bool| if on { f32::from_bits(u32::MAX) } else { 0.0 };
+        unsafe { _mm_setr_ps(lane(bits[0]), lane(bits[1]), lane(bits[2]), lane(bits[3])) }
+    }
+
+    /// The x, y and z of the four vectors at `points[i]`: each read as its 8 bytes of x
+    /// and y and its 4 of z (never beyond the vector), then transposed.
+    ///
+    /// # Safety
+    /// Every pointer must point at a readable `[f32; 3]`.
+    #[inline(always)]
+    pub unsafe fn gather(points: [*const f32; 4]) -> [Raw; 3] {
+        unsafe {
+            let pair = |p: *const f32| _mm_cvtsi64_si128(std::ptr::read_unaligned(p as *const i64));
+            let xy01 = _mm_castsi128_ps(_mm_unpacklo_epi64(pair(points[0]), pair(points[1])));
+            let xy23 = _mm_castsi128_ps(_mm_unpacklo_epi64(pair(points[2]), pair(points[3])));
+            let x = _mm_shuffle_ps::<0b10_00_10_00>(xy01, xy23);
+            let y = _mm_shuffle_ps::<0b11_01_11_01>(xy01, xy23);
+            let z = |i: usize| _mm_load_ss(points[i].add(2));
+            let z = _mm_movelh_ps(_mm_unpacklo_ps(z(0), z(1)), _mm_unpacklo_ps(z(2), z(3)));
+            [x, y, z]
+        }
+    }
+
+    /// Writes lane `i` of x, y and z to `points[i]` for each bit `i` set in `lanes`.
+    ///
+    /// # Safety
+    /// Every pointer whose lane is set must point at a writable `[f32; 3]` that nothing
+    /// else reads or writes meanwhile.
+    #[inline(always)]
+    pub unsafe fn scatter(points: [*mut f32; 4], lanes: u32, [x, y, z]: [Raw; 3]) {
+        unsafe {
+            let xy01 = _mm_castps_si128(_mm_unpacklo_ps(x, y));
+            let xy23 = _mm_castps_si128(_mm_unpackhi_ps(x, y));
+            let pairs = [xy01, _mm_unpackhi_epi64(xy01, xy01), xy23, _mm_unpackhi_epi64(xy23, xy23)];
+            let zs = [
+                _mm_cvtss_f32(z),
+                _mm_cvtss_f32(_mm_shuffle_ps::<0b01_01_01_01>(z, z)),
+                _mm_cvtss_f32(_mm_movehl_ps(z, z)),
+                _mm_cvtss_f32(_mm_shuffle_ps::<0b11_11_11_11>(z, z)),
+            ];
+            for i in 0..4 {
+                if lanes & (1 << i) != 0 {
+                    std::ptr::write_unaligned(points[i] as *mut i64, _mm_cvtsi128_si64(pairs[i]));
+                    *points[i].add(2) = zs[i];
+                }
+            }
+        }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+mod imp {
+    //! Plain arrays, lane by lane; masks are lanes of all ones or all zeros, as in SSE.
+    pub type Raw = [f32; 4];
+
+    #[inline(always)]
+    fn map(a: Raw, f: impl Fn(f32) -> f32) -> Raw {
+        [f(a[0]), f(a[1]), f(a[2]), f(a[3])]
+    }
+    #[inline(always)]
+    fn zip(a: Raw, b: Raw, f: impl Fn(f32, f32) -> f32) -> Raw {
+        [f(a[0], b[0]), f(a[1], b[1]), f(a[2], b[2]), f(a[3], b[3])]
+    }
+    #[inline(always)]
+    fn lane(on: bool) -> f32 {
+        if on { f32::from_bits(u32::MAX) } else { 0.0 }
+    }
+    #[inline(always)]
+    fn bitwise(a: Raw, b: Raw, f: impl Fn(u32, u32) -> u32) -> Raw {
+        zip(a, b, |x, y| f32::from_bits(f(x.to_bits(), y.to_bits())))
+    }
+
+    #[inline(always)]
+    pub fn splat(x: f32) -> Raw {
+        [x; 4]
+    }
+    #[inline(always)]
+    pub fn from_array(a: [f32; 4]) -> Raw {
+        a
+    }
+    #[inline(always)]
+    pub fn to_array(x: Raw) -> [f32; 4] {
+        x
+    }
+    #[inline(always)]
+    pub fn add(a: Raw, b: Raw) -> Raw {
+        zip(a, b, |x, y| x + y)
+    }
+    #[inline(always)]
+    pub fn sub(a: Raw, b: Raw) -> Raw {
+        zip(a, b, |x, y| x - y)
+    }
+    #[inline(always)]
+    pub fn mul(a: Raw, b: Raw) -> Raw {
+        zip(a, b, |x, y| x * y)
+    }
+    #[inline(always)]
+    pub fn div(a: Raw, b: Raw) -> Raw {
+        zip(a, b, |x, y| x / y)
+    }
+    #[inline(always)]
+    pub fn neg(a: Raw) -> Raw {
+        map(a, |x| -x)
+    }
+    #[inline(always)]
+    pub fn sqrt(a: Raw) -> Raw {
+        map(a, f32::sqrt)
+    }
+    #[inline(always)]
+    pub fn max(a: Raw, b: Raw) -> Raw {
+        zip(a, b, |x, y| if x > y { x } else { y })
+    }
+    #[inline(always)]
+    pub fn gt(a: Raw, b: Raw) -> Raw {
+        zip(a, b, |x, y| lane(x > y))
+    }
+    #[inline(always)]
+    pub fn eq(a: Raw, b: Raw) -> Raw {
+        zip(a, b, |x, y| lane(x == y))
+    }
+    #[inline(always)]
+    pub fn and(a: Raw, b: Raw) -> Raw {
+        bitwise(a, b, |x, y| x & y)
+    }
+    #[inline(always)]
+    pub fn or(a: Raw, b: Raw) -> Raw {
+        bitwise(a, b, |x, y| x | y)
+    }
+    #[inline(always)]
+    pub fn select(mask: Raw, a: Raw, b: Raw) -> Raw {
+        [0, 1, 2, 3].map(|i| if mask[i].to_bits() != 0 { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    pub fn bits(mask: Raw) -> u32 {
+        (0..4).map(|i| u32::from(mask[i].to_bits() >> 31) << i).sum()
+    }
+    #[inline(always)]
+    pub fn mask_from(bits: [bool; 4]) -> Raw {
+        bits.map(lane)
+    }
+
+    /// The x, y and z of the four vectors at `points[i]`.
+    ///
+    /// # Safety
+    /// Every pointer must point at a readable `[f32; 3]`.
+    #[inline(always)]
+    pub unsafe fn gather(points: [*const f32; 4]) -> [Raw; 3] {
+        unsafe { [0, 1, 2].map(|k| points.map(|p| *p.add(k))) }
+    }
+
+    /// Writes lane `i` of x, y and z to `points[i]` for each bit `i` set in `lanes`.
+    ///
+    /// # Safety
+    /// Every pointer whose lane is set must point at a writable `[f32; 3]` that nothing
+    /// else reads or writes meanwhile.
+    #[inline(always)]
+    pub unsafe fn scatter(points: [*mut f32; 4], lanes: u32, [x, y, z]: [Raw; 3]) {
+        for i in 0..4 {
+            if lanes & (1 << i) != 0 {
+                unsafe {
+                    *points[i] = x[i];
+                    *points[i].add(1) = y[i];
+                    *points[i].add(2) = z[i];
+                }
+            }
+        }
+    }
+}
+
+impl F4 {
+    /// All lanes +0.
+    pub const ZERO: Self = Self::from_lanes_const(0.0);
+
+    const fn from_lanes_const(x: f32) -> Self {
+        // A const splat: `[f32; 4]` and `__m128` have the same size and layout.
+        // SAFETY: both are 16 bytes of four f32 lanes, lane 0 first.
+        Self(unsafe { std::mem::transmute::<[f32; 4], imp::Raw>([x; 4]) })
+    }
+
+    /// `x` in every lane.
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(x: f32) -> Self {
+        Self(imp::splat(x))
+    }
+
+    /// The four lanes, lane 0 first.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(lanes: [f32; 4]) -> Self {
+        Self(imp::from_array(lanes))
+    }
+
+    /// The four lanes as an array, lane 0 first.
+    #[inline(always)]
+    #[must_use]
+    pub fn to_array(self) -> [f32; 4] {
+        imp::to_array(self.0)
+    }
+
+    /// Square root of each lane (IEEE, correctly rounded, as `f32::sqrt`).
+    #[inline(always)]
+    #[must_use]
+    pub fn sqrt(self) -> Self {
+        Self(imp::sqrt(self.0))
+    }
+
+    /// Per lane `if self > other { self } else { other }` (SSE's `maxps`).
+    #[inline(always)]
+    #[must_use]
+    pub fn max(self, other: Self) -> Self {
+        Self(imp::max(self.0, other.0))
+    }
+
+    /// Per lane `self > other`.
+    #[inline(always)]
+    #[must_use]
+    pub fn gt(self, other: Self) -> M4 {
+        M4(imp::gt(self.0, other.0))
+    }
+
+    /// Per lane `self == other` (false for NaN).
+    #[inline(always)]
+    #[must_use]
+    pub fn eq(self, other: Self) -> M4 {
+        M4(imp::eq(self.0, other.0))
+    }
+}
+
+impl M4 {
+    /// A mask from four booleans, lane 0 first.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(lanes: [bool; 4]) -> Self {
+        Self(imp::mask_from(lanes))
+    }
+
+    /// Per lane: `a` where the mask is true, else `b` (bit for bit).
+    #[inline(always)]
+    #[must_use]
+    pub fn select(self, a: F4, b: F4) -> F4 {
+        F4(imp::select(self.0, a.0, b.0))
+    }
+
+    /// Lane `i` true sets bit `i`.
+    #[inline(always)]
+    #[must_use]
+    pub fn bits(self) -> u32 {
+        imp::bits(self.0)
+    }
+
+    /// True where both are.
+    #[inline(always)]
+    #[must_use]
+    pub fn and(self, other: Self) -> Self {
+        Self(imp::and(self.0, other.0))
+    }
+
+    /// True where either is.
+    #[inline(always)]
+    #[must_use]
+    pub fn or(self, other: Self) -> Self {
+        Self(imp::or(self.0, other.0))
+    }
+}
+
+macro_rules! lane_op {
+    ($trait:ident, $method:ident, $f:path) => {
+        impl std::ops::$trait for F4 {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, other: Self) -> Self {
+                Self($f(self.0, other.0))
+            }
+        }
+    };
+}
+lane_op!(Add, add, imp::add);
+lane_op!(Sub, sub, imp::sub);
+lane_op!(Mul, mul, imp::mul);
+lane_op!(Div, div, imp::div);
+
+impl std::ops::Neg for F4 {
+    type Output = Self;
+    /// Flips each lane's sign bit, as `-x` on `f32` does (not `0 - x`).
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self(imp::neg(self.0))
+    }
+}
+
+/// Four 3-vectors, one per lane: the lanes' x, y and z apart. Its operations are
+/// glam's `Vec3` formulas written out, in glam's order, so each lane equals what glam
+/// computes for that lane's vector.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct V4 {
+    pub x: F4,
+    pub y: F4,
+    pub z: F4,
+}
+
+impl V4 {
+    /// All lanes the zero vector (+0).
+    pub const ZERO: Self = Self { x: F4::ZERO, y: F4::ZERO, z: F4::ZERO };
+
+    /// `Vec3::dot`: `(x·x') + (y·y') + (z·z')`, summed left to right.
+    #[inline(always)]
+    #[must_use]
+    pub fn dot(self, other: Self) -> F4 {
+        (self.x * other.x) + (self.y * other.y) + (self.z * other.z)
+    }
+
+    /// `Vec3::cross`, with glam's products and their order.
+    #[inline(always)]
+    #[must_use]
+    pub fn cross(self, other: Self) -> Self {
+        Self {
+            x: self.y * other.z - other.y * self.z,
+            y: self.z * other.x - other.z * self.x,
+            z: self.x * other.y - other.x * self.y,
+        }
+    }
+
+    /// Each lane's vector times that lane's scalar.
+    #[inline(always)]
+    #[must_use]
+    pub fn scale(self, s: F4) -> Self {
+        Self { x: self.x * s, y: self.y * s, z: self.z * s }
+    }
+
+    /// Per lane: `a` where the mask is true, else `b`.
+    #[inline(always)]
+    #[must_use]
+    pub fn select(mask: M4, a: Self, b: Self) -> Self {
+        Self { x: mask.select(a.x, b.x), y: mask.select(a.y, b.y), z: mask.select(a.z, b.z) }
+    }
+
+    /// Lane `i`'s vector.
+    #[inline(always)]
+    #[must_use]
+    pub fn lanes(self) -> [glam::Vec3; 4] {
+        let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
+        [0, 1, 2, 3].map(|i| glam::Vec3::new(x[i], y[i], z[i]))
+    }
+
+    /// Lane `i` holds `base[indices[i]]`.
+    ///
+    /// # Safety
+    /// `base` must point at an array of at least `max(indices) + 1` vectors, readable
+    /// for the call.
+    #[inline(always)]
+    #[must_use]
+    pub unsafe fn gather(base: *const glam::Vec3, indices: [u32; 4]) -> Self {
+        // `Vec3` is `#[repr(C)] { x, y, z }`: three f32 in a row.
+        let [x, y, z] = unsafe { imp::gather(indices.map(|i| base.add(i as usize) as *const f32)) };
+        Self { x: F4(x), y: F4(y), z: F4(z) }
+    }
+
+    /// Writes lane `i` to `base[indices[i]]` for each bit `i` set in `lanes`.
+    ///
+    /// # Safety
+    /// For each lane set, `base.add(indices[i])` must be a vector of an array that is
+    /// writable for the call and that nothing else reads or writes at that index
+    /// meanwhile; the lanes set must name distinct indices.
+    #[inline(always)]
+    pub unsafe fn scatter(self, base: *mut glam::Vec3, indices: [u32; 4], lanes: u32) {
+        let points = indices.map(|i| base.wrapping_add(i as usize) as *mut f32);
+        unsafe { imp::scatter(points, lanes, [self.x.0, self.y.0, self.z.0]) }
+    }
+
+    /// The vectors of four lanes, lane 0 first.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(v: [glam::Vec3; 4]) -> Self {
+        Self {
+            x: F4::new([v[0].x, v[1].x, v[2].x, v[3].x]),
+            y: F4::new([v[0].y, v[1].y, v[2].y, v[3].y]),
+            z: F4::new([v[0].z, v[1].z, v[2].z, v[3].z]),
+        }
+    }
+}
+
+impl std::ops::Add for V4 {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self { x: self.x + o.x, y: self.y + o.y, z: self.z + o.z }
+    }
+}
+
+impl std::ops::Sub for V4 {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// Awkward values: signed zeros, tiny, huge, NaN and infinities.
+    const ODD: [f32; 12] =
+        [0.0, -0.0, 1.0, -1.5, 1e-38, -3e-39, 3.4e38, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.1, -7.25];
+
+    fn same(a: f32, b: f32) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    /// Every lane operation gives the bits the scalar operation gives, for every pair
+    /// of awkward values (max as `a > b ? a : b`).
+    #[test]
+    fn each_lane_computes_what_scalar_code_computes() {
+        for &a in &ODD {
+            for &b in &ODD {
+                let (x, y) = (F4::new([a, b, a, b]), F4::new([b, a, b, a]));
+                let checks: [(F4, [f32; 2]); 6] = [
+                    (x + y, [a + b, b + a]),
+                    (x - y, [a - b, b - a]),
+                    (x * y, [a * b, b * a]),
+                    (x / y, [a / b, b / a]),
+                    (x.max(y), [if a > b { a } else { b }, if b > a { b } else { a }]),
+                    (-x, [-a, -b]),
+                ];
+                for (wide, scalar) in checks {
+                    let lanes = wide.to_array();
+                    assert!(same(lanes[0], scalar[0]) && same(lanes[1], scalar[1]), "{a} {b}: {lanes:?} {scalar:?}");
+                }
+                assert!(same(x.sqrt().to_array()[0], a.sqrt()));
+                assert_eq!(x.gt(y).bits() & 1 != 0, a > b);
+                assert_eq!(x.eq(y).bits() & 1 != 0, a == b);
+                let picked = x.gt(y).select(x, y).to_array()[0];
+                assert!(same(picked, if a > b { a } else { b }));
+            }
+        }
+    }
+
+    /// Dot and cross products equal glam's, lane by lane, to the bit.
+    #[test]
+    fn vector_products_equal_glams() {
+        let vectors: Vec<Vec3> = (0..16)
+            .map(|i| {
+                let k = |j: usize| ODD[(i * 5 + j * 7) % ODD.len()] * if (i + j) % 3 == 0 { 0.37 } else { -2.0 };
+                Vec3::new(k(0), k(1), k(2))
+            })
+            .collect();
+        for pair in vectors.chunks(8) {
+            let (a, b) = ([pair[0], pair[1], pair[2], pair[3]], [pair[4], pair[5], pair[6], pair[7]]);
+            let (wa, wb) = (V4::new(a), V4::new(b));
+            let (dot, cross) = (wa.dot(wb).to_array(), wa.cross(wb).lanes());
+            for i in 0..4 {
+                assert!(same(dot[i], a[i].dot(b[i])));
+                let expected = a[i].cross(b[i]);
+                assert!(same(cross[i].x, expected.x) && same(cross[i].y, expected.y) && same(cross[i].z, expected.z));
+            }
+        }
+    }
+
+    /// Gathering four vectors from an array and scattering them back moves the right
+    /// bits, lanes not asked for stay as they were, and the last vector of the array is
+    /// read without reading past it.
+    #[test]
+    fn gather_and_scatter_move_whole_vectors() {
+        let mut array: Vec<Vec3> = (0..7).map(|i| Vec3::new(i as f32, -(i as f32) - 0.5, 100.0 + i as f32)).collect();
+        array[2].x = -0.0;
+        let indices = [6, 2, 0, 5];
+        let wide = unsafe { V4::gather(array.as_ptr(), indices) };
+        let lanes = wide.lanes();
+        for (lane, &i) in lanes.iter().zip(&indices) {
+            assert_eq!(lane.to_array().map(f32::to_bits), array[i as usize].to_array().map(f32::to_bits));
+        }
+        let moved = V4::new([Vec3::splat(1.0), Vec3::splat(2.0), Vec3::splat(3.0), Vec3::splat(4.0)]);
+        let before = array.clone();
+        unsafe { moved.scatter(array.as_mut_ptr(), indices, 0b1010) };
+        assert_eq!(array[2], Vec3::splat(2.0));
+        assert_eq!(array[5], Vec3::splat(4.0));
+        for i in [0, 1, 3, 4, 6] {
+            assert_eq!(array[i], before[i]);
+        }
+    }
+
+    #[test]
+    fn masks_select_and_combine_lane_by_lane() {
+        let m = M4::new([true, false, true, false]);
+        assert_eq!(m.bits(), 0b0101);
+        let n = M4::new([true, true, false, false]);
+        assert_eq!(m.and(n).bits(), 0b0001);
+        assert_eq!(m.or(n).bits(), 0b0111);
+        let picked = m.select(F4::splat(1.0), F4::splat(-0.0)).to_array();
+        assert_eq!(picked.map(f32::to_bits), [1.0f32, -0.0, 1.0, -0.0].map(f32::to_bits));
+        assert_eq!(M4::new([false; 4]).bits(), 0);
+    }
+}
