@@ -539,11 +539,19 @@ impl Particles {
     /// wasm, and `sin`/`cos` come from different libraries there, and orientation is part
     /// of the state hash that the browser build is checked against.
     pub(crate) fn turn(&mut self, dt: f32) {
-        let spins = self.angular_velocity.iter().zip(&self.inverse_inertia);
-        for (q, (&w, &inverse_inertia)) in self.orientation.iter_mut().zip(spins) {
+        let turn = |(q, (&w, &inverse_inertia)): (&mut Quat, (&Vec3, &f32))| {
             if inverse_inertia != 0.0 && w != Vec3::ZERO {
                 *q = turned(*q, w * dt);
             }
+        };
+        // Each sphere turns on its own: threads change nothing but the time.
+        if self.len() >= PARALLEL_TURN {
+            use rayon::prelude::*;
+            let spins = self.angular_velocity.par_iter().zip(&self.inverse_inertia);
+            self.orientation.par_iter_mut().zip(spins).with_min_len(2048).for_each(turn);
+        } else {
+            let spins = self.angular_velocity.iter().zip(&self.inverse_inertia);
+            self.orientation.iter_mut().zip(spins).for_each(turn);
         }
     }
 
@@ -762,7 +770,7 @@ impl Particles {
             use rayon::prelude::*;
             let bodies = self.inverse_mass.par_iter().zip(&self.damping_per_step).zip(&self.sleep);
             let inputs = self.acceleration.par_iter().zip(&self.force).zip(bodies);
-            self.velocity.par_iter_mut().zip(inputs).with_min_len(4096).for_each(kick);
+            self.velocity.par_iter_mut().zip(inputs).with_min_len(2048).for_each(kick);
         } else {
             self.velocity.iter_mut().zip(inputs).for_each(kick);
         }
@@ -781,7 +789,7 @@ impl Particles {
         if parallel {
             use rayon::prelude::*;
             let inputs = self.velocity.par_iter().zip(&self.inverse_mass);
-            self.position.par_iter_mut().zip(delta).zip(inputs).with_min_len(4096).for_each(drift);
+            self.position.par_iter_mut().zip(delta).zip(inputs).with_min_len(2048).for_each(drift);
         } else {
             self.position
                 .iter_mut()
@@ -821,6 +829,9 @@ pub(crate) fn kicked(v: Vec3, acceleration: Vec3, h: f32, damping_per_step: f32)
 pub(crate) fn sphere_inverse_inertia(w: f32, r: f32) -> f32 {
     2.5 * w / (r * r)
 }
+
+/// Particles from which [`Particles::turn`] runs on several threads.
+const PARALLEL_TURN: usize = 4096;
 
 /// `Sleep::island` of a particle that is awake.
 pub(crate) const AWAKE: u32 = u32::MAX;

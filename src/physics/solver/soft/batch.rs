@@ -9,7 +9,7 @@
 //! inertias) is gathered here once a step; velocities, spins and motion are gathered
 //! from the particles at every solve, since other contacts and the integrator move them.
 
-use glam::Vec3;
+use rayon::prelude::*;
 
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
@@ -17,6 +17,8 @@ use crate::physics::wide::{F4, M4, V4};
 
 /// Lanes of a batch.
 pub(super) const LANES: usize = 4;
+/// Contacts of a colour from which its batches are made on several threads.
+const PARALLEL_BATCHING: usize = 8192;
 
 /// Up to four contacts of one colour, lane by lane.
 #[derive(Clone, Copy, Debug, Default)]
@@ -62,72 +64,41 @@ impl ContactBatch {
     /// A batch of `contacts` (1 to 4, lane 0 at index `first` of the coloured list).
     fn new(first: usize, contacts: &[SoftContact], particles: &Particles) -> Self {
         debug_assert!(!contacts.is_empty() && contacts.len() <= LANES);
-        let lane = |i: usize| &contacts[i.min(contacts.len() - 1)];
+        let last = contacts.len() - 1;
+        let c: [&SoftContact; LANES] = [0, 1, 2, 3].map(|i| &contacts[i.min(last)]);
         let (w, inertia) = (&particles.inverse_mass, &particles.inverse_inertia);
-        let mut batch = Self { first: first as u32, active: (1 << contacts.len()) - 1, ..Self::default() };
-        let mut columns = [[0.0f32; LANES]; 14];
-        let mut normals = [Vec3::ZERO; LANES];
-        let (mut tangents, mut rollings) = ([Vec3::ZERO; LANES], [Vec3::ZERO; LANES]);
-        for i in 0..LANES {
-            let c = lane(i);
-            let (a, has_b) = (c.a as usize, c.b != NONE);
-            batch.a[i] = c.a;
-            batch.b[i] = if has_b { c.b } else { c.a };
-            if has_b && i < contacts.len() {
-                batch.has_b |= 1 << i;
-            }
-            let (wb, ib) = if has_b { (w[c.b as usize], inertia[c.b as usize]) } else { (0.0, 0.0) };
-            let values = [
-                c.separation,
-                c.friction,
-                c.mass,
-                c.tangent_mass,
-                c.lever_a,
-                c.lever_b,
-                c.rolling,
-                c.rolling_mass,
-                w[a],
-                wb,
-                inertia[a],
-                ib,
-                c.normal_impulse,
-                0.0,
-            ];
-            for (column, value) in columns.iter_mut().zip(values) {
-                column[i] = value;
-            }
-            normals[i] = c.normal;
-            tangents[i] = c.tangent_impulse;
-            rollings[i] = c.rolling_impulse;
-        }
-        let full = (0..LANES).all(|i| {
-            let c = lane(i);
+        let column = |f: fn(&SoftContact) -> f32| F4::new(c.map(f));
+        let of_b = |values: &[f32]| F4::new(c.map(|c| if c.b == NONE { 0.0 } else { values[c.b as usize] }));
+        let has_b = (0..contacts.len()).filter(|&i| c[i].b != NONE).fold(0, |bits, i| bits | 1 << i);
+        let full = c.iter().all(|c| {
             c.b != NONE
                 && c.friction > 0.0
                 && c.rolling > 0.0
                 && [c.a, c.b].iter().all(|&p| w[p as usize] > 0.0 && inertia[p as usize] > 0.0)
         });
-        let [separation, friction, mass, tangent_mass, lever_a, lever_b, rolling, rolling_mass, wa, wb, ia, ib, normal_impulse, _] =
-            columns.map(F4::new);
         Self {
-            normal: V4::new(normals),
-            separation,
-            friction,
-            mass,
-            tangent_mass,
-            lever_a,
-            lever_b,
-            rolling,
-            rolling_mass,
-            wa,
-            wb,
-            ia,
-            ib,
-            normal_impulse,
-            tangent_impulse: V4::new(tangents),
-            rolling_impulse: V4::new(rollings),
+            first: first as u32,
+            active: (1 << contacts.len()) - 1,
+            has_b,
             full,
-            ..batch
+            a: c.map(|c| c.a),
+            b: c.map(|c| if c.b == NONE { c.a } else { c.b }),
+            normal: V4::new(c.map(|c| c.normal)),
+            separation: column(|c| c.separation),
+            friction: column(|c| c.friction),
+            mass: column(|c| c.mass),
+            tangent_mass: column(|c| c.tangent_mass),
+            lever_a: column(|c| c.lever_a),
+            lever_b: column(|c| c.lever_b),
+            rolling: column(|c| c.rolling),
+            rolling_mass: column(|c| c.rolling_mass),
+            wa: F4::new(c.map(|c| w[c.a as usize])),
+            wb: of_b(w),
+            ia: F4::new(c.map(|c| inertia[c.a as usize])),
+            ib: of_b(inertia),
+            normal_impulse: column(|c| c.normal_impulse),
+            tangent_impulse: V4::new(c.map(|c| c.tangent_impulse)),
+            rolling_impulse: V4::new(c.map(|c| c.rolling_impulse)),
         }
     }
 
@@ -148,19 +119,34 @@ impl SoftStep {
     /// Lays the coloured contacts out in batches: each colour's contacts four at a
     /// time, the overflow's one at a time. `batch_starts[c]` is colour `c`'s first batch.
     pub(super) fn batch(&mut self, particles: &Particles) {
-        self.batches.clear();
+        let mut count = 0;
         for color in 0..=COLORS {
-            self.batch_starts[color] = self.batches.len();
-            let (start, end) = (self.color_starts[color], self.color_starts[color + 1]);
+            self.batch_starts[color] = count;
+            let contacts = self.color_starts[color + 1] - self.color_starts[color];
+            count += if color == OVERFLOW { contacts } else { contacts.div_ceil(LANES) };
+        }
+        self.batch_starts[COLORS + 1] = count;
+        self.batches.clear();
+        self.batches.resize(count, ContactBatch::default());
+        // Each batch is made from its own contacts alone: threads change nothing but
+        // the time.
+        let (contacts, color_starts, batch_starts) = (&self.contacts, &self.color_starts, &self.batch_starts);
+        let make = |color: usize, k: usize, batch: &mut ContactBatch| {
             let per_batch = if color == OVERFLOW { 1 } else { LANES };
-            let mut first = start;
-            while first < end {
-                let last = (first + per_batch).min(end);
-                self.batches.push(ContactBatch::new(first, &self.contacts[first..last], particles));
-                first = last;
+            let first = color_starts[color] + k * per_batch;
+            let last = (first + per_batch).min(color_starts[color + 1]);
+            *batch = ContactBatch::new(first, &contacts[first..last], particles);
+        };
+        let mut rest = self.batches.as_mut_slice();
+        for color in 0..=COLORS {
+            let (run, after) = rest.split_at_mut(batch_starts[color + 1] - batch_starts[color]);
+            rest = after;
+            if run.len() * LANES >= PARALLEL_BATCHING {
+                run.par_iter_mut().enumerate().with_min_len(256).for_each(|(k, batch)| make(color, k, batch));
+            } else {
+                run.iter_mut().enumerate().for_each(|(k, batch)| make(color, k, batch));
             }
         }
-        self.batch_starts[COLORS + 1] = self.batches.len();
         // The solve reads and writes the lanes' particles without checking each index
         // again (`SharedVelocities::gather`): check them all once here.
         let n = particles.len() as u32;

@@ -5,6 +5,7 @@
 use web_time::Instant;
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::warm::key;
 use super::{NONE, SoftContact, SoftLink, SoftStep, ms};
@@ -143,6 +144,10 @@ impl SoftStep {
 
     /// Contacts of the broad phase's pairs that can come within `slack` of touching in
     /// the step `dt` (see [`swept_contact`]: a pair that only passes by gets none).
+    ///
+    /// The pairs are taken in chunks, on several threads when there are many; each
+    /// chunk's contacts (and islands to wake) are then appended in chunk order, so the
+    /// contacts come out in the pairs' order whatever the number of threads.
     fn collide_spheres(
         &mut self,
         spheres: &SphereCollisions,
@@ -151,39 +156,26 @@ impl SoftStep {
         slack: f32,
         dt: f32,
     ) {
-        let (p, w, r) = (&particles.position, &particles.inverse_mass, &particles.radius);
-        let (v, acceleration) = (&particles.velocity, &particles.acceleration);
-        for &(a, b) in pairs {
-            let (i, j) = (a as usize, b as usize);
-            let total = w[i] + w[j];
-            if total <= 0.0 {
-                continue;
-            }
-            if self.asleep[j] {
-                // An awake particle reached a sleeping one: wake its island.
-                if w[j] > 0.0 {
-                    self.to_wake.push(particles.sleep[j].island);
-                }
-                continue;
-            }
-            // Gravity moves both alike; any difference in constant acceleration may
-            // close the gap by up to |a_i - a_j| dt² / 2 (counted twice, as the margins do).
-            let slack = slack + (acceleration[i].length() + acceleration[j].length()) * dt * dt;
-            let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
-            let Some((normal, separation)) = swept else { continue };
-            self.fresh_keys.push(key(a, b));
-            let contact = SoftContact {
-                a,
-                b,
-                normal,
-                separation,
-                restitution: spheres.restitution,
-                friction: spheres.friction,
-                mass: 1.0 / total,
-                tangent_mass: 1.0 / total,
-                ..SoftContact::default()
-            };
-            self.fresh.push(rolling_terms(contact, particles, spheres.rolling_resistance));
+        let chunks = pairs.len().div_ceil(PAIR_CHUNK);
+        if self.pair_chunks.len() < chunks {
+            self.pair_chunks.resize_with(chunks, PairChunk::default);
+        }
+        let asleep = &self.asleep;
+        let collide = |(k, out): (usize, &mut PairChunk)| {
+            out.clear();
+            let pairs = &pairs[k * PAIR_CHUNK..((k + 1) * PAIR_CHUNK).min(pairs.len())];
+            collide_pairs(spheres, particles, asleep, pairs, slack, dt, out);
+        };
+        let outputs = &mut self.pair_chunks[..chunks];
+        if pairs.len() >= PARALLEL_PAIRS {
+            outputs.par_iter_mut().enumerate().for_each(collide);
+        } else {
+            outputs.iter_mut().enumerate().for_each(collide);
+        }
+        for out in &self.pair_chunks[..chunks] {
+            self.fresh_keys.extend_from_slice(&out.keys);
+            self.fresh.extend_from_slice(&out.contacts);
+            self.to_wake.extend_from_slice(&out.wake);
         }
     }
 
@@ -230,6 +222,73 @@ impl SoftStep {
             impulse: 0.0,
             generator,
         });
+    }
+}
+
+/// Pairs per chunk of the sphere contacts (one task each).
+const PAIR_CHUNK: usize = 2048;
+/// Pairs from which the sphere contacts are made on several threads.
+const PARALLEL_PAIRS: usize = 4096;
+
+/// One chunk's sphere contacts, their keys and the sleeping islands its pairs reached.
+#[derive(Clone, Debug, Default)]
+pub(super) struct PairChunk {
+    keys: Vec<u64>,
+    contacts: Vec<SoftContact>,
+    wake: Vec<u32>,
+}
+
+impl PairChunk {
+    fn clear(&mut self) {
+        self.keys.clear();
+        self.contacts.clear();
+        self.wake.clear();
+    }
+}
+
+/// The contacts of `pairs` into `out` (see [`SoftStep::collide_spheres`]).
+fn collide_pairs(
+    spheres: &SphereCollisions,
+    particles: &Particles,
+    asleep: &[bool],
+    pairs: &[(u32, u32)],
+    slack: f32,
+    dt: f32,
+    out: &mut PairChunk,
+) {
+    let (p, w, r) = (&particles.position, &particles.inverse_mass, &particles.radius);
+    let (v, acceleration) = (&particles.velocity, &particles.acceleration);
+    for &(a, b) in pairs {
+        let (i, j) = (a as usize, b as usize);
+        let total = w[i] + w[j];
+        if total <= 0.0 {
+            continue;
+        }
+        if asleep[j] {
+            // An awake particle reached a sleeping one: wake its island.
+            if w[j] > 0.0 {
+                out.wake.push(particles.sleep[j].island);
+            }
+            continue;
+        }
+        // Gravity moves both alike; any difference in constant acceleration may close
+        // the gap by up to |a_i - a_j| dt² / 2 (counted twice, as the margins do).
+        let slack = slack + (acceleration[i].length() + acceleration[j].length()) * dt * dt;
+        let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
+        let Some((normal, separation)) = swept else { continue };
+        out.keys.push(key(a, b));
+        let contact = SoftContact {
+            a,
+            b,
+            normal,
+            separation,
+            restitution: spheres.restitution,
+            friction: spheres.friction,
+            mass: 1.0 / total,
+            tangent_mass: 1.0 / total,
+            ..SoftContact::default()
+        };
+        out.contacts.push(rolling_terms(contact, particles, spheres.rolling_resistance));
     }
 }
 

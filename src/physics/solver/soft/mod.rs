@@ -58,7 +58,7 @@ const COLORS: usize = 24;
 const OVERFLOW: usize = COLORS;
 
 /// Particles from which the integration loops run on several threads.
-pub(crate) const PARALLEL_PARTICLES: usize = 16_384;
+pub(crate) const PARALLEL_PARTICLES: usize = 4096;
 
 /// A contact between a particle and another particle or a plane, as the soft solver
 /// keeps it over one step.
@@ -210,6 +210,10 @@ pub struct SoftStep {
     /// Angular velocities at the start of the substep, kept while spheres roll
     /// (energy budget).
     substep_spin: Vec<Vec3>,
+    /// Per chunk of sphere pairs: its contacts (see `SoftStep::collide_spheres`).
+    pair_chunks: Vec<collide::PairChunk>,
+    /// Per chunk of particles: its part of an energy sum (see `step::chunked_sum`).
+    partials: Vec<(f64, f64)>,
     /// Per particle: asleep at the start of this collide pass.
     asleep: Vec<bool>,
     /// Labels of sleeping islands to wake.

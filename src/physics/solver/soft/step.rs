@@ -7,6 +7,43 @@ use glam::Vec3;
 
 use super::sleep::wake;
 use super::{Context, NONE, PARALLEL_PARTICLES, SoftStep, ms};
+use rayon::prelude::*;
+
+/// Particles per chunk of the energy sums. Fixed, so that the order of the sum, and
+/// its bits, are the same on any number of threads.
+const SUM_CHUNK: usize = 2048;
+/// Particles from which the per-substep copies of velocities run on several threads.
+const PARALLEL_COPY: usize = 32_768;
+
+/// Two sums over `0..len`, each chunk of [`SUM_CHUNK`] summed by `f` (on several
+/// threads if `parallel`), the chunks' sums then added in order.
+fn chunked_sum(
+    partials: &mut Vec<(f64, f64)>,
+    len: usize,
+    parallel: bool,
+    f: impl Fn(std::ops::Range<usize>) -> (f64, f64) + Sync,
+) -> (f64, f64) {
+    partials.clear();
+    partials.resize(len.div_ceil(SUM_CHUNK), (0.0, 0.0));
+    let chunk = |k: usize| k * SUM_CHUNK..((k + 1) * SUM_CHUNK).min(len);
+    if parallel {
+        partials.par_iter_mut().enumerate().for_each(|(k, sum)| *sum = f(chunk(k)));
+    } else {
+        partials.iter_mut().enumerate().for_each(|(k, sum)| *sum = f(chunk(k)));
+    }
+    partials.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x, b + y))
+}
+
+/// `to = from`, in parallel chunks for large arrays.
+fn copy(to: &mut Vec<Vec3>, from: &[Vec3], parallel: bool) {
+    if parallel {
+        to.resize(from.len(), Vec3::ZERO);
+        to.par_chunks_mut(8192).zip(from.par_chunks(8192)).for_each(|(to, from)| to.copy_from_slice(from));
+    } else {
+        to.clear();
+        to.extend_from_slice(from);
+    }
+}
 use crate::physics::collision::{BroadPhase, ContactGenerator, Scratch};
 use crate::physics::forces::ForceRegistry;
 use crate::physics::ids::ContactGeneratorId;
@@ -62,6 +99,7 @@ impl SoftStep {
         self.delta.resize(particles.len(), Vec3::ZERO);
         particles.prepare_damping(h);
         let parallel = particles.len() >= PARALLEL_PARTICLES;
+        let copying = particles.len() >= PARALLEL_COPY;
         let bouncy = self.contacts.iter().any(|c| c.restitution > 0.0)
             || self.links.iter().any(|l| !l.rigid && l.restitution > 0.0);
         let integrator = settings.integrator;
@@ -77,10 +115,10 @@ impl SoftStep {
         let rolling = constrained && particles.any_rolling();
         for _ in 0..substeps {
             if bouncy || constrained {
-                self.substep_velocity.clone_from(&particles.velocity);
+                copy(&mut self.substep_velocity, &particles.velocity, copying);
             }
             if rolling {
-                self.substep_spin.clone_from(&particles.angular_velocity);
+                copy(&mut self.substep_spin, &particles.angular_velocity, copying);
             }
             if semi_implicit {
                 particles.clear_forces();
@@ -90,30 +128,34 @@ impl SoftStep {
                     particles.count_damping_loss();
                 }
                 if constrained {
-                    self.kicked.clone_from(&particles.velocity);
+                    copy(&mut self.kicked, &particles.velocity, copying);
                 }
             } else {
                 self.integration.predict(integrator, particles, forces, h);
             }
-            let before = if constrained && !semi_implicit { particles.kinetic_energy() } else { 0.0 };
+            let before = if constrained && !semi_implicit { self.kinetic_energy(particles, parallel) } else { 0.0 };
             if bouncy {
                 self.impacts(particles, h, settings.restitution_threshold);
             }
             self.warm_start(particles);
             self.solve(particles, contact_context, joint_context);
+            // The kinetic energy before the relax pass: velocities do not change as
+            // positions move, so it is measured now, with the solve's work.
+            let mut before_relax = 0.0;
             if constrained {
                 constraint_work += if semi_implicit {
-                    let turning = if rolling { self.turning_work(particles) } else { 0.0 };
-                    self.kick_and_solve_work(particles) + turning
+                    let (work, kinetic) = self.kick_and_solve_work(particles, rolling, parallel);
+                    before_relax = kinetic;
+                    work
                 } else {
-                    particles.kinetic_energy() - before
+                    before_relax = self.kinetic_energy(particles, parallel);
+                    before_relax - before
                 };
             }
             particles.integrate_positions(h, &mut self.delta, parallel);
-            let before = if constrained { particles.kinetic_energy() } else { 0.0 };
             self.solve(particles, relax, relax);
             if constrained {
-                constraint_work += particles.kinetic_energy() - before;
+                constraint_work += self.kinetic_energy(particles, parallel) - before_relax;
             }
             if !semi_implicit {
                 self.integration.finish(particles);
@@ -134,7 +176,8 @@ impl SoftStep {
         SoftReport { contacts: self.contacts.len(), max_penetration, asleep, pair_budget_hit }
     }
 
-    /// Work done by the contacts and links in a substep's impact stage and solve (J).
+    /// Work done by the contacts and links in a substep's impact stage and solve (J),
+    /// and the particles' kinetic energy after it (J).
     ///
     /// For each particle a contact or link changed: the change of its kinetic energy
     /// from the start of the substep to after the solve, less the forces' work along
@@ -145,42 +188,77 @@ impl SoftStep {
     /// inelastic bounce takes the kinetic energy it stops. Measuring across the solve
     /// alone would charge a rod with the part of gravity's kick along it, which the rod
     /// only takes out again. A particle nothing touched keeps its integrator's error
-    /// (free fall's `g²h²/2` per substep) as error.
-    fn kick_and_solve_work(&self, particles: &Particles) -> f64 {
-        let start = &self.substep_velocity;
-        let bodies = particles.velocity.iter().zip(&self.kicked).zip(start);
-        let masses = particles.inverse_mass.iter().zip(&particles.damping_per_step);
-        let mut work = 0.0;
-        for (((&v, &kicked), &v0), (&w, &d)) in bodies.zip(masses) {
-            if w <= 0.0 || d <= 0.0 {
-                continue;
+    /// (free fall's `g²h²/2` per substep) as error. With `rolling`, the contacts' work
+    /// on the spheres' spin is added: the change of `½ I ω²` since the substep began
+    /// (no force generator turns a sphere, so all of it is the contacts').
+    ///
+    /// Summed in fixed chunks ([`chunked_sum`]), the same on any number of threads.
+    fn kick_and_solve_work(&mut self, particles: &Particles, rolling: bool, parallel: bool) -> (f64, f64) {
+        let (start, kicked) = (&self.substep_velocity, &self.kicked);
+        let (spin_start, p) = (&self.substep_spin, particles);
+        let linear = |range: std::ops::Range<usize>| {
+            let bodies = p.velocity[range.clone()].iter().zip(&kicked[range.clone()]).zip(&start[range.clone()]);
+            let masses = p.inverse_mass[range.clone()].iter().zip(&p.damping_per_step[range]);
+            let (mut work, mut kinetic) = (0.0, 0.0);
+            for (((&v, &kicked), &v0), (&w, &d)) in bodies.zip(masses) {
+                if w <= 0.0 {
+                    continue;
+                }
+                let (v, w) = (v.as_dvec3(), f64::from(w));
+                kinetic += v.length_squared() / w;
+                if d <= 0.0 || v == kicked.as_dvec3() {
+                    continue; // fully damped, or no contact or link touched it
+                }
+                let (kicked, v0, d) = (kicked.as_dvec3(), v0.as_dvec3(), f64::from(d));
+                // v0 kicked (and damped by d) gives `kicked`: the kick is kicked/d - v0.
+                let (kick, damping_loss) = if d == 1.0 {
+                    (kicked - v0, 0.0)
+                } else {
+                    let undamp = 1.0 / d;
+                    (kicked * undamp - v0, 0.5 * kicked.length_squared() * (undamp * undamp - 1.0))
+                };
+                work += (0.5 * (v.length_squared() - v0.length_squared()) - kick.dot(v) + damping_loss) / w;
             }
-            let (v, kicked, v0) = (v.as_dvec3(), kicked.as_dvec3(), v0.as_dvec3());
-            let d = f64::from(d);
-            if v == kicked {
-                continue; // no contact or link touched it
+            (work, 0.5 * kinetic)
+        };
+        let turning = |range: std::ops::Range<usize>| {
+            let spins = p.angular_velocity[range.clone()].iter().zip(&spin_start[range.clone()]);
+            let (mut work, mut kinetic) = (0.0, 0.0);
+            for ((&w, &w0), &inverse_inertia) in spins.zip(&p.inverse_inertia[range]) {
+                if inverse_inertia != 0.0 {
+                    let (spin, inertia) = (f64::from(w.length_squared()), 1.0 / f64::from(inverse_inertia));
+                    kinetic += 0.5 * spin * inertia;
+                    if w != w0 {
+                        work += 0.5 * (spin - f64::from(w0.length_squared())) * inertia;
+                    }
+                }
             }
-            let kick = kicked / d - v0;
-            let damping_loss = 0.5 * kicked.length_squared() * (1.0 / (d * d) - 1.0);
-            work += (0.5 * (v.length_squared() - v0.length_squared()) - kick.dot(v) + damping_loss)
-                / f64::from(w);
-        }
-        work
+            (work, kinetic)
+        };
+        chunked_sum(&mut self.partials, p.len(), parallel, |range| {
+            let (work, kinetic) = linear(range.clone());
+            if rolling {
+                let (turn_work, spin_energy) = turning(range);
+                (work + turn_work, kinetic + spin_energy)
+            } else {
+                (work, kinetic)
+            }
+        })
     }
 
-    /// Work done by the contacts on the spheres' rotation in a substep's solve (J): the
-    /// change of `½ I ω²` since the substep began (no force generator turns a sphere,
-    /// so all of it is the contacts').
-    fn turning_work(&self, particles: &Particles) -> f64 {
-        let spins = particles.angular_velocity.iter().zip(&self.substep_spin);
-        let mut work = 0.0;
-        for ((&w, &w0), &inverse_inertia) in spins.zip(&particles.inverse_inertia) {
-            if inverse_inertia != 0.0 && w != w0 {
-                let change = f64::from(w.length_squared()) - f64::from(w0.length_squared());
-                work += 0.5 * change / f64::from(inverse_inertia);
-            }
-        }
-        work
+    /// Kinetic energy of the movable particles, of motion and of the rolling spheres'
+    /// spin (J), summed in fixed chunks: the same on any number of threads.
+    fn kinetic_energy(&mut self, particles: &Particles, parallel: bool) -> f64 {
+        let p = particles;
+        let (_, kinetic) = chunked_sum(&mut self.partials, p.len(), parallel, |range| {
+            let bodies = p.velocity[range.clone()].iter().zip(&p.inverse_mass[range.clone()]);
+            let moving: f64 = bodies.filter(|(_, w)| **w > 0.0).map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum();
+            let spins = p.angular_velocity[range.clone()].iter().zip(&p.inverse_inertia[range]);
+            let turning: f64 =
+                spins.filter(|(_, i)| **i != 0.0).map(|(w, &i)| f64::from(w.length_squared()) / f64::from(i)).sum();
+            (0.0, 0.5 * (moving + turning))
+        });
+        kinetic
     }
 
     /// Deepest overlap at the end of the step, from the contacts' start separations and
