@@ -4,7 +4,10 @@
 //! For every size the two engines drop the same spheres (radius 0.5 m, 1 kg, friction
 //! 0.5, restitution 0, g = 9.81 m/s²) from the same jittered grid into the same open box
 //! (ground y = 0, inner walls at x, z = ±width/2), with width chosen so every pile is
-//! about ten layers deep. Each pile is settled first (the engine's own defaults, both
+//! about ten layers deep. Both engines' spheres roll (rapier's balls rotate; ours are
+//! set rolling, I = 2/5 m r²). Rapier has no rolling resistance, so the engine compared
+//! with it, `particle-lab`, has none either; `lab rr 0.1` is particle-lab with the pile
+//! scene's default rolling resistance (0.1), shown beside it for what it costs. Each pile is settled first (the engine's own defaults, both
 //! threads), then criterion measures one step of 1/60 s on 1 thread and on all threads,
 //! first with each engine's default sleeping (both put resting islands to sleep), then
 //! with sleeping turned off. Every measurement is followed by a timing of our own (the
@@ -15,18 +18,23 @@
 //! whole island at once): rapier's `RigidBodyActivation::default()`, particle-lab's
 //! `SolverSettings::default()`.
 //!
+//! Before the piles, both engines pour the same heap (see [`pour`]): 1,000 spheres
+//! dropped one by one on open ground, and the heap's angle of repose is measured on
+//! their positions with `pile::angle_of_repose`.
+//!
 //! `cargo bench --bench pile --features peer -- --warm-up-time 1 --measurement-time 3
-//! --sample-size 10`; `PILE_SIZES=1000,8000` picks the sizes; `PILE_PROFILE=1` prints
-//! where each engine's last step went and its fastest sphere. Without the feature only
-//! particle-lab runs. In test mode (`cargo test --benches`) a 300-sphere pile checks the
-//! plumbing in well under a second.
+//! --sample-size 10`; `PILE_SIZES=1000,8000` picks the sizes (`PILE_SIZES=` none: the
+//! pour only); `PILE_POUR=0` skips the pour; `PILE_PROFILE=1` prints where each
+//! engine's last step went and its fastest sphere. Without the feature only particle-lab
+//! runs. In test mode (`cargo test --benches`) a 300-sphere pile and a 60-sphere pour
+//! check the plumbing in a few seconds.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode, Throughput};
 use glam::Vec3;
-use particle_lab::physics::{ParticleDesc, World};
+use particle_lab::physics::{DEFAULT_ROLLING_RESISTANCE, ParticleDesc, Plane, SphereCollisions, World};
 use particle_lab::scenes::pile::{self, PileQuality};
 use particle_lab::scenes::{self, Scene};
 use rayon::{ThreadPool, ThreadPoolBuilder};
@@ -45,6 +53,9 @@ const DT: f32 = 1.0 / 60.0;
 const SIZES: [usize; 4] = [1_000, 8_000, 10_000, 100_000];
 /// Median speed below which a pile counts as settled (m/s).
 const SETTLED_SPEED: f32 = 0.005;
+/// The particle-lab engine the ratios are taken against: rolling spheres without
+/// rolling resistance, as rapier's balls.
+const LAB: &str = "particle-lab";
 
 /// How much work a run does: a full benchmark or criterion's test mode.
 #[derive(Clone, Copy)]
@@ -156,10 +167,12 @@ fn settle(pool: &ThreadPool, engine: &mut dyn Engine, n: usize, plan: Plan) {
 /// particle-lab's pile scene.
 struct Lab {
     scene: Box<dyn Scene>,
+    name: &'static str,
 }
 
 impl Lab {
-    fn new(n: usize, width: f32) -> Self {
+    /// The pile scene with rolling spheres and `rolling_resistance`, named `name`.
+    fn new(n: usize, width: f32, rolling_resistance: f32, name: &'static str) -> Self {
         // Every setting spelled out, so that a change of the scene's defaults cannot make
         // the two piles differ.
         let settings = [
@@ -170,16 +183,18 @@ impl Lab {
             format!("friction={FRICTION}"),
             format!("g={G}"),
             "restitution=0".to_string(),
+            "rolls=1".to_string(),
+            format!("rolling_resistance={rolling_resistance}"),
         ];
         let scene = scenes::build("pile", &settings).expect("valid pile parameters");
         assert!((scene.info().dt - DT).abs() < 1e-9, "the pile scene steps at 1/60 s");
-        Self { scene }
+        Self { scene, name }
     }
 }
 
 impl Engine for Lab {
     fn name(&self) -> &'static str {
-        "particle-lab"
+        self.name
     }
 
     fn step(&mut self) {
@@ -214,7 +229,8 @@ mod peer {
     //! The same pile in rapier3d: dynamic bodies with ball colliders in a box of fixed
     //! cuboids, rapier's default integration parameters (dt 1/60 s, 4 solver iterations
     //! (substeps) of 1 PGS and 1 stabilisation iteration each, soft contacts 30 Hz
-    //! between bodies and 60 Hz against fixed ones, damping ratio 10).
+    //! between bodies and 60 Hz against fixed ones, damping ratio 10). Its balls rotate
+    //! (rotations not locked), as particle-lab's rolling spheres do.
 
     use glam::Vec3;
     use rapier3d::prelude::{
@@ -268,6 +284,56 @@ mod peer {
         }
     }
 
+    /// The poured heap in rapier3d: balls dropped on a fixed cuboid (top face y = 0),
+    /// friction [`FRICTION`], restitution 0, rotating freely (rapier has no rolling
+    /// resistance).
+    pub struct RapierHeap {
+        world: PhysicsWorld,
+        balls: Vec<RigidBodyHandle>,
+    }
+
+    impl RapierHeap {
+        pub fn new() -> Self {
+            let mut world = PhysicsWorld::new();
+            world.gravity = Vector::new(0.0, -G, 0.0);
+            world.integration_parameters = IntegrationParameters { dt: DT, ..IntegrationParameters::default() };
+            let ground = ColliderBuilder::cuboid(200.0, THICKNESS, 200.0)
+                .translation(Vector::new(0.0, -THICKNESS, 0.0))
+                .friction(FRICTION)
+                .restitution(0.0);
+            world.insert_collider(ground, None);
+            Self { world, balls: Vec::new() }
+        }
+    }
+
+    impl super::Heap for RapierHeap {
+        fn name(&self) -> &'static str {
+            "rapier3d"
+        }
+
+        fn drop_sphere(&mut self, p: Vec3) {
+            let body = RigidBodyBuilder::dynamic().translation(Vector::new(p.x, p.y, p.z));
+            let ball = ColliderBuilder::ball(RADIUS).mass(MASS).friction(FRICTION).restitution(0.0);
+            self.balls.push(self.world.insert(body, ball).0);
+        }
+
+        fn step(&mut self) {
+            self.world.step();
+        }
+
+        fn state(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+            let vec = |v: Vector| Vec3::new(v.x, v.y, v.z);
+            let bodies = &self.world.bodies;
+            let positions = self.balls.iter().map(|&h| vec(bodies[h].translation())).collect();
+            let velocities = self.balls.iter().map(|&h| vec(bodies[h].linvel())).collect();
+            (positions, velocities)
+        }
+
+        fn all_asleep(&self) -> bool {
+            self.balls.iter().all(|&h| self.world.bodies[h].is_sleeping())
+        }
+    }
+
     impl Engine for Rapier {
         fn name(&self) -> &'static str {
             "rapier3d"
@@ -317,6 +383,129 @@ mod peer {
     }
 }
 
+/// Spheres in the poured heap.
+const POURED: usize = 1000;
+/// Steps between two spheres of the pour.
+const POUR_EVERY: usize = 4;
+/// Longest the poured heap is left to settle afterwards (s).
+const POUR_SETTLE: f32 = 20.0;
+
+/// A heap being poured on open ground (y = 0, friction [`FRICTION`]).
+trait Heap {
+    fn name(&self) -> &'static str;
+    /// Drops a sphere of radius [`RADIUS`] and mass [`MASS`] at rest at `position`.
+    fn drop_sphere(&mut self, position: Vec3);
+    fn step(&mut self);
+    /// Positions and velocities of the spheres.
+    fn state(&self) -> (Vec<Vec3>, Vec<Vec3>);
+    /// Whether every sphere sleeps.
+    fn all_asleep(&self) -> bool;
+}
+
+/// particle-lab's heap: a world with the ground and sphere collisions, its spheres
+/// rolling with `rolling_resistance`.
+struct LabHeap {
+    world: World,
+    name: &'static str,
+}
+
+impl LabHeap {
+    fn new(rolling_resistance: f32, name: &'static str) -> Self {
+        let mut world = World::new();
+        let ground = Plane::ground(0.0, 0.0, FRICTION).with_rolling_resistance(rolling_resistance);
+        world.add_contact_generator(ground).expect("a valid ground");
+        let spheres = SphereCollisions { rolling_resistance, ..SphereCollisions::new(0.0, FRICTION) };
+        world.add_contact_generator(spheres).expect("valid sphere collisions");
+        Self { world, name }
+    }
+}
+
+impl Heap for LabHeap {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+
+    fn drop_sphere(&mut self, position: Vec3) {
+        let desc = ParticleDesc {
+            position,
+            acceleration: Vec3::new(0.0, -G, 0.0),
+            mass: MASS,
+            radius: RADIUS,
+            ..ParticleDesc::default()
+        };
+        let id = self.world.add_particle(desc).expect("a valid sphere");
+        self.world.particles.set_rolling(id, true).expect("a sphere with a radius");
+    }
+
+    fn step(&mut self) {
+        self.world.step(DT).expect("a valid step");
+    }
+
+    fn state(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+        let p = &self.world.particles;
+        (p.positions().to_vec(), p.velocities().to_vec())
+    }
+
+    fn all_asleep(&self) -> bool {
+        self.world.particles.asleep_count() == self.world.particles.len()
+    }
+}
+
+/// Pours `count` spheres on `heap`, one every [`POUR_EVERY`] steps, each dropped at
+/// rest two radii above the top of the spheres that have landed (slower than 0.5 m/s)
+/// and within 0.2 m of the axis (the same fixed jitter for every engine), then lets it
+/// settle until every sphere sleeps or [`POUR_SETTLE`] seconds pass. The procedure of
+/// `tests/granular.rs`. Returns the heap's angle of repose (degrees) and the seconds
+/// it took to settle.
+fn pour(heap: &mut dyn Heap, count: usize) -> (f32, f32) {
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    let mut jitter = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        ((seed >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * 0.2
+    };
+    for step in 0..count * POUR_EVERY {
+        if step % POUR_EVERY == 0 {
+            let (positions, velocities) = heap.state();
+            let landed = positions.iter().zip(&velocities).filter(|(_, v)| v.length() < 0.5);
+            let y = landed.map(|(p, _)| p.y + RADIUS).fold(0.0, f32::max) + 2.0 * RADIUS;
+            heap.drop_sphere(Vec3::new(jitter(), y, jitter()));
+        }
+        heap.step();
+    }
+    let mut settled = 0.0;
+    while settled < POUR_SETTLE && !heap.all_asleep() {
+        heap.step();
+        settled += DT;
+    }
+    let (positions, _) = heap.state();
+    (pile::angle_of_repose(&positions, RADIUS), settled)
+}
+
+/// The pour on every engine, with its angle of repose.
+fn pour_all(pool: &ThreadPool, count: usize) {
+    let mut heaps: Vec<Box<dyn Heap + Send>> = vec![
+        Box::new(LabHeap::new(0.0, LAB)),
+        Box::new(LabHeap::new(DEFAULT_ROLLING_RESISTANCE, "lab rr 0.1")),
+    ];
+    #[cfg(feature = "peer")]
+    heaps.push(Box::new(peer::RapierHeap::new()));
+    for heap in &mut heaps {
+        let start = Instant::now();
+        let (angle, settled) = pool.install(|| pour(heap.as_mut(), count));
+        let (_, velocities) = heap.state();
+        let median = median(velocities.iter().map(|v| v.length()).collect());
+        eprintln!(
+            "pour: {:<13} {count} spheres, angle of repose {angle:.1}°, settled {settled:.1} s after the last \
+             (all asleep: {}), median speed {median:.4} m/s, {:.1} s wall",
+            heap.name(),
+            heap.all_asleep(),
+            start.elapsed().as_secs_f32()
+        );
+    }
+}
+
 /// One row of the table.
 struct Row {
     engine: &'static str,
@@ -345,6 +534,7 @@ fn main() {
     let sizes: Vec<usize> = match std::env::var("PILE_SIZES") {
         Ok(list) => list
             .split(',')
+            .filter(|s| !s.trim().is_empty())
             .map(|s| s.trim().parse().expect("PILE_SIZES: numbers separated by commas"))
             .collect(),
         Err(_) if testing => vec![300],
@@ -357,12 +547,18 @@ fn main() {
         .map(|&t| (t, Arc::new(ThreadPoolBuilder::new().num_threads(t).build().expect("a thread pool"))))
         .collect();
     let widest = &pools.last().expect("at least one pool").1;
+    if std::env::var("PILE_POUR").map_or(true, |v| v != "0") {
+        pour_all(widest, if testing { 60 } else { POURED });
+    }
 
     let mut criterion = Criterion::default().configure_from_args();
     let mut rows = Vec::new();
     for &n in &sizes {
         let width = width_for(n);
-        let mut engines: Vec<Box<dyn Engine>> = vec![Box::new(Lab::new(n, width))];
+        let mut engines: Vec<Box<dyn Engine>> = vec![
+            Box::new(Lab::new(n, width, 0.0, LAB)),
+            Box::new(Lab::new(n, width, DEFAULT_ROLLING_RESISTANCE, "lab rr 0.1")),
+        ];
         #[cfg(feature = "peer")]
         engines.push(Box::new(peer::Rapier::new(&pile::starting_grid(n, RADIUS, width), width)));
         for engine in &mut engines {
@@ -446,11 +642,11 @@ fn print_table(rows: &[Row]) {
         "load"
     );
     for row in rows {
-        let lab = rows.iter().find(|r| {
-            r.engine == "particle-lab" && (r.n, r.sleep, r.threads) == (row.n, row.sleep, row.threads)
-        });
+        let lab = rows
+            .iter()
+            .find(|r| r.engine == LAB && (r.n, r.sleep, r.threads) == (row.n, row.sleep, row.threads));
         let ratio = match lab {
-            Some(lab) if row.engine != "particle-lab" && lab.ms > 0.0 => format!("{:.2}", row.ms / lab.ms),
+            Some(lab) if row.engine != LAB && lab.ms > 0.0 => format!("{:.2}", row.ms / lab.ms),
             _ => String::new(),
         };
         let q = row.quality;

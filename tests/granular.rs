@@ -105,36 +105,7 @@ fn height(world: &World) -> f32 {
 
 /// The heap's angle of repose (degrees), from its surface profile (see the file's doc).
 fn angle_of_repose(world: &World) -> f32 {
-    let positions = world.particles.positions();
-    let n = positions.len() as f32;
-    let centre = positions.iter().fold(Vec3::ZERO, |sum, p| sum + *p) / n;
-    let radial = |p: &Vec3| Vec3::new(p.x - centre.x, 0.0, p.z - centre.z).length();
-    // The heap's radius: where 95% of the spheres lie within.
-    let mut distances: Vec<f32> = positions.iter().map(radial).collect();
-    distances.sort_by(f32::total_cmp);
-    let reach = distances[(0.95 * n) as usize];
-    let ring = 2.0 * RADIUS;
-    let rings = (reach / ring).ceil() as usize + 1;
-    let mut top = vec![f32::NEG_INFINITY; rings];
-    for p in positions {
-        let k = (radial(p) / ring) as usize;
-        if k < rings {
-            top[k] = top[k].max(p.y + RADIUS);
-        }
-    }
-    // Least squares over the flank's rings.
-    let points: Vec<(f32, f32)> = (0..rings)
-        .map(|k| ((k as f32 + 0.5) * ring, top[k]))
-        .filter(|&(r, y)| y.is_finite() && r >= 0.2 * reach && r <= 0.8 * reach)
-        .collect();
-    if points.len() < 3 {
-        return 90.0; // no flank: a column still standing
-    }
-    let m = points.len() as f32;
-    let (sx, sy) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x, b + y));
-    let (sxx, sxy) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x * x, b + x * y));
-    let slope = (m * sxy - sx * sy) / (m * sxx - sx * sx);
-    (-slope).atan().to_degrees()
+    particle_lab::scenes::pile::angle_of_repose(world.particles.positions(), RADIUS)
 }
 
 #[test]

@@ -195,6 +195,46 @@ pub fn quality(world: &World, width: f32) -> PileQuality {
     PileQuality { median_speed, max_speed, deepest_overlap: deepest, escaped }
 }
 
+/// The angle of repose (degrees) of a heap of spheres of `radius` on flat ground,
+/// from its surface: the highest sphere top in rings `2 radius` wide around the heap's
+/// axis (through the spheres' mean), fitted by least squares over the flank (rings
+/// between a fifth and four fifths of the radius within which 95% of the spheres lie),
+/// so that stray spheres rolled far out and the rounded top do not count. 90 for a
+/// heap with no flank (a column still standing); 0 for no spheres.
+#[must_use]
+pub fn angle_of_repose(positions: &[Vec3], radius: f32) -> f32 {
+    if positions.is_empty() {
+        return 0.0;
+    }
+    let n = positions.len() as f32;
+    let centre = positions.iter().fold(Vec3::ZERO, |sum, p| sum + *p) / n;
+    let radial = |p: &Vec3| Vec3::new(p.x - centre.x, 0.0, p.z - centre.z).length();
+    let mut distances: Vec<f32> = positions.iter().map(radial).collect();
+    distances.sort_by(f32::total_cmp);
+    let reach = distances[((0.95 * n) as usize).min(positions.len() - 1)];
+    let ring = 2.0 * radius;
+    let rings = (reach / ring).ceil() as usize + 1;
+    let mut top = vec![f32::NEG_INFINITY; rings];
+    for p in positions {
+        let k = (radial(p) / ring) as usize;
+        if k < rings {
+            top[k] = top[k].max(p.y + radius);
+        }
+    }
+    let points: Vec<(f32, f32)> = (0..rings)
+        .map(|k| ((k as f32 + 0.5) * ring, top[k]))
+        .filter(|&(r, y)| y.is_finite() && r >= 0.2 * reach && r <= 0.8 * reach)
+        .collect();
+    if points.len() < 3 {
+        return 90.0;
+    }
+    let m = points.len() as f32;
+    let (sx, sy) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x, b + y));
+    let (sxx, sxy) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x * x, b + x * y));
+    let slope = (m * sxy - sx * sy) / (m * sxx - sx * sx);
+    (-slope).atan().to_degrees()
+}
+
 struct Pile {
     world: World,
     params: ParamValues,
@@ -263,6 +303,35 @@ impl Scene for Pile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Spheres packed in a cone (a top at 10 m over a base whose radius the slope
+    /// gives): the measured angle is the cone's within a degree and a half (the rings'
+    /// tops sit up to a sphere's width off the surface).
+    #[test]
+    fn the_angle_of_a_cone_of_spheres_is_its_slope() {
+        for degrees in [20.0f32, 30.0, 40.0] {
+            let (radius, height) = (0.5, 10.0);
+            let base = height / degrees.to_radians().tan();
+            let mut positions = Vec::new();
+            let step = 2.0 * radius;
+            let cells = (base / step).ceil() as i32;
+            for i in -cells..=cells {
+                for k in -cells..=cells {
+                    let (x, z) = (i as f32 * step, k as f32 * step);
+                    let surface = height * (1.0 - (x * x + z * z).sqrt() / base);
+                    let mut y = radius;
+                    while y + radius <= surface {
+                        positions.push(Vec3::new(x, y, z));
+                        y += step;
+                    }
+                }
+            }
+            let angle = angle_of_repose(&positions, radius);
+            assert!((angle - degrees).abs() < 1.5, "a {degrees}° cone measured {angle}°");
+        }
+        assert_eq!(angle_of_repose(&[], 0.5), 0.0);
+        assert_eq!(angle_of_repose(&[Vec3::new(0.0, 0.5, 0.0); 3], 0.5), 90.0);
+    }
 
     #[test]
     fn grid_fits_the_box_and_is_reproducible() {

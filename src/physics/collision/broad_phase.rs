@@ -366,11 +366,11 @@ impl GridView<'_> {
                         let run = self.starts[(row + x0) as usize] as usize
                             ..self.starts[(row + x1 + 1) as usize] as usize;
                         for (&b, sphere) in self.entries[run.clone()].iter().zip(&self.entry_spheres[run]) {
-                            // Every grid entry has a usable reach: test it from the copy.
+                            // Which of the two finds the pair first (an index compare, so
+                            // half the candidates cost no distance); every grid entry has
+                            // a usable reach: test it from the copy.
                             let reach = ra + sphere.w;
-                            if (pa - sphere.truncate()).length_squared() < reach * reach
-                                && second(a, b as usize)
-                            {
+                            if second(a, b as usize) && (pa - sphere.truncate()).length_squared() < reach * reach {
                                 partners.push(b);
                             }
                         }

@@ -5,17 +5,14 @@
 use std::marker::PhantomData;
 
 use glam::Vec3;
-use rayon::prelude::*;
 
 use super::batch::{ContactBatch, LANES};
 use crate::physics::wide::V4;
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 
-/// A colour with at least this many contacts is split across threads.
+/// Contacts in all from which a pass over them runs on several threads.
 const PARALLEL_CONTACTS: usize = 2048;
-/// Contacts per parallel task.
-const TASK: usize = 512;
 
 /// The velocity array, shared by the tasks solving one colour at once: each task reads
 /// and writes the velocities of its own contacts' particles through this handle.
@@ -125,21 +122,112 @@ impl SoftStep {
     }
 }
 
-/// Runs `f` on every batch of contacts, colour by colour, a run of batches at a time; a
-/// large colour is split across threads (its contacts share no movable particle, so
-/// the order within it does not matter). The overflow colour's batches, one contact
-/// each, run in order.
+/// Runs `f` on every batch of contacts, colour by colour, a run of batches at a time.
+/// With several threads and enough contacts, every thread of the pool takes runs of
+/// [`BLOCK`] batches of a colour in turn, and all wait for the colour to be done
+/// before any starts on the next (see [`run_on_all_threads`]); the overflow colour's
+/// batches, one contact each, run in order on one thread. A colour's contacts share no
+/// movable particle, so which thread solves which does not change a bit.
 pub(super) fn for_each_batch(
     batches: &mut [ContactBatch],
     starts: &[usize; COLORS + 2],
     f: impl Fn(&mut [ContactBatch]) + Sync,
 ) {
+    if rayon::current_num_threads() > 1 && batches.len() * LANES >= PARALLEL_CONTACTS {
+        run_on_all_threads(batches, starts, &f);
+        return;
+    }
     for color in 0..=COLORS {
-        let slice = &mut batches[starts[color]..starts[color + 1]];
-        if color != OVERFLOW && slice.len() * LANES >= PARALLEL_CONTACTS {
-            slice.par_chunks_mut(TASK / LANES).for_each(&f);
-        } else if !slice.is_empty() {
-            f(slice);
+        let run = &mut batches[starts[color]..starts[color + 1]];
+        if !run.is_empty() {
+            f(run);
+        }
+    }
+}
+
+/// The batches, shared by the threads of one pass: each takes disjoint runs of them
+/// (see `SAFETY` below).
+struct SharedBatches {
+    ptr: *mut ContactBatch,
+    len: usize,
+}
+
+// SAFETY: `run_on_all_threads` hands out each run of batches to exactly one thread (a
+// run is claimed by an atomic counter that only grows, and the overflow colour only by
+// thread 0), so no batch is touched by two threads; the batches' exclusive borrow is
+// held by `run_on_all_threads` until every thread has returned.
+unsafe impl Send for SharedBatches {}
+unsafe impl Sync for SharedBatches {}
+
+impl SharedBatches {
+    /// The batches `range`, which must be in bounds and given to no other thread.
+    ///
+    /// # Safety
+    /// `range` must lie within the batches and be claimed by this thread alone.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn run(&self, range: std::ops::Range<usize>) -> &mut [ContactBatch] {
+        assert!(range.start <= range.end && range.end <= self.len);
+        // SAFETY: in bounds (checked above); exclusive to this thread (the caller's
+        // promise), within the borrow `run_on_all_threads` holds.
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.end - range.start) }
+    }
+}
+
+/// Batches a thread claims at a time.
+const BLOCK: usize = 32;
+
+/// One pass over the colours on every thread of the current pool at once: one rayon
+/// broadcast for the whole pass, not a fork and join per colour (a pass over a pile's
+/// 15 colours then wakes the pool once, and threads hand over between colours through
+/// two atomic counters per colour). The writes of a colour are published by the
+/// `Release` add to its `done` counter and seen by the `Acquire` load that ends the
+/// wait, before any thread starts on the next colour.
+fn run_on_all_threads(batches: &mut [ContactBatch], starts: &[usize; COLORS + 2], f: &(impl Fn(&mut [ContactBatch]) + Sync)) {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let claimed: [AtomicUsize; COLORS + 1] = std::array::from_fn(|_| AtomicUsize::new(0));
+    let done: [AtomicUsize; COLORS + 1] = std::array::from_fn(|_| AtomicUsize::new(0));
+    let shared = SharedBatches { ptr: batches.as_mut_ptr(), len: batches.len() };
+    rayon::broadcast(|context| {
+        for color in 0..=COLORS {
+            let (start, end) = (starts[color], starts[color + 1]);
+            let len = end - start;
+            if len == 0 {
+                continue;
+            }
+            if color == OVERFLOW {
+                if context.index() == 0 {
+                    // SAFETY: only thread 0 takes the overflow colour.
+                    f(unsafe { shared.run(start..end) });
+                    done[color].store(len, Ordering::Release);
+                }
+            } else {
+                loop {
+                    let k = claimed[color].fetch_add(BLOCK, Ordering::Relaxed);
+                    if k >= len {
+                        break;
+                    }
+                    let last = (k + BLOCK).min(len);
+                    // SAFETY: `k..last` was claimed by this thread alone (the counter
+                    // only grows) and lies within the colour's batches.
+                    f(unsafe { shared.run(start + k..start + last) });
+                    done[color].fetch_add(last - k, Ordering::Release);
+                }
+            }
+            wait_for(|| done[color].load(Ordering::Acquire) == len);
+        }
+    });
+}
+
+/// Waits until `ready`: spinning briefly, then yielding the core (a thread it waits for
+/// may need it, on a machine with more threads than cores).
+fn wait_for(ready: impl Fn() -> bool) {
+    let mut spins = 0u32;
+    while !ready() {
+        if spins < 128 {
+            std::hint::spin_loop();
+            spins += 1;
+        } else {
+            std::thread::yield_now();
         }
     }
 }
