@@ -7,7 +7,7 @@
 
 use crate::physics::forces::ForceRegistry;
 use crate::physics::ids::ParticleId;
-use crate::physics::particles::Particles;
+use crate::physics::particles::{Particles, tree_sum};
 
 /// The energy budget of a world (J).
 ///
@@ -87,14 +87,20 @@ impl Ledger {
 
 /// Kinetic, gravitational and other stored (elastic, buoyancy) energy (J), in f64.
 pub(crate) fn energies(p: &Particles, forces: &ForceRegistry) -> (f64, f64, f64) {
-    let mut gravitational = 0.0;
-    for i in 0..p.len() {
-        let inverse_mass = p.inverse_mass[i];
-        if inverse_mass > 0.0 {
-            let mass = 1.0 / f64::from(inverse_mass);
-            gravitational -= mass * p.acceleration[i].as_dvec3().dot(p.position[i].as_dvec3());
+    // One pass over the particles, in leaves summed up a fixed tree (the same bits on
+    // any number of threads): twice the kinetic energy of motion and of spin, and the
+    // gravitational energy of the constant accelerations, -m a·p.
+    let [moving, turning, mut gravitational] = tree_sum(0..p.len(), &|range: std::ops::Range<usize>| {
+        let [moving, turning] = p.kinetic_parts(range.clone());
+        let bodies = p.inverse_mass[range.clone()].iter().zip(&p.acceleration[range.clone()]);
+        let mut gravitational = 0.0;
+        for ((&inverse_mass, a), x) in bodies.zip(&p.position[range]) {
+            if inverse_mass > 0.0 {
+                gravitational -= a.as_dvec3().dot(x.as_dvec3()) / f64::from(inverse_mass);
+            }
         }
-    }
+        [moving, turning, gravitational]
+    });
     let mut stored = 0.0;
     for force in forces.kinds() {
         let energy = f64::from(force.generator().potential_energy(p));
@@ -104,7 +110,7 @@ pub(crate) fn energies(p: &Particles, forces: &ForceRegistry) -> (f64, f64, f64)
             stored += energy;
         }
     }
-    (p.kinetic_energy(), gravitational, stored)
+    (0.5 * (moving + turning), gravitational, stored)
 }
 
 /// Kinetic plus potential energy (J), summed in f64.

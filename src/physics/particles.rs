@@ -718,27 +718,39 @@ impl Particles {
     /// their motion, `Σ ½ m v²`, plus of the rolling spheres' rotation (see
     /// [`Particles::rotational_energy`]).
     pub(crate) fn kinetic_energy(&self) -> f64 {
-        let bodies = self.velocity.iter().zip(&self.inverse_mass).filter(|(_, w)| **w > 0.0);
-        let moving = 0.5 * bodies.map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum::<f64>();
-        moving + self.rotational_energy()
+        let [moving, turning] = tree_sum(0..self.len(), &|range| self.kinetic_parts(range));
+        0.5 * (moving + turning)
+    }
+
+    /// Twice the kinetic energy of motion and of spin of the particles `range` (J).
+    pub(crate) fn kinetic_parts(&self, range: std::ops::Range<usize>) -> [f64; 2] {
+        let bodies = self.velocity[range.clone()].iter().zip(&self.inverse_mass[range.clone()]);
+        let moving = bodies.filter(|(_, w)| **w > 0.0).map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum();
+        let spins = self.angular_velocity[range.clone()].iter().zip(&self.inverse_inertia[range]);
+        let turning = spins.filter(|(_, i)| **i != 0.0).map(|(w, &i)| f64::from(w.length_squared()) / f64::from(i)).sum();
+        [moving, turning]
     }
 
     /// Kinetic energy of rotation (J), `Σ ½ I ω²` over the rolling spheres, in f64.
     pub(crate) fn rotational_energy(&self) -> f64 {
-        let spins = self.angular_velocity.iter().zip(&self.inverse_inertia).filter(|(_, i)| **i != 0.0);
-        0.5 * spins.map(|(w, &i)| f64::from(w.length_squared()) / f64::from(i)).sum::<f64>()
+        let [_, turning] = tree_sum(0..self.len(), &|range| self.kinetic_parts(range));
+        0.5 * turning
     }
 
     /// Adds to `dissipated` what damping took this step: each damped particle's end
     /// velocity is `d` times what it would have been, so it lost `½ m v² (1/d² - 1)`.
     pub(crate) fn count_damping_loss(&mut self) {
-        let mut lost = 0.0;
-        let bodies = self.velocity.iter().zip(&self.inverse_mass).zip(&self.damping_per_step);
-        for ((v, &w), &d) in bodies {
-            if w > 0.0 && d < 1.0 && d > 0.0 {
-                lost += 0.5 * f64::from(v.length_squared()) / f64::from(w) * (1.0 / f64::from(d * d) - 1.0);
+        let [lost] = tree_sum(0..self.len(), &|range: std::ops::Range<usize>| {
+            let bodies = self.velocity[range.clone()].iter().zip(&self.inverse_mass[range.clone()]);
+            let mut lost = 0.0;
+            for ((v, &w), &d) in bodies.zip(&self.damping_per_step[range]) {
+                if w > 0.0 && d < 1.0 && d > 0.0 {
+                    let undamp = 1.0 / f64::from(d);
+                    lost += 0.5 * f64::from(v.length_squared()) / f64::from(w) * (undamp * undamp - 1.0);
+                }
             }
-        }
+            [lost]
+        });
         self.dissipated += lost;
     }
 
@@ -828,6 +840,34 @@ pub(crate) fn kicked(v: Vec3, acceleration: Vec3, h: f32, damping_per_step: f32)
 #[must_use]
 pub(crate) fn sphere_inverse_inertia(w: f32, r: f32) -> f32 {
     2.5 * w / (r * r)
+}
+
+/// Particles per leaf of [`tree_sum`]: fixed, so that the order of a sum, and its bits,
+/// are the same on any number of threads.
+const SUM_LEAF: usize = 2048;
+/// Particles from which [`tree_sum`] splits across threads.
+const PARALLEL_SUM: usize = 4096;
+
+/// `K` sums over `0..len`: each leaf of [`SUM_LEAF`] indices summed by `f`, the leaves
+/// added up a binary tree whose shape depends on `len` alone (split at the middle leaf),
+/// its halves on two threads (`rayon::join`) once there are enough particles. So the
+/// bits of the result are the same on any number of threads, and nothing is allocated.
+pub(crate) fn tree_sum<const K: usize>(
+    range: std::ops::Range<usize>,
+    f: &(impl Fn(std::ops::Range<usize>) -> [f64; K] + Sync),
+) -> [f64; K] {
+    let leaves = (range.end - range.start).div_ceil(SUM_LEAF);
+    if leaves <= 1 {
+        return f(range);
+    }
+    let middle = range.start + leaves / 2 * SUM_LEAF;
+    let (left, right) = (range.start..middle, middle..range.end);
+    let (a, b) = if range.end - range.start >= PARALLEL_SUM {
+        rayon::join(|| tree_sum(left, f), || tree_sum(right, f))
+    } else {
+        (tree_sum(left, f), tree_sum(right, f))
+    };
+    std::array::from_fn(|k| a[k] + b[k])
 }
 
 /// Particles from which [`Particles::turn`] runs on several threads.

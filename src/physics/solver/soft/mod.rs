@@ -212,8 +212,6 @@ pub struct SoftStep {
     substep_spin: Vec<Vec3>,
     /// Per chunk of sphere pairs: its contacts (see `SoftStep::collide_spheres`).
     pair_chunks: Vec<collide::PairChunk>,
-    /// Per chunk of particles: its part of an energy sum (see `step::chunked_sum`).
-    partials: Vec<(f64, f64)>,
     /// Per particle: asleep at the start of this collide pass.
     asleep: Vec<bool>,
     /// Labels of sleeping islands to wake.

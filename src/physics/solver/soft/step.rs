@@ -9,30 +9,8 @@ use super::sleep::wake;
 use super::{Context, NONE, PARALLEL_PARTICLES, SoftStep, ms};
 use rayon::prelude::*;
 
-/// Particles per chunk of the energy sums. Fixed, so that the order of the sum, and
-/// its bits, are the same on any number of threads.
-const SUM_CHUNK: usize = 2048;
 /// Particles from which the per-substep copies of velocities run on several threads.
 const PARALLEL_COPY: usize = 32_768;
-
-/// Two sums over `0..len`, each chunk of [`SUM_CHUNK`] summed by `f` (on several
-/// threads if `parallel`), the chunks' sums then added in order.
-fn chunked_sum(
-    partials: &mut Vec<(f64, f64)>,
-    len: usize,
-    parallel: bool,
-    f: impl Fn(std::ops::Range<usize>) -> (f64, f64) + Sync,
-) -> (f64, f64) {
-    partials.clear();
-    partials.resize(len.div_ceil(SUM_CHUNK), (0.0, 0.0));
-    let chunk = |k: usize| k * SUM_CHUNK..((k + 1) * SUM_CHUNK).min(len);
-    if parallel {
-        partials.par_iter_mut().enumerate().for_each(|(k, sum)| *sum = f(chunk(k)));
-    } else {
-        partials.iter_mut().enumerate().for_each(|(k, sum)| *sum = f(chunk(k)));
-    }
-    partials.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x, b + y))
-}
 
 /// `to = from`, in parallel chunks for large arrays.
 fn copy(to: &mut Vec<Vec3>, from: &[Vec3], parallel: bool) {
@@ -48,7 +26,7 @@ use crate::physics::collision::{BroadPhase, ContactGenerator, Scratch};
 use crate::physics::forces::ForceRegistry;
 use crate::physics::ids::ContactGeneratorId;
 use crate::physics::integrator::Integrator;
-use crate::physics::particles::Particles;
+use crate::physics::particles::{Particles, tree_sum};
 use crate::physics::solver::report::{Profile, SoftReport};
 use crate::physics::solver::settings::{Softness, SolverSettings};
 
@@ -133,7 +111,7 @@ impl SoftStep {
             } else {
                 self.integration.predict(integrator, particles, forces, h);
             }
-            let before = if constrained && !semi_implicit { self.kinetic_energy(particles, parallel) } else { 0.0 };
+            let before = if constrained && !semi_implicit { particles.kinetic_energy() } else { 0.0 };
             if bouncy {
                 self.impacts(particles, h, settings.restitution_threshold);
             }
@@ -144,18 +122,18 @@ impl SoftStep {
             let mut before_relax = 0.0;
             if constrained {
                 constraint_work += if semi_implicit {
-                    let (work, kinetic) = self.kick_and_solve_work(particles, rolling, parallel);
+                    let (work, kinetic) = self.kick_and_solve_work(particles, rolling);
                     before_relax = kinetic;
                     work
                 } else {
-                    before_relax = self.kinetic_energy(particles, parallel);
+                    before_relax = particles.kinetic_energy();
                     before_relax - before
                 };
             }
             particles.integrate_positions(h, &mut self.delta, parallel);
             self.solve(particles, relax, relax);
             if constrained {
-                constraint_work += self.kinetic_energy(particles, parallel) - before_relax;
+                constraint_work += particles.kinetic_energy() - before_relax;
             }
             if !semi_implicit {
                 self.integration.finish(particles);
@@ -192,8 +170,8 @@ impl SoftStep {
     /// on the spheres' spin is added: the change of `½ I ω²` since the substep began
     /// (no force generator turns a sphere, so all of it is the contacts').
     ///
-    /// Summed in fixed chunks ([`chunked_sum`]), the same on any number of threads.
-    fn kick_and_solve_work(&mut self, particles: &Particles, rolling: bool, parallel: bool) -> (f64, f64) {
+    /// Summed up a fixed tree ([`tree_sum`]), the same on any number of threads.
+    fn kick_and_solve_work(&self, particles: &Particles, rolling: bool) -> (f64, f64) {
         let (start, kicked) = (&self.substep_velocity, &self.kicked);
         let (spin_start, p) = (&self.substep_spin, particles);
         let linear = |range: std::ops::Range<usize>| {
@@ -235,30 +213,16 @@ impl SoftStep {
             }
             (work, kinetic)
         };
-        chunked_sum(&mut self.partials, p.len(), parallel, |range| {
+        let [work, kinetic] = tree_sum(0..p.len(), &|range: std::ops::Range<usize>| {
             let (work, kinetic) = linear(range.clone());
             if rolling {
                 let (turn_work, spin_energy) = turning(range);
-                (work + turn_work, kinetic + spin_energy)
+                [work + turn_work, kinetic + spin_energy]
             } else {
-                (work, kinetic)
+                [work, kinetic]
             }
-        })
-    }
-
-    /// Kinetic energy of the movable particles, of motion and of the rolling spheres'
-    /// spin (J), summed in fixed chunks: the same on any number of threads.
-    fn kinetic_energy(&mut self, particles: &Particles, parallel: bool) -> f64 {
-        let p = particles;
-        let (_, kinetic) = chunked_sum(&mut self.partials, p.len(), parallel, |range| {
-            let bodies = p.velocity[range.clone()].iter().zip(&p.inverse_mass[range.clone()]);
-            let moving: f64 = bodies.filter(|(_, w)| **w > 0.0).map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum();
-            let spins = p.angular_velocity[range.clone()].iter().zip(&p.inverse_inertia[range]);
-            let turning: f64 =
-                spins.filter(|(_, i)| **i != 0.0).map(|(w, &i)| f64::from(w.length_squared()) / f64::from(i)).sum();
-            (0.0, 0.5 * (moving + turning))
         });
-        kinetic
+        (work, kinetic)
     }
 
     /// Deepest overlap at the end of the step, from the contacts' start separations and
