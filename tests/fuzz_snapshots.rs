@@ -43,14 +43,15 @@ const EXTREMES: &[&str] = &[
     "{}",
 ];
 
-/// Snapshots of every scene after a few steps: the compiled scenes (the pile small, so
-/// a case is quick) and the shipped scene files.
+/// Snapshots of every scene after a few steps: the compiled scenes (the pile and the
+/// hourglass small, so a case is quick) and the shipped scene files.
 fn seeds() -> Vec<(String, String)> {
     let mut seeds = Vec::new();
     let entries = SCENES.iter().chain(scenes::file::shipped().iter().copied());
     for entry in entries {
         let name = entry.info.name;
-        let set: Vec<String> = if name == "pile" { vec!["count=40".into()] } else { Vec::new() };
+        let small = matches!(name, "pile" | "hourglass");
+        let set: Vec<String> = if small { vec!["count=40".into()] } else { Vec::new() };
         let mut scene = scenes::build_entry(entry, &set).unwrap();
         let dt = entry.info.dt;
         for _ in 0..90 {
@@ -189,6 +190,7 @@ fn mutated_snapshots_of_every_scene_load_or_are_refused_in_one_line() {
     println!("{cases} cases: {loaded} loaded and stepped, {refused} refused");
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
     // The mutations reach both outcomes: a fuzzer that only ever hits the JSON syntax
-    // check tests nothing deeper.
-    assert!(loaded > cases / 20 && refused > cases / 4, "{loaded} loaded, {refused} refused of {cases}");
+    // check tests nothing deeper. About 6.6% of the tries load (198 of 3,000 cases);
+    // 300 cases with eleven seeds gave 13 (4.3%), so the bound leaves room for chance.
+    assert!(loaded > cases / 40 && refused > cases / 4, "{loaded} loaded, {refused} refused of {cases}");
 }
