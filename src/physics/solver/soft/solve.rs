@@ -1,5 +1,6 @@
 //! The solve of a substep: warm start, then every contact (colour by colour) and every
-//! rod and cable on its exact geometry.
+//! rod and cable on its exact geometry: all links together as a network (`links.rs`),
+//! or each as a soft constraint.
 
 use super::color::{SharedVelocities, for_each_contact};
 use super::contact::{Bodies, apply, contact_terms, solve_contact, turn};
@@ -25,6 +26,9 @@ impl SoftStep {
                 turn(c, bodies, c.tangent_impulse, c.rolling_impulse);
             }
         });
+        if self.network.exact() {
+            return; // the network solves its links whole each substep: no warm start
+        }
         let w = &particles.inverse_mass;
         let velocities = &mut particles.velocity;
         for link in &self.links {
@@ -48,6 +52,15 @@ impl SoftStep {
             spins: SharedVelocities::new(&mut particles.angular_velocity),
         };
         for_each_contact(&mut self.contacts, &self.color_starts, |c| solve_contact(c, velocities, bodies, contacts));
+        if self.network.exact() {
+            // The shake with position feedback, the projection in the relax pass.
+            if joints.use_bias {
+                self.network.shake(&mut self.links, particles, joints.h);
+            } else {
+                self.network.project(&mut self.links, particles, joints.h);
+            }
+            return;
+        }
         let w = &particles.inverse_mass;
         for link in &mut self.links {
             link.solve(&particles.position, &mut particles.velocity, w, joints);
