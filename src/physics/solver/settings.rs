@@ -116,10 +116,13 @@ pub struct SolverSettings {
     /// implicitly, which a rod carrying its end's weight stretches by `g / (2π f)²`
     /// (0.6 nm), so links are rigid in all but name. The give only matters where links
     /// line up and the equations become singular (a row of rods pulled straight): it
-    /// keeps the solve regular there. Measured on a 10 × 10 cloth, 20 s at 240 Hz:
-    /// softer links let more energy into such moments (3,000 Hz kept 85%, 10,000 Hz
-    /// 95%); far stiffer ones make the solve fail more often (it then takes a damped
-    /// step). Not clamped to the substep: the solve is implicit.
+    /// keeps the solve regular there. Measured on the shipped 10 × 10 cloth, undamped,
+    /// 20 s at 240 Hz (swing energy kept, largest strain): 3,000 Hz 49% (0.08%), 10,000
+    /// Hz 86% (0.02%), 20,000 Hz 95% (0.006%), 50,000 Hz 100.8%, 200,000 Hz 101.1%:
+    /// softer links let energy into such moments and damp it; stiffer ones make the
+    /// equations harder to solve there, and the energy drifts up. The 20-rod chain
+    /// keeps 98.7% to 100.1% over that whole range. Not clamped to the substep: the
+    /// solve is implicit.
     #[serde(default = "default_link_hertz")]
     pub link_hertz: f32,
     /// Stiffness of soft rods and cables (Hz), > 0: what [`LinkSolver::Soft`] uses.
@@ -133,7 +136,9 @@ pub struct SolverSettings {
     /// 2 the rods above strained 3.4e-4).
     pub joint_damping_ratio: f32,
     /// Fastest speed at which an overlap is pushed out (m/s), > 0. Default 3: deep
-    /// overlaps come apart without launching anything.
+    /// overlaps come apart without launching anything. The exact link solve brings a
+    /// link that is off its length (a network built stretched, a particle moved by
+    /// hand) back at this speed, too.
     pub max_push_speed: f32,
     /// Closing speeds below this do not bounce (m/s), >= 0. Default 0.1: resting
     /// contacts are not resting if gravity's step-by-step speed makes them bounce.

@@ -84,7 +84,7 @@ impl TautPaths {
             }
         }
         let k = self.fixed.len();
-        if k < 2 || k > MAX_FIXED || k.saturating_mul(n) > MAX_WORK {
+        if !(2..=MAX_FIXED).contains(&k) || k.saturating_mul(n) > MAX_WORK {
             return false;
         }
         // Links at each particle.
