@@ -24,12 +24,17 @@
 //!
 //! A contact's separation during the substeps is its start separation plus how far its
 //! two particles have moved along the normal since, so contacts are found once a step.
-//! Rods and cables are few and are solved on their exact geometry every substep.
+//! Rods and cables are solved on their exact geometry every substep: by default all
+//! together, to convergence, as a network (`links.rs`: the impulses that bring every
+//! link to its length at the end of the substep, then velocities that agree with the
+//! links; conservative), or one at a time as soft constraints.
 //!
 //! One file per stage, as Box2D v3 keeps them: `step.rs` (the order above, and the
 //! energy the constraints add), `collide.rs` (1), `color.rs` (2, and the velocities the
 //! parallel tasks share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
-//! start, contacts and links) and `contact.rs` (one contact's impulse), `warm.rs` (4,
+//! start, contacts and links) and `contact.rs` (one contact's impulse), `links.rs`
+//! (the exact link solve, with `envelope.rs`, its direct solver, and `taut.rs`,
+//! particles a taut path of links holds still), `warm.rs` (4,
 //! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking).
 //! This file holds the data every stage shares.
 
@@ -37,10 +42,13 @@ mod batch;
 mod collide;
 mod color;
 mod contact;
+mod envelope;
 mod impact;
+mod links;
 mod sleep;
 mod solve;
 mod step;
+mod taut;
 mod warm;
 
 use glam::Vec3;
@@ -219,11 +227,15 @@ pub struct SoftStep {
     /// Union-find parents and each island's shortest rest time, for sleeping.
     parent: Vec<u32>,
     island_timer: Vec<f32>,
+    /// The exact solve of rods and cables (`links.rs`), with its cached network.
+    network: links::LinkNetwork,
 }
 
 /// Per-substep constants handed to every contact (Box2D's step context).
 #[derive(Clone, Copy)]
 struct Context {
+    /// The substep (s).
+    h: f32,
     inv_h: f32,
     max_push: f32,
     soft: Softness,

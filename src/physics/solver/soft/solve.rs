@@ -1,5 +1,6 @@
 //! The solve of a substep: warm start, then every contact (colour by colour) and every
-//! rod and cable on its exact geometry.
+//! rod and cable on its exact geometry: all links together as a network (`links.rs`),
+//! or each as a soft constraint.
 
 use super::color::{SharedVelocities, for_each_batch};
 use super::contact::{Bodies, contact_terms, solve_batches, warm_start_batches};
@@ -16,6 +17,9 @@ impl SoftStep {
             delta: &self.delta,
         };
         for_each_batch(&mut self.batches, &self.batch_starts, |run| warm_start_batches(run, bodies));
+        if self.network.exact() {
+            return; // the network solves its links whole each substep: no warm start
+        }
         let w = &particles.inverse_mass;
         let velocities = &mut particles.velocity;
         for link in &self.links {
@@ -37,6 +41,15 @@ impl SoftStep {
             delta: &self.delta,
         };
         for_each_batch(&mut self.batches, &self.batch_starts, |run| solve_batches(run, bodies, contacts));
+        if self.network.exact() {
+            // The shake with position feedback, the projection in the relax pass.
+            if joints.use_bias {
+                self.network.shake(&mut self.links, particles, joints.h);
+            } else {
+                self.network.project(&mut self.links, particles, joints.h);
+            }
+            return;
+        }
         let w = &particles.inverse_mass;
         for link in &mut self.links {
             link.solve(&particles.position, &mut particles.velocity, w, joints);
