@@ -45,8 +45,9 @@ const listed = JSON.parse(execFileSync(binary, ['scenes', '--format', 'json'], {
 const scenes = listed.map((s) => s.name);
 const STEPS = Object.fromEntries(listed.map((s) => [s.name, s.default_steps]));
 function nativeHash(scene, steps) {
-  const out = execFileSync(binary, ['simulate', '--scene', scene, '--steps', String(steps)],
-    { encoding: 'utf8', maxBuffer: 1 << 30 });
+  const out = execFileSync(binary,
+    ['simulate', '--scene', scene, '--steps', String(steps), '--every', String(steps)],
+    { encoding: 'utf8', maxBuffer: 1 << 28 });
   const lines = out.trim().split('\n');
   const last = JSON.parse(lines[lines.length - 1]);
   if (last.step !== steps) throw new Error(`simulate ended at step ${last.step}`);
