@@ -548,7 +548,7 @@ mod tests {
     fn vector_products_equal_glams() {
         let vectors: Vec<Vec3> = (0..16)
             .map(|i| {
-                let k = |j: usize| ODD[(i * 5 + j * 7) % ODD.len()] * if (i + j) % 3 == 0 { 0.37 } else { -2.0 };
+                let k = |j: usize| ODD[(i * 5 + j * 7) % ODD.len()] * if (i + j).is_multiple_of(3) { 0.37 } else { -2.0 };
                 Vec3::new(k(0), k(1), k(2))
             })
             .collect();

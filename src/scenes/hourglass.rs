@@ -165,7 +165,7 @@ const CLOUD_SPACING: f32 = 1.5;
 /// neighbours stay at least 1.5 − 2·0.25 = 1 diameter apart, so none overlap.
 const CLOUD_JITTER: f32 = 0.25;
 /// Seed of the cloud (a fixed seed: every run is the same).
-const CLOUD_SEED: u64 = 0x0060_0D61_A55E_5u64;
+const CLOUD_SEED: u64 = 0x0000_0600_D61A_55E5_u64;
 
 /// `count` grain centres above the floor: a lattice 1.5 diameters apart, filled layer
 /// by layer from a diameter above the floor, each point moved at random by up to a

@@ -23,8 +23,6 @@ const PARALLEL_BATCHING: usize = 8192;
 /// Up to four contacts of one colour, lane by lane.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct ContactBatch {
-    /// Index in `SoftStep::contacts` of lane 0's contact; the lanes follow it.
-    pub(super) first: u32,
     /// Lanes holding a contact (bit `i`: lane `i`); the rest repeat lane 0's particle
     /// indices and are never written back.
     pub(super) active: u32,
@@ -61,8 +59,8 @@ pub(super) struct ContactBatch {
 }
 
 impl ContactBatch {
-    /// A batch of `contacts` (1 to 4, lane 0 at index `first` of the coloured list).
-    fn new(first: usize, contacts: &[SoftContact], particles: &Particles) -> Self {
+    /// A batch of `contacts` (1 to 4, lane by lane).
+    fn new(contacts: &[SoftContact], particles: &Particles) -> Self {
         debug_assert!(!contacts.is_empty() && contacts.len() <= LANES);
         let last = contacts.len() - 1;
         let c: [&SoftContact; LANES] = [0, 1, 2, 3].map(|i| &contacts[i.min(last)]);
@@ -77,7 +75,6 @@ impl ContactBatch {
                 && [c.a, c.b].iter().all(|&p| w[p as usize] > 0.0 && inertia[p as usize] > 0.0)
         });
         Self {
-            first: first as u32,
             active: (1 << contacts.len()) - 1,
             has_b,
             full,
@@ -100,12 +97,6 @@ impl ContactBatch {
             tangent_impulse: V4::new(c.map(|c| c.tangent_impulse)),
             rolling_impulse: V4::new(c.map(|c| c.rolling_impulse)),
         }
-    }
-
-    /// Lanes holding a contact.
-    #[inline(always)]
-    pub(super) fn lanes(&self) -> usize {
-        self.active.count_ones() as usize
     }
 
     /// `has_b` as a mask.
@@ -135,7 +126,7 @@ impl SoftStep {
             let per_batch = if color == OVERFLOW { 1 } else { LANES };
             let first = color_starts[color] + k * per_batch;
             let last = (first + per_batch).min(color_starts[color + 1]);
-            *batch = ContactBatch::new(first, &contacts[first..last], particles);
+            *batch = ContactBatch::new(&contacts[first..last], particles);
         };
         let mut rest = self.batches.as_mut_slice();
         for color in 0..=COLORS {
@@ -157,17 +148,32 @@ impl SoftStep {
     }
 
     /// Copies the batches' impulses back into the contacts, for the warm start of the
-    /// next step, sleeping and the debug view.
+    /// next step, sleeping and the debug view. Each batch writes its own contacts
+    /// alone, so large lists are copied on several threads.
     pub(super) fn unbatch(&mut self) {
-        for batch in &self.batches {
+        let copy = |contacts: &mut [SoftContact], batch: &ContactBatch| {
             let normal = batch.normal_impulse.to_array();
             let (tangent, rolling) = (batch.tangent_impulse.lanes(), batch.rolling_impulse.lanes());
-            let first = batch.first as usize;
-            for i in 0..batch.lanes() {
-                let c = &mut self.contacts[first + i];
+            for (i, c) in contacts.iter_mut().enumerate() {
                 c.normal_impulse = normal[i];
                 c.tangent_impulse = tangent[i];
                 c.rolling_impulse = rolling[i];
+            }
+        };
+        let parallel = self.contacts.len() >= PARALLEL_BATCHING;
+        let (mut contacts, mut batches) = (self.contacts.as_mut_slice(), self.batches.as_slice());
+        for color in 0..=COLORS {
+            let count = self.color_starts[color + 1] - self.color_starts[color];
+            let (run, rest) = contacts.split_at_mut(count);
+            contacts = rest;
+            let (own, later) = batches.split_at(self.batch_starts[color + 1] - self.batch_starts[color]);
+            batches = later;
+            let per_batch = if color == OVERFLOW { 1 } else { LANES };
+            debug_assert_eq!(run.len().div_ceil(per_batch), own.len());
+            if parallel {
+                run.par_chunks_mut(per_batch).zip(own).with_min_len(256).for_each(|(c, b)| copy(c, b));
+            } else {
+                run.chunks_mut(per_batch).zip(own).for_each(|(c, b)| copy(c, b));
             }
         }
     }

@@ -189,6 +189,10 @@ pub struct SoftStep {
     /// First batch of each colour, and the end.
     batch_starts: [usize; COLORS + 2],
     colors: Vec<u8>,
+    /// Where each fresh contact went in `contacts` (by generation order).
+    slots: Vec<u32>,
+    /// Per chunk of fresh contacts, its first slot in each colour (the counting sort).
+    chunk_starts: Vec<[usize; COLORS + 1]>,
     masks: Vec<u32>,
     links: Vec<SoftLink>,
     /// Last step's contacts, in generation order, with their groups.

@@ -235,15 +235,18 @@ impl SoftStep {
     /// how far their particles moved (m).
     fn deepest_overlap(&self) -> f32 {
         let delta = &self.delta;
-        self.contacts
-            .iter()
-            .map(|c| {
-                let mut d = delta[c.a as usize];
-                if c.b != NONE {
-                    d -= delta[c.b as usize];
-                }
-                -(c.separation + d.dot(c.normal))
-            })
-            .fold(0.0, f32::max)
+        let overlap = |c: &super::SoftContact| {
+            let mut d = delta[c.a as usize];
+            if c.b != NONE {
+                d -= delta[c.b as usize];
+            }
+            -(c.separation + d.dot(c.normal))
+        };
+        // The largest of the same numbers, in any order (on several threads for many).
+        if self.contacts.len() >= PARALLEL_COPY {
+            self.contacts.par_iter().with_min_len(4096).map(overlap).reduce(|| 0.0, f32::max)
+        } else {
+            self.contacts.iter().map(overlap).fold(0.0, f32::max)
+        }
     }
 }

@@ -1,8 +1,15 @@
 //! Warm starting: what the solver keeps of a step for the next (impulses by contact key
 //! and by link), how it picks it up again, and how a snapshot saves it.
 
-use super::{SoftMemory, SoftStep, Warm};
+use rayon::prelude::*;
+
+use super::{SoftContact, SoftMemory, SoftStep, Warm};
 use crate::physics::hash::StateHasher;
+
+/// Contacts from which their impulses are stored, and picked up, on several threads.
+const PARALLEL_STORE: usize = 8192;
+/// Contacts per piece of the parallel pick-up.
+const PIECE: usize = 4096;
 
 impl SoftStep {
     /// What the next step reads of this one: the warm-start impulses and each link's
@@ -79,22 +86,31 @@ impl SoftStep {
             let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else { continue };
             let (old_keys, new_keys) = (&self.warm[old.clone()], &self.fresh_keys[range.clone()]);
             let contacts = &mut self.fresh[range.clone()];
-            // Both runs are sorted by key: walk them together.
-            let mut j = 0;
-            for (contact, &k) in contacts.iter_mut().zip(new_keys) {
-                while j < old_keys.len() && old_keys[j].key < k {
-                    j += 1;
-                }
-                if j < old_keys.len() && old_keys[j].key == k {
-                    let warm = old_keys[j];
-                    contact.normal_impulse = warm.normal_impulse;
-                    // The normal turned a little since: keep the tangential part.
-                    let t = warm.tangent_impulse;
-                    contact.tangent_impulse = t - contact.normal * t.dot(contact.normal);
-                    if contact.rolling > 0.0 {
-                        contact.rolling_impulse = warm.rolling_impulse;
+            // Both runs are sorted by key: walk them together, from where the old run
+            // reaches a piece's first key (pieces on several threads for long runs).
+            let pick_up = |(contacts, new_keys): (&mut [SoftContact], &[u64])| {
+                let Some(&first) = new_keys.first() else { return };
+                let mut j = old_keys.partition_point(|warm| warm.key < first);
+                for (contact, &k) in contacts.iter_mut().zip(new_keys) {
+                    while j < old_keys.len() && old_keys[j].key < k {
+                        j += 1;
+                    }
+                    if j < old_keys.len() && old_keys[j].key == k {
+                        let warm = old_keys[j];
+                        contact.normal_impulse = warm.normal_impulse;
+                        // The normal turned a little since: keep the tangential part.
+                        let t = warm.tangent_impulse;
+                        contact.tangent_impulse = t - contact.normal * t.dot(contact.normal);
+                        if contact.rolling > 0.0 {
+                            contact.rolling_impulse = warm.rolling_impulse;
+                        }
                     }
                 }
+            };
+            if contacts.len() >= PARALLEL_STORE {
+                contacts.par_chunks_mut(PIECE).zip(new_keys.par_chunks(PIECE)).for_each(pick_up);
+            } else {
+                pick_up((contacts, new_keys));
             }
         }
         // Last step's impulses by generator index, so each link finds its own at once
@@ -120,14 +136,21 @@ impl SoftStep {
     pub(super) fn store(&mut self, h: f32, link_tension: &mut [f32]) {
         self.warm.clear();
         self.warm.resize(self.fresh.len(), Warm::default());
-        for contact in &self.contacts {
-            let origin = contact.origin as usize;
-            self.warm[origin] = Warm {
-                key: self.fresh_keys[origin],
+        // In generation order: each entry reads the contact its fresh one became.
+        let (contacts, slots, keys) = (&self.contacts, &self.slots, &self.fresh_keys);
+        let keep = |(origin, warm): (usize, &mut Warm)| {
+            let contact = &contacts[slots[origin] as usize];
+            *warm = Warm {
+                key: keys[origin],
                 normal_impulse: contact.normal_impulse,
                 tangent_impulse: contact.tangent_impulse,
                 rolling_impulse: contact.rolling_impulse,
             };
+        };
+        if self.warm.len() >= PARALLEL_STORE {
+            self.warm.par_iter_mut().enumerate().with_min_len(1024).for_each(keep);
+        } else {
+            self.warm.iter_mut().enumerate().for_each(keep);
         }
         std::mem::swap(&mut self.warm_groups, &mut self.fresh_groups);
         self.warm_links.clear();
