@@ -296,7 +296,8 @@ mod peer {
         pub fn new() -> Self {
             let mut world = PhysicsWorld::new();
             world.gravity = Vector::new(0.0, -G, 0.0);
-            world.integration_parameters = IntegrationParameters { dt: DT, ..IntegrationParameters::default() };
+            world.integration_parameters =
+                IntegrationParameters { dt: DT, ..IntegrationParameters::default() };
             let ground = ColliderBuilder::cuboid(200.0, THICKNESS, 200.0)
                 .translation(Vector::new(0.0, -THICKNESS, 0.0))
                 .friction(FRICTION)

@@ -120,18 +120,28 @@ fn a_tower_of_rolling_spheres_falls_where_point_masses_stand() {
     println!("tower {start:.1} m: point masses {stands:.1} m, rolling spheres {falls:.1} m");
     assert!(stands > 0.95 * start, "the point-mass tower fell to {stands} m of {start}");
     assert!(falls < 0.1 * start, "the rolling tower still stands {falls} m of {start}");
-    assert_eq!(falling.particles.asleep_count(), falling.particles.len(), "the fallen tower never came to rest");
+    assert_eq!(
+        falling.particles.asleep_count(),
+        falling.particles.len(),
+        "the fallen tower never came to rest"
+    );
 }
 
 #[test]
 fn a_poured_heap_rests_at_a_physical_angle_and_flatter_with_less_friction() {
     let heap = |mu: f32, rolls: bool| {
         let world = pour(1000, mu, DEFAULT_ROLLING_RESISTANCE, rolls);
-        assert_eq!(world.particles.asleep_count(), world.particles.len(), "μ = {mu}: the heap never came to rest");
+        assert_eq!(
+            world.particles.asleep_count(),
+            world.particles.len(),
+            "μ = {mu}: the heap never came to rest"
+        );
         angle_of_repose(&world)
     };
     let (rolling, slippery, points) = (heap(0.5, true), heap(0.2, true), heap(0.5, false));
-    println!("angle of repose: μ 0.5 rolling {rolling:.1}°, μ 0.2 rolling {slippery:.1}°, μ 0.5 point masses {points:.1}°");
+    println!(
+        "angle of repose: μ 0.5 rolling {rolling:.1}°, μ 0.2 rolling {slippery:.1}°, μ 0.5 point masses {points:.1}°"
+    );
     assert!((20.0..=35.0).contains(&rolling), "μ = 0.5 heap of rolling spheres at {rolling}°");
     assert!(slippery < rolling - 3.0, "μ = 0.2 heap at {slippery}°, not flatter than μ = 0.5's {rolling}°");
     assert!(points > 50.0, "point masses at {points}°: the glue-like heap the issue measured is gone?");

@@ -104,7 +104,8 @@ fn shell_packing(scene: &dyn Scene, orifice: f32, radius: f32) -> f32 {
 fn slope(points: &[(f64, f64)]) -> f64 {
     let n = points.len() as f64;
     let (mx, my) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + x / n, b + y / n));
-    let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + (x - mx) * (y - my), b + (x - mx) * (x - mx)));
+    let (sxy, sxx) =
+        points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| (a + (x - mx) * (y - my), b + (x - mx) * (x - mx)));
     sxy / sxx
 }
 
@@ -123,14 +124,22 @@ fn check_beverloo(diameters: f32, count: usize) {
         run.flow, run.packing, predicted
     );
     assert!((0.55..0.68).contains(&run.packing), "a poured bed packs at 0.55-0.68, got {:.3}", run.packing);
-    assert!((0.7..1.3).contains(&ratio), "D = {diameters} d: {:.1} kg/s is {ratio:.3} of Beverloo's {predicted:.1}", run.flow);
+    assert!(
+        (0.7..1.3).contains(&ratio),
+        "D = {diameters} d: {:.1} kg/s is {ratio:.3} of Beverloo's {predicted:.1}",
+        run.flow
+    );
     check_readouts(&run);
 }
 
 /// The scene's read-outs against the test's own count and arithmetic.
 fn check_readouts(run: &Drain) {
     let value = |name: &str| {
-        let (_, text) = run.readouts.iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no {name} in {:?}", run.readouts));
+        let (_, text) = run
+            .readouts
+            .iter()
+            .find(|(n, _)| n == name)
+            .unwrap_or_else(|| panic!("no {name} in {:?}", run.readouts));
         text.split_whitespace().next().unwrap().parse::<f32>().unwrap_or_else(|_| panic!("{name}: {text}"))
     };
     assert_eq!(value("grains through") as usize, run.through, "{:?}", run.readouts);
@@ -145,7 +154,10 @@ fn check_readouts(run: &Drain) {
     let packing = value("bed packing");
     let beverloo_shown = value("Beverloo's flow");
     let expected = beverloo(packing, run.orifice, run.d);
-    assert!((beverloo_shown - expected).abs() <= 2e-3 * expected, "Beverloo shown {beverloo_shown}, from packing {packing}: {expected}");
+    assert!(
+        (beverloo_shown - expected).abs() <= 2e-3 * expected,
+        "Beverloo shown {beverloo_shown}, from packing {packing}: {expected}"
+    );
     let ratio = value("flow / Beverloo");
     assert!((ratio - shown / beverloo_shown).abs() < 2e-3, "ratio shown {ratio}, {shown} / {beverloo_shown}");
 }

@@ -506,7 +506,11 @@ fn the_inspector_shows_a_rolling_spheres_spin_and_its_energy() {
     let v = world.particles.velocities()[0];
     assert_eq!(spin.angular_velocity, w);
     let expected = 0.5 * (0.4 * m * r * r) * w.length_squared();
-    assert!((spin.energy - expected).abs() < 1e-5 * expected, "{} J against ½ I ω² = {expected} J", spin.energy);
+    assert!(
+        (spin.energy - expected).abs() < 1e-5 * expected,
+        "{} J against ½ I ω² = {expected} J",
+        spin.energy
+    );
     // Rolling without slipping: the surface turns as fast as the centre moves, and the
     // spin holds 2/7 of the kinetic energy, which the world's budget counts.
     assert!((spin.surface_speed - v.length()).abs() < 0.01 * v.length(), "{spin:?} at {v}");

@@ -173,9 +173,7 @@ fn add_contact_generator_rejects_bad_surfaces_and_links() {
     rejects(&["restitution", "2", "valid range"], |w| {
         w.add_contact_generator(SphereCollisions::elastic(2.0))
     });
-    rejects(&["friction"], |w| {
-        w.add_contact_generator(SphereCollisions::new(0.5, -1.0))
-    });
+    rejects(&["friction"], |w| w.add_contact_generator(SphereCollisions::new(0.5, -1.0)));
     rejects(&["restitution"], |w| w.add_contact_generator(Plane::ground(0.0, 2.0, 0.0)));
     rejects(&["restitution"], |w| {
         w.add_contact_generator(GroundPlane { height: 0.0, restitution: f32::NAN })

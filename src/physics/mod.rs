@@ -42,7 +42,9 @@ pub use collision::broad_phase;
 /// The stiff spring, under the path it had before `forces/` (`physics::stiff_spring`).
 pub use forces::stiff_spring;
 
-pub use collision::{BroadPhase, ContactGenerator, DEFAULT_ROLLING_RESISTANCE, GroundPlane, Plane, Plate, SphereCollisions};
+pub use collision::{
+    BroadPhase, ContactGenerator, DEFAULT_ROLLING_RESISTANCE, GroundPlane, Plane, Plate, SphereCollisions,
+};
 pub use contact::Contact;
 pub use energy::Energy;
 pub use error::PhysicsError;

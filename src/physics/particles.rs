@@ -240,7 +240,9 @@ impl Particles {
                 return fail("its inverse inertia does not follow from whether it rolls");
             }
             if rolls && self.inverse_inertia[i] != sphere_inverse_inertia(w, self.radius[i]) {
-                return fail("its inverse inertia must be that of a solid sphere of its mass and radius, or 0");
+                return fail(
+                    "its inverse inertia must be that of a solid sphere of its mass and radius, or 0",
+                );
             }
             if !rolls && self.angular_velocity[i] != Vec3::ZERO {
                 return fail("a particle that does not roll cannot have an angular velocity");
@@ -492,7 +494,9 @@ impl Particles {
     pub fn set_angular_velocity(&mut self, id: ParticleId, spin: Vec3) -> Result<(), PhysicsError> {
         let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
         if !spin.is_finite() {
-            return Err(PhysicsError::InvalidParticle(format!("angular velocity must be finite, got {spin}")));
+            return Err(PhysicsError::InvalidParticle(format!(
+                "angular velocity must be finite, got {spin}"
+            )));
         }
         if self.inverse_inertia[index] == 0.0 && spin != Vec3::ZERO {
             return Err(PhysicsError::InvalidParticle(format!(
@@ -521,7 +525,8 @@ impl Particles {
     /// rotation arrays: every particle a point mass at rest.
     pub(crate) fn fill_missing_rotation(&mut self) {
         let n = self.ids.len();
-        if self.inverse_inertia.is_empty() && self.angular_velocity.is_empty() && self.orientation.is_empty() {
+        if self.inverse_inertia.is_empty() && self.angular_velocity.is_empty() && self.orientation.is_empty()
+        {
             self.inverse_inertia.resize(n, 0.0);
             self.angular_velocity.resize(n, Vec3::ZERO);
             self.orientation.resize(n, Quat::IDENTITY);
@@ -725,9 +730,15 @@ impl Particles {
     /// Twice the kinetic energy of motion and of spin of the particles `range` (J).
     pub(crate) fn kinetic_parts(&self, range: std::ops::Range<usize>) -> [f64; 2] {
         let bodies = self.velocity[range.clone()].iter().zip(&self.inverse_mass[range.clone()]);
-        let moving = bodies.filter(|(_, w)| **w > 0.0).map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w)).sum();
+        let moving = bodies
+            .filter(|(_, w)| **w > 0.0)
+            .map(|(v, &w)| f64::from(v.length_squared()) / f64::from(w))
+            .sum();
         let spins = self.angular_velocity[range.clone()].iter().zip(&self.inverse_inertia[range]);
-        let turning = spins.filter(|(_, i)| **i != 0.0).map(|(w, &i)| f64::from(w.length_squared()) / f64::from(i)).sum();
+        let turning = spins
+            .filter(|(_, i)| **i != 0.0)
+            .map(|(w, &i)| f64::from(w.length_squared()) / f64::from(i))
+            .sum();
         [moving, turning]
     }
 
@@ -977,7 +988,9 @@ mod tests {
                 let turn = Vec3::new(0.6, 0.0, -0.8) * angle;
                 let ours = turned(q, turn);
                 let glam = (Quat::from_scaled_axis(turn) * q).normalize();
-                let apart = (Vec4::from(ours) - Vec4::from(glam)).length().min((Vec4::from(ours) + Vec4::from(glam)).length());
+                let apart = (Vec4::from(ours) - Vec4::from(glam))
+                    .length()
+                    .min((Vec4::from(ours) + Vec4::from(glam)).length());
                 assert!(apart < 1e-5, "{angle}: {ours} vs {glam}");
             }
         }

@@ -532,7 +532,10 @@ mod tests {
                 ];
                 for (wide, scalar) in checks {
                     let lanes = wide.to_array();
-                    assert!(same(lanes[0], scalar[0]) && same(lanes[1], scalar[1]), "{a} {b}: {lanes:?} {scalar:?}");
+                    assert!(
+                        same(lanes[0], scalar[0]) && same(lanes[1], scalar[1]),
+                        "{a} {b}: {lanes:?} {scalar:?}"
+                    );
                 }
                 assert!(same(x.sqrt().to_array()[0], a.sqrt()));
                 assert_eq!(x.gt(y).bits() & 1 != 0, a > b);
@@ -548,7 +551,9 @@ mod tests {
     fn vector_products_equal_glams() {
         let vectors: Vec<Vec3> = (0..16)
             .map(|i| {
-                let k = |j: usize| ODD[(i * 5 + j * 7) % ODD.len()] * if (i + j).is_multiple_of(3) { 0.37 } else { -2.0 };
+                let k = |j: usize| {
+                    ODD[(i * 5 + j * 7) % ODD.len()] * if (i + j).is_multiple_of(3) { 0.37 } else { -2.0 }
+                };
                 Vec3::new(k(0), k(1), k(2))
             })
             .collect();
@@ -559,7 +564,11 @@ mod tests {
             for i in 0..4 {
                 assert!(same(dot[i], a[i].dot(b[i])));
                 let expected = a[i].cross(b[i]);
-                assert!(same(cross[i].x, expected.x) && same(cross[i].y, expected.y) && same(cross[i].z, expected.z));
+                assert!(
+                    same(cross[i].x, expected.x)
+                        && same(cross[i].y, expected.y)
+                        && same(cross[i].z, expected.z)
+                );
             }
         }
     }
@@ -569,7 +578,8 @@ mod tests {
     /// read without reading past it.
     #[test]
     fn gather_and_scatter_move_whole_vectors() {
-        let mut array: Vec<Vec3> = (0..7).map(|i| Vec3::new(i as f32, -(i as f32) - 0.5, 100.0 + i as f32)).collect();
+        let mut array: Vec<Vec3> =
+            (0..7).map(|i| Vec3::new(i as f32, -(i as f32) - 0.5, 100.0 + i as f32)).collect();
         array[2].x = -0.0;
         let indices = [6, 2, 0, 5];
         let wide = unsafe { V4::gather(array.as_ptr(), indices) };

@@ -22,7 +22,8 @@ use glam::Vec3;
 
 use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{
-    DEFAULT_ROLLING_RESISTANCE, ParticleDesc, PhysicsError, Plane, Plate, ResolveReport, SphereCollisions, World,
+    DEFAULT_ROLLING_RESISTANCE, ParticleDesc, PhysicsError, Plane, Plate, ResolveReport, SphereCollisions,
+    World,
 };
 
 /// Density of a grain: glass (kg/m³).
@@ -63,7 +64,13 @@ pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let shape = Shape::of(&params);
-    Box::new(Hourglass { world: build_world(&params, &shape), params, shape, samples: VecDeque::new(), packing: 0.0 })
+    Box::new(Hourglass {
+        world: build_world(&params, &shape),
+        params,
+        shape,
+        samples: VecDeque::new(),
+        packing: 0.0,
+    })
 }
 
 /// The container's measurements, all from the parameters.
@@ -95,7 +102,8 @@ impl Shape {
         // rise from the walls to the middle at 40°, plus room to fall.
         let bed = count as f32 * grain_volume(radius) / (0.55 * width * width);
         let depth = bed + 0.5 * width * 40f32.to_radians().tan() + 6.0 * d;
-        let start_height = starting_cloud(count, radius, width).iter().fold(0.0f32, |top, p| top.max(p.y)) + radius;
+        let start_height =
+            starting_cloud(count, radius, width).iter().fold(0.0f32, |top, p| top.max(p.y)) + radius;
         Self { orifice, radius, count, width, depth, start_height }
     }
 
@@ -131,8 +139,9 @@ fn build_world(params: &ParamValues, shape: &Shape) -> World {
         (Vec3::NEG_Z, Vec3::new(0.0, 0.0, half)),
     ];
     for (normal, point) in walls {
-        let plane =
-            Plane::new(normal, point, 0.0, friction).expect("parameter ranges keep planes valid").with_rolling_resistance(rolling);
+        let plane = Plane::new(normal, point, 0.0, friction)
+            .expect("parameter ranges keep planes valid")
+            .with_rolling_resistance(rolling);
         world.add_contact_generator(plane).expect("a plane from Plane::new is valid");
     }
     let floor = Plate::new(Vec3::Y, Vec3::ZERO, shape.orifice / 2.0, 0.0, friction)
@@ -140,7 +149,10 @@ fn build_world(params: &ParamValues, shape: &Shape) -> World {
         .with_rolling_resistance(rolling);
     world.add_contact_generator(floor).expect("a plate from Plate::new is valid");
     world
-        .add_contact_generator(SphereCollisions { rolling_resistance: rolling, ..SphereCollisions::new(0.0, friction) })
+        .add_contact_generator(SphereCollisions {
+            rolling_resistance: rolling,
+            ..SphereCollisions::new(0.0, friction)
+        })
         .expect("parameter ranges keep friction valid");
     let mass = shape.grain_mass();
     for position in starting_cloud(shape.count, shape.radius, shape.width) {
@@ -194,7 +206,11 @@ pub fn starting_cloud(count: usize, radius: f32, width: f32) -> Vec<Vec3> {
                 if positions.len() == count {
                     break 'fill;
                 }
-                let base = Vec3::new(column as f32 * spacing - span / 2.0, d + layer as f32 * spacing, row as f32 * spacing - span / 2.0);
+                let base = Vec3::new(
+                    column as f32 * spacing - span / 2.0,
+                    d + layer as f32 * spacing,
+                    row as f32 * spacing - span / 2.0,
+                );
                 positions.push(base + Vec3::new(jitter(), jitter(), jitter()));
             }
         }

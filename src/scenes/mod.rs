@@ -272,8 +272,15 @@ impl SceneEntry {
 }
 
 /// Every scene, in menu order.
-pub static SCENES: &[SceneEntry] =
-    &[projectile::ENTRY, spring_forces::ENTRY, bridge::ENTRY, pile::ENTRY, pendulum::ENTRY, cradle::ENTRY, hourglass::ENTRY];
+pub static SCENES: &[SceneEntry] = &[
+    projectile::ENTRY,
+    spring_forces::ENTRY,
+    bridge::ENTRY,
+    pile::ENTRY,
+    pendulum::ENTRY,
+    cradle::ENTRY,
+    hourglass::ENTRY,
+];
 
 /// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works):
 /// the compiled scenes, then the shipped scene files.

@@ -76,7 +76,10 @@ fn build_world(params: &ParamValues) -> World {
         world.add_contact_generator(plane).expect("a plane from Plane::new is valid");
     }
     world
-        .add_contact_generator(SphereCollisions { rolling_resistance: rolling, ..SphereCollisions::new(restitution, friction) })
+        .add_contact_generator(SphereCollisions {
+            rolling_resistance: rolling,
+            ..SphereCollisions::new(restitution, friction)
+        })
         .expect("parameter ranges keep restitution and friction valid");
     for position in starting_grid(count(params), radius, width) {
         let id = world

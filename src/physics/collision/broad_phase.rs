@@ -370,7 +370,9 @@ impl GridView<'_> {
                             // half the candidates cost no distance); every grid entry has
                             // a usable reach: test it from the copy.
                             let reach = ra + sphere.w;
-                            if second(a, b as usize) && (pa - sphere.truncate()).length_squared() < reach * reach {
+                            if second(a, b as usize)
+                                && (pa - sphere.truncate()).length_squared() < reach * reach
+                            {
                                 partners.push(b);
                             }
                         }

@@ -105,7 +105,13 @@ pub struct Plate {
 impl Plate {
     /// The plate through `center` with normal `normal` (any length > 0) and an opening
     /// of radius `opening` around `center`.
-    pub fn new(normal: Vec3, center: Vec3, opening: f32, restitution: f32, friction: f32) -> Result<Self, PhysicsError> {
+    pub fn new(
+        normal: Vec3,
+        center: Vec3,
+        opening: f32,
+        restitution: f32,
+        friction: f32,
+    ) -> Result<Self, PhysicsError> {
         let unit = normal.try_normalize().ok_or_else(|| {
             PhysicsError::InvalidSetting(format!("plate normal must be finite and non-zero, got {normal}"))
         })?;
@@ -156,7 +162,9 @@ impl Plate {
             let (normal, distance) = self.nearest(p);
             let penetration = r - distance;
             if penetration > 0.0 && inverse_mass > 0.0 {
-                out.push(Contact::new(i, None, normal, penetration, self.restitution).with_friction(self.friction));
+                out.push(
+                    Contact::new(i, None, normal, penetration, self.restitution).with_friction(self.friction),
+                );
             }
         }
     }

@@ -9,9 +9,9 @@ use rayon::prelude::*;
 use glam::Vec3;
 
 use super::batch::{ContactBatch, LANES};
-use crate::physics::wide::V4;
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
+use crate::physics::wide::V4;
 
 /// Contacts in all from which a pass over them runs on several threads.
 const PARALLEL_CONTACTS: usize = 2048;
@@ -126,33 +126,6 @@ const PARALLEL_SORT: usize = 32_768;
 /// go (written), and the chunk's first slot in each colour.
 type SortChunk<'a> = (usize, (((&'a [SoftContact], &'a [u8]), &'a mut [u32]), &'a [usize; COLORS + 1]));
 
-/// The coloured contact list, written by the counting sort's tasks at once: each at
-/// its own slots (see `SAFETY` below).
-struct SharedContacts {
-    ptr: *mut SoftContact,
-    len: usize,
-}
-
-// SAFETY: `sort_by_color` gives each chunk of fresh contacts, for each colour, its own
-// run of slots (the prefix sums of the chunks' counts), so no slot is written by two
-// tasks; nothing reads the list until every task has returned, and the list's
-// exclusive borrow is held for that long.
-unsafe impl Send for SharedContacts {}
-unsafe impl Sync for SharedContacts {}
-
-impl SharedContacts {
-    /// Writes `contact` at `slot`, which must be in bounds and this task's alone.
-    ///
-    /// # Safety
-    /// No other task may write or read `slot` meanwhile.
-    unsafe fn write(&self, slot: usize, contact: SoftContact) {
-        assert!(slot < self.len);
-        // SAFETY: in bounds (checked above); the slot is this task's (the caller's
-        // promise), within the borrow `sort_by_color` holds.
-        unsafe { self.ptr.add(slot).write(contact) }
-    }
-}
-
 impl SoftStep {
     /// The counting sort of stage 2: every fresh contact to its colour's run, in
     /// generation order within a colour, tagged with its origin; `slots` says where
@@ -188,15 +161,16 @@ impl SoftStep {
                 *next += count;
             }
         }
-        let out = SharedContacts { ptr: self.contacts.as_mut_ptr(), len: self.contacts.len() };
+        let out = Disjoint::new(&mut self.contacts);
         let place = |(k, (((fresh, colors), slots), starts)): SortChunk<'_>| {
             let mut cursor = *starts;
             for (i, ((contact, &color), slot)) in fresh.iter().zip(colors).zip(slots).enumerate() {
                 let next = &mut cursor[color as usize];
                 let origin = (k * SORT_CHUNK + i) as u32;
                 // SAFETY: `next` lies in this chunk's run of slots of `color` (see
-                // `SharedContacts`), and is used once.
-                unsafe { out.write(*next, SoftContact { origin, ..*contact }) };
+                // `Disjoint`), and is used once.
+                let placed = unsafe { out.run(*next..*next + 1) };
+                placed[0] = SoftContact { origin, ..*contact };
                 *slot = *next as u32;
                 *next += 1;
             }
@@ -245,30 +219,39 @@ pub(super) fn for_each_batch(
     }
 }
 
-/// The batches, shared by the threads of one pass: each takes disjoint runs of them
-/// (see `SAFETY` below).
-struct SharedBatches {
-    ptr: *mut ContactBatch,
+/// A slice shared by tasks that each touch their own disjoint runs of it: the batches
+/// of a pass (`run_on_all_threads` hands out each run to exactly one thread: a run is
+/// claimed by an atomic counter that only grows, the overflow colour only by thread 0)
+/// and the coloured contact list of the counting sort (`sort_by_color` gives each
+/// chunk of fresh contacts, in each colour, its own slots: the prefix sums of the
+/// chunks' counts). It holds the slice's exclusive borrow for as long as it lives, and
+/// nothing reads the slice through it outside the tasks' own runs.
+struct Disjoint<'a, T> {
+    ptr: *mut T,
     len: usize,
+    _borrow: PhantomData<&'a mut [T]>,
 }
 
-// SAFETY: `run_on_all_threads` hands out each run of batches to exactly one thread (a
-// run is claimed by an atomic counter that only grows, and the overflow colour only by
-// thread 0), so no batch is touched by two threads; the batches' exclusive borrow is
-// held by `run_on_all_threads` until every thread has returned.
-unsafe impl Send for SharedBatches {}
-unsafe impl Sync for SharedBatches {}
+// SAFETY: the tasks sharing a `Disjoint` touch disjoint runs of it (the promise of
+// `Disjoint::run`'s callers, kept as the type's note says), within the exclusive
+// borrow `'a`; the elements may move between threads (`T: Send`).
+unsafe impl<T: Send> Send for Disjoint<'_, T> {}
+unsafe impl<T: Send> Sync for Disjoint<'_, T> {}
 
-impl SharedBatches {
-    /// The batches `range`, which must be in bounds and given to no other thread.
+impl<'a, T> Disjoint<'a, T> {
+    fn new(slice: &'a mut [T]) -> Self {
+        Self { ptr: slice.as_mut_ptr(), len: slice.len(), _borrow: PhantomData }
+    }
+
+    /// The elements `range`, which must be in bounds and given to no other task.
     ///
     /// # Safety
-    /// `range` must lie within the batches and be claimed by this thread alone.
+    /// `range` must be this task's alone while the run is used.
     #[allow(clippy::mut_from_ref)]
-    unsafe fn run(&self, range: std::ops::Range<usize>) -> &mut [ContactBatch] {
+    unsafe fn run(&self, range: std::ops::Range<usize>) -> &mut [T] {
         assert!(range.start <= range.end && range.end <= self.len);
-        // SAFETY: in bounds (checked above); exclusive to this thread (the caller's
-        // promise), within the borrow `run_on_all_threads` holds.
+        // SAFETY: in bounds (checked above); exclusive to this task (the caller's
+        // promise), within the borrow `'a`.
         unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.end - range.start) }
     }
 }
@@ -288,11 +271,15 @@ const CLAIMS_PER_THREAD: usize = 2;
 /// two atomic counters per colour). The writes of a colour are published by the
 /// `Release` add to its `done` counter and seen by the `Acquire` load that ends the
 /// wait, before any thread starts on the next colour.
-fn run_on_all_threads(batches: &mut [ContactBatch], starts: &[usize; COLORS + 2], f: &(impl Fn(&mut [ContactBatch]) + Sync)) {
+fn run_on_all_threads(
+    batches: &mut [ContactBatch],
+    starts: &[usize; COLORS + 2],
+    f: &(impl Fn(&mut [ContactBatch]) + Sync),
+) {
     use std::sync::atomic::{AtomicUsize, Ordering};
     let claimed: [AtomicUsize; COLORS + 1] = std::array::from_fn(|_| AtomicUsize::new(0));
     let done: [AtomicUsize; COLORS + 1] = std::array::from_fn(|_| AtomicUsize::new(0));
-    let shared = SharedBatches { ptr: batches.as_mut_ptr(), len: batches.len() };
+    let shared = Disjoint::new(batches);
     rayon::broadcast(|context| {
         for color in 0..=COLORS {
             let (start, end) = (starts[color], starts[color + 1]);

@@ -11,9 +11,9 @@
 
 use glam::Vec3;
 
+use super::Context;
 use super::batch::{ContactBatch, LANES};
 use super::color::SharedVelocities;
-use super::Context;
 use crate::physics::wide::{F4, M4, V4};
 
 /// Bias velocity, mass scale and impulse scale of a one-sided constraint with gap `s`:
@@ -44,7 +44,11 @@ fn contact_terms_wide(s: F4, context: Context) -> (F4, F4, F4) {
     } else {
         (zero, one, zero)
     };
-    (gap.select(speculative.0, touching.0), gap.select(speculative.1, touching.1), gap.select(speculative.2, touching.2))
+    (
+        gap.select(speculative.0, touching.0),
+        gap.select(speculative.1, touching.1),
+        gap.select(speculative.2, touching.2),
+    )
 }
 
 /// What a solve reads and writes of the particles: velocities and spins (shared by
@@ -161,7 +165,8 @@ fn warm_start_batch(batch: &ContactBatch, bodies: Bodies<'_>) {
     scatter(bodies.velocities, &batch.b, b_lanes, vb - impulse.scale(batch.wb));
     // Only spheres that roll turn (a positive inverse inertia means a movable sphere
     // that rolls, so its contact rolls).
-    let (turn_a, turn_b) = (batch.active & positive(batch.ia), batch.active & batch.has_b & positive(batch.ib));
+    let (turn_a, turn_b) =
+        (batch.active & positive(batch.ia), batch.active & batch.has_b & positive(batch.ib));
     if turn_a | turn_b != 0 {
         let spin_a = gather(bodies.spins, &batch.a);
         let spin_b = V4::select(has_b, gather(bodies.spins, &batch.b), V4::ZERO);

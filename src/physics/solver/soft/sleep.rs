@@ -88,7 +88,8 @@ impl SoftStep {
                 particles.velocity[i] = Vec3::ZERO;
                 let (spin, inverse_inertia) = (particles.angular_velocity[i], particles.inverse_inertia[i]);
                 if inverse_inertia != 0.0 {
-                    particles.dissipated += 0.5 * f64::from(spin.length_squared()) / f64::from(inverse_inertia);
+                    particles.dissipated +=
+                        0.5 * f64::from(spin.length_squared()) / f64::from(inverse_inertia);
                     particles.angular_velocity[i] = Vec3::ZERO;
                 }
                 particles.sleep[i] = Sleep { timer: 0.0, island: root, rest: particles.position[i] };

@@ -179,7 +179,8 @@ impl SoftStep {
         let network = &self.network;
         let linear = |range: std::ops::Range<usize>| {
             let first = range.start;
-            let bodies = p.velocity[range.clone()].iter().zip(&kicked[range.clone()]).zip(&start[range.clone()]);
+            let bodies =
+                p.velocity[range.clone()].iter().zip(&kicked[range.clone()]).zip(&start[range.clone()]);
             let masses = p.inverse_mass[range.clone()].iter().zip(&p.damping_per_step[range]);
             let (mut work, mut kinetic) = (0.0, 0.0);
             for (k, (((&v, &kicked), &v0), (&w, &d))) in bodies.zip(masses).enumerate() {

@@ -41,10 +41,9 @@ impl SoftStep {
                 ));
             }
         }
-        let impulses =
-            memory.warm.iter().all(|w| {
-                w.normal_impulse.is_finite() && w.tangent_impulse.is_finite() && w.rolling_impulse.is_finite()
-            });
+        let impulses = memory.warm.iter().all(|w| {
+            w.normal_impulse.is_finite() && w.tangent_impulse.is_finite() && w.rolling_impulse.is_finite()
+        });
         let links = memory
             .warm_links
             .iter()

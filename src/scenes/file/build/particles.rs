@@ -20,7 +20,12 @@ impl Builder<'_> {
         self.groups.push(group);
     }
 
-    pub(super) fn add(&mut self, desc: ParticleDesc, rolls: bool, span: &Range<usize>) -> Result<(), Located> {
+    pub(super) fn add(
+        &mut self,
+        desc: ParticleDesc,
+        rolls: bool,
+        span: &Range<usize>,
+    ) -> Result<(), Located> {
         let id = self.world.add_particle(desc).map_err(|e| Located::at(span, e.to_string()))?;
         if rolls {
             self.world.particles.set_rolling(id, true).map_err(|_| {

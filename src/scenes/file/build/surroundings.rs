@@ -80,7 +80,12 @@ impl Builder<'_> {
                 self.eval(&restitution, &[], "restitution", UNIT)?,
                 self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
             )
-            .with_rolling_resistance(self.eval(&rolling, &[], "rolling_resistance", NON_NEGATIVE)?);
+            .with_rolling_resistance(self.eval(
+                &rolling,
+                &[],
+                "rolling_resistance",
+                NON_NEGATIVE,
+            )?);
             self.world.add_contact_generator(plane).map_err(|e| Located::at(&height.span, e.to_string()))?;
         }
         for wall in &doc.wall {
@@ -97,7 +102,12 @@ impl Builder<'_> {
                 self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
             )
             .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?
-            .with_rolling_resistance(self.eval(&rolling, &[], "rolling_resistance", NON_NEGATIVE)?);
+            .with_rolling_resistance(self.eval(
+                &rolling,
+                &[],
+                "rolling_resistance",
+                NON_NEGATIVE,
+            )?);
             self.world
                 .add_contact_generator(plane)
                 .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?;
