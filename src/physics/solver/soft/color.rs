@@ -75,16 +75,23 @@ impl<'a> SharedVelocities<'a> {
 impl SoftStep {
     /// Stage 2: greedy colouring in generation order, then a counting sort into
     /// `contacts`. Depends on the contacts alone, never on the thread count.
+    ///
+    /// The colouring reads each contact's particles from its key (8 bytes, see
+    /// [`key`](super::warm::key)) rather than from the contact (88): this one serial
+    /// pass then reads a tenth of the memory (3 MB instead of 34 for a falling pile of
+    /// 100,000 spheres, more than the processor's cache).
     pub(super) fn color(&mut self, particles: &Particles) {
         let w = &particles.inverse_mass;
         self.masks.clear();
         self.masks.resize(particles.len(), 0);
         self.colors.clear();
         let mut counts = [0usize; COLORS + 1];
-        for contact in &self.fresh {
-            let (a, b) = (contact.a as usize, contact.b as usize);
+        debug_assert_eq!(self.fresh_keys.len(), self.fresh.len(), "a key per fresh contact");
+        for &key in &self.fresh_keys {
+            let (a, b) = ((key >> 32) as usize, key as u32);
             let movable_a = w[a] > 0.0;
-            let movable_b = contact.b != NONE && w[b] > 0.0;
+            let movable_b = b != NONE && w[b as usize] > 0.0;
+            let b = b as usize;
             let mut used = if movable_a { self.masks[a] } else { 0 };
             if movable_b {
                 used |= self.masks[b];
@@ -356,6 +363,11 @@ mod tests {
         SoftContact { a, b, ..SoftContact::default() }
     }
 
+    /// The keys of a step's fresh contacts, as the collide stage makes them.
+    fn keys_of(step: &mut SoftStep) {
+        step.fresh_keys = step.fresh.iter().map(|c| super::super::warm::key(c.a, c.b)).collect();
+    }
+
     /// A fan of contacts on particle 0 and a chain through the rest, with an immovable
     /// particle (1) in many: every colour keeps each movable particle once, and a
     /// colouring that breaks that is caught.
@@ -371,6 +383,7 @@ mod tests {
         step.fresh.extend((2..39).map(|i| contact(i, i + 1)));
         step.fresh.extend((2..40).map(|i| contact(1, i)));
         step.fresh.extend((0..40).map(|i| contact(i, NONE)));
+        keys_of(&mut step);
         step.color(&particles);
         let w = &particles.inverse_mass;
         assert!(colours_are_disjoint(&step.contacts, &step.color_starts, w));
@@ -409,6 +422,7 @@ mod tests {
             step.fresh.push(if b == a || b % 17 == 0 { contact(a, NONE) } else { contact(a, b) });
         }
         assert!(step.fresh.len() >= PARALLEL_SORT + SORT_CHUNK);
+        keys_of(&mut step);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
         pool.install(|| step.color(&particles));
 
