@@ -59,6 +59,80 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// One grid searched step after step while the spheres move, a little or a lot,
+    /// and their reaches change: whether it tests its kept pairs again or searches
+    /// anew, it finds exactly the pairs of the all-pairs test every time.
+    #[test]
+    fn kept_pairs_equal_all_pairs_as_spheres_move(
+        (mut positions, mut reach) in configuration(),
+        moves in prop::collection::vec((0.0f32..0.2, 0.0f32..0.05, any::<u64>()), 1..8),
+    ) {
+        let mut grid = BroadPhase::new();
+        let (mut found, mut expected) = (Vec::new(), Vec::new());
+        for (step, &(distance, growth, seed)) in moves.iter().enumerate() {
+            grid.find_pairs(&positions, &reach, &mut found);
+            all_pairs(&positions, &reach, &mut expected);
+            prop_assert_eq!(&found, &expected, "step {}", step);
+            // Each sphere moves up to `distance` and grows its reach by up to `growth`.
+            let mut state = seed | 1;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+            };
+            for (p, r) in positions.iter_mut().zip(reach.iter_mut()) {
+                *p += Vec3::new(next(), next(), next()) * 2.0 * distance;
+                if *r > 0.0 {
+                    *r = (*r + next() * 2.0 * growth).max(0.01);
+                }
+            }
+        }
+    }
+}
+
+/// Spheres that keep still are searched once: later searches test the kept pairs
+/// again (the grid is not rebuilt) and find the same pairs; a sphere moving by more
+/// than the skin, or a sleeping sphere, makes the grid search anew.
+#[test]
+fn a_still_world_reuses_its_pairs() {
+    let positions: Vec<Vec3> = (0..1000)
+        .map(|i| Vec3::new((i % 10) as f32, ((i / 10) % 10) as f32, (i / 100) as f32) * 0.95)
+        .collect();
+    let reach = vec![0.5; positions.len()];
+    let (mut grid, mut found, mut expected) = (BroadPhase::new(), Vec::new(), Vec::new());
+    all_pairs(&positions, &reach, &mut expected);
+    assert!(expected.len() > 2000, "a packed block makes many pairs: {}", expected.len());
+    grid.find_pairs(&positions, &reach, &mut found);
+    assert!(!grid.reused_pairs(), "the first search builds the grid");
+    for _ in 0..3 {
+        grid.find_pairs(&positions, &reach, &mut found);
+        assert!(grid.reused_pairs(), "nothing moved: the kept pairs serve");
+        assert_eq!(found, expected);
+    }
+    // A small move (a hundredth of a radius) is within the skin.
+    let mut moved = positions.clone();
+    moved[0] += Vec3::new(0.005, 0.0, 0.0);
+    grid.find_pairs(&moved, &reach, &mut found);
+    assert!(grid.reused_pairs());
+    all_pairs(&moved, &reach, &mut expected);
+    assert_eq!(found, expected);
+    // Half a radius is not.
+    moved[0] += Vec3::new(0.25, 0.0, 0.0);
+    grid.find_pairs(&moved, &reach, &mut found);
+    assert!(!grid.reused_pairs(), "a sphere past its skin makes the grid search anew");
+    all_pairs(&moved, &reach, &mut expected);
+    assert_eq!(found, expected);
+    // With sleeping spheres the plain search runs.
+    let asleep = vec![false; positions.len()];
+    grid.find_pairs_awake(&moved, &reach, Some(&asleep), &mut found);
+    assert!(!grid.reused_pairs());
+    assert_eq!(found, expected);
+}
+
 #[test]
 fn large_worlds_take_the_threaded_path_and_agree() {
     // 20,000 particles: above the size where the search is split across threads.

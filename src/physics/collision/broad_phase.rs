@@ -109,7 +109,42 @@ pub struct BroadPhase {
     spheres: usize,
     /// Whether the last search left out pairs because of the budget.
     budget_hit: bool,
+    /// The pairs within a skin of reach (see [`BroadPhase::find_pairs_awake`]).
+    kept: KeptPairs,
 }
+
+/// Pairs found with every reach grown by a skin, kept between searches: while no
+/// sphere has moved (or grown its reach) by more than the skin since, every pair that
+/// touches is among them, and a search only tests those again.
+#[derive(Clone, Debug, Default)]
+struct KeptPairs {
+    /// Whether `pairs` may be used: found in the last search that built them, and no
+    /// search since found a sphere past its skin.
+    valid: bool,
+    /// Every pair `(a, b)`, `a < b`, closer than the grown reaches, in search order.
+    pairs: Vec<(u32, u32)>,
+    /// Positions and reaches when the pairs were found.
+    positions: Vec<Vec3>,
+    reach: Vec<f32>,
+    /// The skin (m): how far a sphere may move and grow before the pairs are found again.
+    skin: f32,
+    /// The grown reaches, scratch for the search that keeps pairs.
+    grown: Vec<f32>,
+    /// Searches the current pairs served, and searches left before keeping pairs is
+    /// tried again after it did not pay (pairs that served a single search).
+    served: u32,
+    wait: u32,
+    /// Whether the last search used kept pairs (for tests and profiles).
+    reused: bool,
+}
+
+/// The skin, as a fraction of the mean reach: a tenth (cells 10% wider, a third more
+/// candidates when the pairs are found; a pile at rest then keeps them for good).
+const SKIN_FRACTION: f32 = 0.1;
+
+/// Searches without keeping pairs after kept pairs served only one search (things
+/// move too fast for the skin: a falling pile), before trying again.
+const KEEP_BACKOFF: u32 = 16;
 
 impl BroadPhase {
     /// Empty scratch.
@@ -146,6 +181,86 @@ impl BroadPhase {
     ) {
         assert_eq!(positions.len(), reach.len(), "one reach per position");
         assert!(asleep.is_none_or(|a| a.len() == positions.len()), "one flag per position");
+        out.clear();
+        self.budget_hit = false;
+        self.kept.reused = false;
+        // Kept pairs, for worlds with nothing asleep (with sleepers, the plain search
+        // skips pairs of two of them, which the kept pairs would hold).
+        if asleep.is_none() {
+            if self.kept.still_valid(positions, reach) {
+                self.kept.serve(positions, reach, out);
+                self.kept.reused = true;
+                return;
+            }
+            if self.keep_pairs(positions, reach) {
+                self.kept.serve(positions, reach, out);
+                return;
+            }
+        } else {
+            self.kept.valid = false;
+        }
+        self.search(positions, reach, asleep, out);
+    }
+
+    /// Whether the last search only tested kept pairs again (nothing moved by more
+    /// than the skin since they were found).
+    #[must_use]
+    pub fn reused_pairs(&self) -> bool {
+        self.kept.reused
+    }
+
+    /// Finds and keeps the pairs within the skin, unless waiting after kept pairs did
+    /// not pay, or the grown search hit the budget (then nothing is kept). True when
+    /// pairs were kept.
+    fn keep_pairs(&mut self, positions: &[Vec3], reach: &[f32]) -> bool {
+        let kept = &mut self.kept;
+        if kept.valid && kept.served <= 1 {
+            kept.wait = KEEP_BACKOFF;
+        }
+        kept.valid = false;
+        if kept.wait > 0 {
+            kept.wait -= 1;
+            return false;
+        }
+        let usable = |r: f32| r > 0.0 && r.is_finite();
+        let (count, sum) = reach
+            .iter()
+            .filter(|&&r| usable(r))
+            .fold((0usize, 0.0f64), |(count, sum), &r| (count + 1, sum + f64::from(r)));
+        if count == 0 {
+            return false;
+        }
+        let skin = SKIN_FRACTION * (sum / count as f64) as f32;
+        let mut grown = std::mem::take(&mut self.kept.grown);
+        grown.clear();
+        grown.extend(reach.iter().map(|&r| if usable(r) { r + skin } else { r }));
+        let mut pairs = std::mem::take(&mut self.kept.pairs);
+        self.search(positions, &grown, None, &mut pairs);
+        let hit = self.budget_hit;
+        self.budget_hit = false;
+        let kept = &mut self.kept;
+        (kept.grown, kept.pairs) = (grown, pairs);
+        if hit || !skin.is_finite() {
+            return false;
+        }
+        kept.positions.clear();
+        kept.positions.extend_from_slice(positions);
+        kept.reach.clear();
+        kept.reach.extend_from_slice(reach);
+        kept.skin = skin;
+        kept.served = 0;
+        kept.valid = true;
+        true
+    }
+
+    /// The plain search (see [`BroadPhase::find_pairs_awake`]).
+    fn search(
+        &mut self,
+        positions: &[Vec3],
+        reach: &[f32],
+        asleep: Option<&[bool]>,
+        out: &mut Vec<(u32, u32)>,
+    ) {
         out.clear();
         self.budget_hit = false;
         let n = positions.len();
@@ -305,6 +420,42 @@ impl BroadPhase {
                 *slot += 1;
             }
         }
+    }
+}
+
+impl KeptPairs {
+    /// Whether every pair touching now is among the kept pairs: the same spheres have
+    /// a usable reach, and none has moved by more than its skin less what its reach
+    /// grew. Then for a pair closer than `r_a + r_b` now, its distance when the pairs
+    /// were found was less than `r_a + r_b + d_a + d_b`, at most the grown reaches'
+    /// sum. A tenth of the skin is kept back for rounding.
+    fn still_valid(&self, positions: &[Vec3], reach: &[f32]) -> bool {
+        if !self.valid || positions.len() != self.positions.len() {
+            return false;
+        }
+        let usable = |r: f32| r > 0.0 && r.is_finite();
+        let allowed = 0.9 * self.skin;
+        let then = self.positions.iter().zip(&self.reach);
+        positions.iter().zip(reach).zip(then).all(|((&p, &r), (&p0, &r0))| {
+            if !usable(r0) {
+                return !usable(r);
+            }
+            // NaN fails every comparison, so a sphere that left the numbers fails.
+            usable(r) && p.distance(p0) + (r - r0) <= allowed
+        })
+    }
+
+    /// The kept pairs that touch now, tested as the grid tests them, in their order
+    /// (the grid's).
+    fn serve(&mut self, positions: &[Vec3], reach: &[f32], out: &mut Vec<(u32, u32)>) {
+        out.clear();
+        out.extend(self.pairs.iter().copied().filter(|&(a, b)| {
+            let (a, b) = (a as usize, b as usize);
+            let (ra, rb) = (reach[a], reach[b]);
+            let reach = ra + rb;
+            (positions[a] - positions[b]).length_squared() < reach * reach
+        }));
+        self.served += 1;
     }
 }
 
