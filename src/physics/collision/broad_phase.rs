@@ -1,7 +1,7 @@
 //! Broad phase: which pairs of spheres are close enough to need a closer look.
 //!
-//! A uniform grid, rebuilt every step. Each sphere goes into the one cell that holds
-//! its centre. When the spheres' bounding box holds at most four cells per sphere the
+//! A uniform grid, rebuilt when spheres have moved (see *kept pairs* below). Each
+//! sphere goes into the one cell that holds its centre. When the spheres' bounding box holds at most four cells per sphere the
 //! grid is dense: cells are numbered row by row, so the three neighbouring cells along
 //! x are one contiguous run and a query is 9 range look-ups. Otherwise (a few spheres
 //! far apart, an unbounded world) cells are hashed into a table twice the size of the
@@ -34,6 +34,17 @@
 //! runs out, and in a crowded cell that is after a few queries. Memory is then at most
 //! the budget's pairs (each becomes a contact of about 160 bytes in the soft solver):
 //! about 5 KB per sphere at worst.
+
+//!
+//! **Kept pairs.** A pile lying still would rebuild the same grid and find the same
+//! pairs step after step. So the search grows every reach by a skin (a tenth of the
+//! mean reach) and keeps the pairs it finds, with the positions and reaches it saw.
+//! While no sphere has moved by more than the skin (less what its reach grew) since,
+//! every pair that touches now is among the kept ones, and a search only tests those
+//! again, with the grid's own arithmetic and in its order: the same pairs, the same
+//! bits. When spheres move too fast for the skin (a falling pile) the kept pairs serve
+//! one search only, and the grid waits a while before keeping pairs again. Worlds with
+//! sleeping spheres use the plain search, which skips pairs of two sleepers.
 
 use glam::Vec3;
 use rayon::prelude::*;
