@@ -128,23 +128,25 @@ impl SoftStep {
             let last = (first + per_batch).min(color_starts[color + 1]);
             *batch = ContactBatch::new(&contacts[first..last], particles);
         };
-        let mut rest = self.batches.as_mut_slice();
-        for color in 0..=COLORS {
-            let (run, after) = rest.split_at_mut(batch_starts[color + 1] - batch_starts[color]);
-            rest = after;
-            if run.len() * LANES >= PARALLEL_BATCHING {
-                run.par_iter_mut().enumerate().with_min_len(256).for_each(|(k, batch)| make(color, k, batch));
-            } else {
-                run.iter_mut().enumerate().for_each(|(k, batch)| make(color, k, batch));
-            }
-        }
         // The solve reads and writes the lanes' particles without checking each index
         // again (`SharedVelocities::gather`): check them all once here.
         let n = particles.len() as u32;
-        assert!(
-            self.batches.iter().all(|batch| batch.a.iter().chain(&batch.b).all(|&i| i < n)),
-            "a contact names a particle beyond the {n} there are"
-        );
+        // One pass over every batch of every colour (a batch's colour is the last whose
+        // first batch is at or before it), on several threads for many contacts: a
+        // pile's colours are each too small to share out alone.
+        let make_any = |(g, batch): (usize, &mut ContactBatch)| {
+            let color = batch_starts[1..=COLORS + 1].partition_point(|&start| start <= g);
+            make(color, g - batch_starts[color], batch);
+            assert!(
+                batch.a.iter().chain(&batch.b).all(|&i| i < n),
+                "a contact names a particle beyond the {n} there are"
+            );
+        };
+        if self.contacts.len() >= PARALLEL_BATCHING {
+            self.batches.par_iter_mut().enumerate().with_min_len(256).for_each(make_any);
+        } else {
+            self.batches.iter_mut().enumerate().for_each(make_any);
+        }
     }
 
     /// Copies the batches' impulses back into the contacts, for the warm start of the
