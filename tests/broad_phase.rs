@@ -68,11 +68,11 @@ proptest! {
     #[test]
     fn kept_pairs_equal_all_pairs_as_spheres_move(
         (mut positions, mut reach) in configuration(),
-        moves in prop::collection::vec((0.0f32..0.2, 0.0f32..0.05, any::<u64>()), 1..8),
+        moves in prop::collection::vec((0.0f32..0.2, 0.0f32..0.05, any::<u64>(), 0u8..=4), 1..8),
     ) {
         let mut grid = BroadPhase::new();
         let (mut found, mut expected) = (Vec::new(), Vec::new());
-        for (step, &(distance, growth, seed)) in moves.iter().enumerate() {
+        for (step, &(distance, growth, seed, moving)) in moves.iter().enumerate() {
             grid.find_pairs(&positions, &reach, &mut found);
             all_pairs(&positions, &reach, &mut expected);
             prop_assert_eq!(&found, &expected, "step {}", step);
@@ -84,7 +84,12 @@ proptest! {
                 state ^= state << 17;
                 (state >> 40) as f32 / (1u64 << 24) as f32 - 0.5
             };
+            // A share of the spheres moves (none, a few, ..., all): a few movers are
+            // brought up to date in the kept pairs, many make the grid search anew.
             for (p, r) in positions.iter_mut().zip(reach.iter_mut()) {
+                if moving < 4 && next() + 0.5 >= f32::from(moving) / 4.0 {
+                    continue;
+                }
                 *p += Vec3::new(next(), next(), next()) * 2.0 * distance;
                 if *r > 0.0 {
                     *r = (*r + next() * 2.0 * growth).max(0.01);
@@ -120,10 +125,26 @@ fn a_still_world_reuses_its_pairs() {
     assert!(grid.reused_pairs());
     all_pairs(&moved, &reach, &mut expected);
     assert_eq!(found, expected);
-    // Half a radius is not.
+    // Half a radius is not: that sphere's pairs are found again, the rest kept.
     moved[0] += Vec3::new(0.25, 0.0, 0.0);
     grid.find_pairs(&moved, &reach, &mut found);
-    assert!(!grid.reused_pairs(), "a sphere past its skin makes the grid search anew");
+    assert!(grid.reused_pairs(), "one sphere past its skin is brought up to date alone");
+    all_pairs(&moved, &reach, &mut expected);
+    assert_eq!(found, expected);
+    // A few more, one after another, some of them twice, some into another's place.
+    for (k, i) in [5usize, 17, 0, 333, 999, 5, 550].into_iter().enumerate() {
+        moved[i] += Vec3::new(0.1, -0.3, 0.2) * (k as f32 + 1.0) * 0.5;
+        grid.find_pairs(&moved, &reach, &mut found);
+        assert!(grid.reused_pairs());
+        all_pairs(&moved, &reach, &mut expected);
+        assert_eq!(found, expected, "after moving sphere {i}");
+    }
+    // Many at once (more than one in 32): the grid searches anew.
+    for p in moved.iter_mut().step_by(10) {
+        *p += Vec3::new(0.0, 0.3, 0.0);
+    }
+    grid.find_pairs(&moved, &reach, &mut found);
+    assert!(!grid.reused_pairs(), "a hundred movers make the grid search anew");
     all_pairs(&moved, &reach, &mut expected);
     assert_eq!(found, expected);
     // With sleeping spheres the plain search runs.

@@ -42,9 +42,12 @@
 //! While no sphere has moved by more than the skin (less what its reach grew) since,
 //! every pair that touches now is among the kept ones, and a search only tests those
 //! again, with the grid's own arithmetic and in its order: the same pairs, the same
-//! bits. When spheres move too fast for the skin (a falling pile) the kept pairs serve
-//! one search only, and the grid waits a while before keeping pairs again. Worlds with
-//! sleeping spheres use the plain search, which skips pairs of two sleepers.
+//! bits. A few spheres past their skin (one rolling down a pile's flank) have their
+//! own pairs found again, around them in the grid as it was built, and merged into
+//! the kept ones; past one sphere in 32 the grid is built again. When spheres move
+//! too fast for the skin (a falling pile) the kept pairs serve one search only, and
+//! the grid waits a while before keeping pairs again. Worlds with sleeping spheres
+//! use the plain search, which skips pairs of two sleepers.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -147,7 +150,25 @@ struct KeptPairs {
     wait: u32,
     /// Whether the last search used kept pairs (for tests and profiles).
     reused: bool,
+    /// Spheres past their skin in this search, to be brought up to date.
+    movers: Vec<u32>,
+    /// Spheres brought up to date since the grid was built (their grid entries are
+    /// stale), and per sphere the flags [`MOVER`] and [`REFRESHED`].
+    refreshed: Vec<u32>,
+    flags: Vec<u8>,
+    /// The movers' new pairs, and the merged list (scratch).
+    fresh: Vec<(u32, u32)>,
+    merged: Vec<(u32, u32)>,
 }
+
+/// A sphere past its skin in this search.
+const MOVER: u8 = 1;
+/// A sphere whose kept position is no longer the grid's.
+const REFRESHED: u8 = 2;
+
+/// At most one sphere in this many (and 16 more) is brought up to date between two
+/// builds of the grid; past it the grid is built again.
+const REFRESH_SHARE: usize = 32;
 
 /// The skin, as a fraction of the mean reach: a tenth (cells 10% wider, a third more
 /// candidates when the pairs are found; a pile at rest then keeps them for good).
@@ -198,7 +219,7 @@ impl BroadPhase {
         // Kept pairs, for worlds with nothing asleep (with sleepers, the plain search
         // skips pairs of two of them, which the kept pairs would hold).
         if asleep.is_none() {
-            if self.kept.still_valid(positions, reach) {
+            if self.kept.find_movers(positions, reach) && self.refresh(positions, reach) {
                 self.kept.serve(positions, reach, out);
                 self.kept.reused = true;
                 return;
@@ -261,7 +282,105 @@ impl BroadPhase {
         kept.skin = skin;
         kept.served = 0;
         kept.valid = true;
+        kept.refreshed.clear();
+        kept.flags.clear();
+        kept.flags.resize(positions.len(), 0);
         true
+    }
+
+    /// Brings the kept pairs up to date for the spheres that moved past their skin
+    /// (`kept.movers`), without building the grid again: each mover's kept position
+    /// and reach become its present ones, its old pairs go, and its pairs within the
+    /// skin now come in, in order. The grid built with the kept pairs still holds every
+    /// other sphere where its pairs were found, except those already brought up to
+    /// date since (`refreshed`), which are tested one by one. False (nothing to trust:
+    /// search anew) when there are too many movers or refreshed spheres, a mover is
+    /// oversized or its reach outgrew the grid's cells, or the pairs pass the budget.
+    fn refresh(&mut self, positions: &[Vec3], reach: &[f32]) -> bool {
+        let kept = &mut self.kept;
+        if kept.movers.is_empty() {
+            return true;
+        }
+        let limit = positions.len() / REFRESH_SHARE + 16;
+        if kept.refreshed.len() + kept.movers.len() > limit {
+            return false;
+        }
+        let skin = kept.skin;
+        let half_cell = 0.5 * self.cell_size;
+        for &m in &kept.movers {
+            let m = m as usize;
+            // (Reaches here are usable, so finite: the sum compares.)
+            if self.cell_keys[m] == NOT_IN_GRID || reach[m] + skin > half_cell {
+                return false;
+            }
+        }
+        for &m in &kept.movers {
+            let m = m as usize;
+            kept.positions[m] = positions[m];
+            kept.reach[m] = reach[m];
+            kept.flags[m] |= MOVER;
+            if kept.flags[m] & REFRESHED == 0 {
+                kept.flags[m] |= REFRESHED;
+                kept.refreshed.push(m as u32);
+            }
+        }
+        // The movers' pairs within the skin now.
+        kept.fresh.clear();
+        let grid = GridView {
+            cell_size: self.cell_size,
+            dense: self.dense,
+            cell_keys: &self.cell_keys,
+            starts: &self.starts,
+            entries: &self.entries,
+            entry_keys: &self.entry_keys,
+            entry_spheres: &self.entry_spheres,
+            oversized: &self.oversized,
+            positions,
+            reach,
+            asleep: None,
+        };
+        let (flags, fresh) = (&kept.flags, &mut kept.fresh);
+        let (then, then_reach) = (&kept.positions, &kept.reach);
+        for &m in &kept.movers {
+            let (pm, rm) = (then[m as usize], then_reach[m as usize] + skin);
+            let mut near = |b: u32, pb: Vec3, rb: f32| {
+                let reach = rm + rb;
+                if b != m && (pm - pb).length_squared() < reach * reach {
+                    fresh.push((m.min(b), m.max(b)));
+                }
+            };
+            // Spheres the grid holds where they still are kept (the grid's own copy
+            // of the grown reach), then the refreshed and the oversized ones.
+            grid.around(pm, |b, sphere| {
+                if flags[b as usize] & REFRESHED == 0 {
+                    near(b, sphere.truncate(), sphere.w);
+                }
+            });
+            for &b in kept.refreshed.iter().chain(self.oversized.iter()) {
+                near(b, then[b as usize], then_reach[b as usize] + skin);
+            }
+        }
+        fresh.sort_unstable();
+        fresh.dedup();
+        // The kept pairs without the movers' old ones, merged with their new ones.
+        kept.merged.clear();
+        let mut fresh = kept.fresh.iter().copied().peekable();
+        for &pair in &kept.pairs {
+            if flags[pair.0 as usize] & MOVER != 0 || flags[pair.1 as usize] & MOVER != 0 {
+                continue;
+            }
+            while let Some(&next) = fresh.peek().filter(|&&next| next < pair) {
+                kept.merged.push(next);
+                fresh.next();
+            }
+            kept.merged.push(pair);
+        }
+        kept.merged.extend(fresh);
+        std::mem::swap(&mut kept.pairs, &mut kept.merged);
+        for &m in &kept.movers {
+            kept.flags[m as usize] &= !MOVER;
+        }
+        kept.pairs.len() <= pair_budget(self.spheres)
     }
 
     /// The plain search (see [`BroadPhase::find_pairs_awake`]).
@@ -435,25 +554,36 @@ impl BroadPhase {
 }
 
 impl KeptPairs {
-    /// Whether every pair touching now is among the kept pairs: the same spheres have
-    /// a usable reach, and none has moved by more than its skin less what its reach
-    /// grew. Then for a pair closer than `r_a + r_b` now, its distance when the pairs
-    /// were found was less than `r_a + r_b + d_a + d_b`, at most the grown reaches'
-    /// sum. A tenth of the skin is kept back for rounding.
-    fn still_valid(&self, positions: &[Vec3], reach: &[f32]) -> bool {
+    /// Whether the kept pairs can serve, and which spheres must be brought up to date
+    /// first (`movers`). Every pair touching now is among the kept pairs when the same
+    /// spheres have a usable reach and none has moved by more than its skin less what
+    /// its reach grew: for a pair closer than `r_a + r_b` now, its distance when kept
+    /// was less than `r_a + r_b + d_a + d_b`, at most the grown reaches' sum. A tenth
+    /// of the skin is kept back for rounding. The spheres past it are the movers
+    /// (given up, false, when there are more than [`REFRESH_SHARE`] allows).
+    fn find_movers(&mut self, positions: &[Vec3], reach: &[f32]) -> bool {
+        self.movers.clear();
         if !self.valid || positions.len() != self.positions.len() {
             return false;
         }
         let usable = |r: f32| r > 0.0 && r.is_finite();
         let allowed = 0.9 * self.skin;
+        let limit = positions.len() / REFRESH_SHARE + 16;
         let then = self.positions.iter().zip(&self.reach);
-        positions.iter().zip(reach).zip(then).all(|((&p, &r), (&p0, &r0))| {
-            if !usable(r0) {
-                return !usable(r);
+        for (i, ((&p, &r), (&p0, &r0))) in positions.iter().zip(reach).zip(then).enumerate() {
+            if usable(r0) != usable(r) {
+                return false;
             }
-            // NaN fails every comparison, so a sphere that left the numbers fails.
-            usable(r) && p.distance(p0) + (r - r0) <= allowed
-        })
+            // NaN fails every comparison, so a sphere that left the numbers moved.
+            let within = p.distance(p0) + (r - r0) <= allowed;
+            if usable(r) && !within {
+                if !(p.is_finite() && r.is_finite()) || self.movers.len() == limit {
+                    return false;
+                }
+                self.movers.push(i as u32);
+            }
+        }
+        true
     }
 
     /// The kept pairs that touch now, tested as the grid tests them, in their order
@@ -487,6 +617,45 @@ struct GridView<'a> {
 }
 
 impl GridView<'_> {
+    /// Calls `visit` with every grid entry (particle, position and reach as built) in
+    /// the 3x3x3 block of cells around `p`.
+    fn around(&self, p: Vec3, mut visit: impl FnMut(u32, &glam::Vec4)) {
+        let inverse_cell = 1.0 / self.cell_size;
+        if let Some((origin, dims)) = self.dense {
+            let [x, y, z] = dense_cell(p, origin, inverse_cell, dims);
+            let (x0, x1) = ((x - 1).max(0), (x + 1).min(dims[0] - 1));
+            for cz in (z - 1).max(0)..=(z + 1).min(dims[2] - 1) {
+                for cy in (y - 1).max(0)..=(y + 1).min(dims[1] - 1) {
+                    let row = (cy + dims[1] * cz) * dims[0];
+                    let run = self.starts[(row + x0) as usize] as usize
+                        ..self.starts[(row + x1 + 1) as usize] as usize;
+                    for (&b, sphere) in self.entries[run.clone()].iter().zip(&self.entry_spheres[run]) {
+                        visit(b, sphere);
+                    }
+                }
+            }
+        } else {
+            let bits = (self.starts.len() - 1).trailing_zeros();
+            let [x, y, z] = cell_of(p, inverse_cell);
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let key = pack([x + dx, y + dy, z + dz]);
+                        let bucket = bucket(key, bits);
+                        let range = self.starts[bucket] as usize..self.starts[bucket + 1] as usize;
+                        let entries =
+                            self.entries[range.clone()].iter().zip(&self.entry_spheres[range.clone()]);
+                        for ((&b, sphere), &entry_key) in entries.zip(&self.entry_keys[range]) {
+                            if entry_key == key {
+                                visit(b, sphere);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Finds the pairs whose first particle lies in chunk `chunk`, in order, stopping
     /// after the first particle whose pairs take the count past `cap`: then more than
     /// `cap` pairs are left in `pairs`, so the caller knows the budget was hit.
