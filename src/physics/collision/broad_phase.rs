@@ -297,7 +297,14 @@ impl BroadPhase {
     /// search anew) when there are too many movers or refreshed spheres, a mover is
     /// oversized or its reach outgrew the grid's cells, or the pairs pass the budget.
     fn refresh(&mut self, positions: &[Vec3], reach: &[f32]) -> bool {
-        let kept = &mut self.kept;
+        let mut kept = std::mem::take(&mut self.kept);
+        let fresh = self.refresh_kept(&mut kept, positions, reach);
+        self.kept = kept;
+        fresh
+    }
+
+    /// [`BroadPhase::refresh`] with the kept pairs apart from the grid they were found in.
+    fn refresh_kept(&self, kept: &mut KeptPairs, positions: &[Vec3], reach: &[f32]) -> bool {
         if kept.movers.is_empty() {
             return true;
         }
@@ -326,19 +333,7 @@ impl BroadPhase {
         }
         // The movers' pairs within the skin now.
         kept.fresh.clear();
-        let grid = GridView {
-            cell_size: self.cell_size,
-            dense: self.dense,
-            cell_keys: &self.cell_keys,
-            starts: &self.starts,
-            entries: &self.entries,
-            entry_keys: &self.entry_keys,
-            entry_spheres: &self.entry_spheres,
-            oversized: &self.oversized,
-            positions,
-            reach,
-            asleep: None,
-        };
+        let grid = self.view(positions, reach, None);
         let (flags, fresh) = (&kept.flags, &mut kept.fresh);
         let (then, then_reach) = (&kept.positions, &kept.reach);
         for &m in &kept.movers {
@@ -383,6 +378,28 @@ impl BroadPhase {
         kept.pairs.len() <= pair_budget(self.spheres)
     }
 
+    /// The built grid, to be searched for the spheres `positions` with `reach`.
+    fn view<'a>(
+        &'a self,
+        positions: &'a [Vec3],
+        reach: &'a [f32],
+        asleep: Option<&'a [bool]>,
+    ) -> GridView<'a> {
+        GridView {
+            cell_size: self.cell_size,
+            dense: self.dense,
+            cell_keys: &self.cell_keys,
+            starts: &self.starts,
+            entries: &self.entries,
+            entry_keys: &self.entry_keys,
+            entry_spheres: &self.entry_spheres,
+            oversized: &self.oversized,
+            positions,
+            reach,
+            asleep,
+        }
+    }
+
     /// The plain search (see [`BroadPhase::find_pairs_awake`]).
     fn search(
         &mut self,
@@ -403,26 +420,35 @@ impl BroadPhase {
             self.chunk_pairs.resize_with(chunks, Vec::new);
             self.chunk_scratch.resize_with(chunks, Vec::new);
         }
-        let grid = GridView {
-            cell_size: self.cell_size,
-            dense: self.dense,
-            cell_keys: &self.cell_keys,
-            starts: &self.starts,
-            entries: &self.entries,
-            entry_keys: &self.entry_keys,
-            entry_spheres: &self.entry_spheres,
-            oversized: &self.oversized,
-            positions,
-            reach,
-            asleep,
-        };
+        // The chunks' buffers are taken out while the grid is read.
+        let (mut chunk_pairs, mut chunk_scratch) =
+            (std::mem::take(&mut self.chunk_pairs), std::mem::take(&mut self.chunk_scratch));
+        self.budget_hit =
+            self.search_chunks(positions, reach, asleep, &mut chunk_pairs, &mut chunk_scratch, out);
+        (self.chunk_pairs, self.chunk_scratch) = (chunk_pairs, chunk_scratch);
+    }
+
+    /// The search of [`BroadPhase::search`] over the built grid, chunk by chunk into
+    /// `chunk_pairs` (one buffer per chunk) and then `out`. True when the budget was hit.
+    fn search_chunks(
+        &self,
+        positions: &[Vec3],
+        reach: &[f32],
+        asleep: Option<&[bool]>,
+        chunk_pairs: &mut [Vec<(u32, u32)>],
+        chunk_scratch: &mut [Vec<u32>],
+        out: &mut Vec<(u32, u32)>,
+    ) -> bool {
+        let n = positions.len();
+        let chunks = n.div_ceil(CHUNK);
+        let grid = self.view(positions, reach, asleep);
         // Batch by batch, each chunk allowed what is left of the budget when its batch
         // starts: what a chunk finds depends on the input alone, never on the threads.
         let mut left = pair_budget(self.spheres);
         for first in (0..chunks).step_by(BATCH) {
             let batch = first..(first + BATCH).min(chunks);
-            let pairs = &mut self.chunk_pairs[batch.clone()];
-            let scratch = &mut self.chunk_scratch[batch.clone()];
+            let pairs = &mut chunk_pairs[batch.clone()];
+            let scratch = &mut chunk_scratch[batch.clone()];
             if n >= PARALLEL_FROM {
                 pairs.par_iter_mut().zip(scratch.par_iter_mut()).zip(batch.clone()).for_each(
                     |((pairs, scratch), chunk)| {
@@ -434,16 +460,18 @@ impl BroadPhase {
                     grid.search_chunk(chunk, left, pairs, scratch);
                 }
             }
-            for pairs in &self.chunk_pairs[batch] {
+            let mut hit = false;
+            for pairs in &chunk_pairs[batch] {
                 let kept = pairs.len().min(left);
                 out.extend_from_slice(&pairs[..kept]);
                 left -= kept;
-                self.budget_hit |= kept < pairs.len();
+                hit |= kept < pairs.len();
             }
-            if self.budget_hit {
-                return;
+            if hit {
+                return true;
             }
         }
+        false
     }
 
     /// Whether the last search found more pairs than [`pair_budget`] allows and left
@@ -662,8 +690,6 @@ impl GridView<'_> {
     fn search_chunk(&self, chunk: usize, cap: usize, pairs: &mut Vec<(u32, u32)>, partners: &mut Vec<u32>) {
         pairs.clear();
         let n = self.positions.len();
-        let bits = (self.starts.len() - 1).trailing_zeros();
-        let inverse_cell = 1.0 / self.cell_size;
         let asleep = |i: usize| self.asleep.is_some_and(|flags| flags[i]);
         // Whether b is found from a: every sleeping partner, awake ones only once.
         let second = |a: usize, b: usize| if asleep(b) { b != a } else { b > a };
@@ -687,47 +713,16 @@ impl GridView<'_> {
             if self.cell_keys[a] == NOT_IN_GRID {
                 // Oversized: against everything.
                 (0..n).for_each(|b| consider(b, partners));
-            } else if let Some((origin, dims)) = self.dense {
-                // The three cells along x of each of the 9 neighbouring rows are one run.
-                let [x, y, z] = dense_cell(pa, origin, inverse_cell, dims);
-                let (x0, x1) = ((x - 1).max(0), (x + 1).min(dims[0] - 1));
-                for cz in (z - 1).max(0)..=(z + 1).min(dims[2] - 1) {
-                    for cy in (y - 1).max(0)..=(y + 1).min(dims[1] - 1) {
-                        let row = (cy + dims[1] * cz) * dims[0];
-                        let run = self.starts[(row + x0) as usize] as usize
-                            ..self.starts[(row + x1 + 1) as usize] as usize;
-                        for (&b, sphere) in self.entries[run.clone()].iter().zip(&self.entry_spheres[run]) {
-                            // Which of the two finds the pair first (an index compare, so
-                            // half the candidates cost no distance); every grid entry has
-                            // a usable reach: test it from the copy.
-                            let reach = ra + sphere.w;
-                            if second(a, b as usize)
-                                && (pa - sphere.truncate()).length_squared() < reach * reach
-                            {
-                                partners.push(b);
-                            }
-                        }
-                    }
-                }
-                self.oversized.iter().for_each(|&b| consider(b as usize, partners));
             } else {
-                let [x, y, z] = cell_of(pa, inverse_cell);
-                for dx in -1..=1 {
-                    for dy in -1..=1 {
-                        for dz in -1..=1 {
-                            let key = pack([x + dx, y + dy, z + dz]);
-                            let bucket = bucket(key, bits);
-                            let range = self.starts[bucket] as usize..self.starts[bucket + 1] as usize;
-                            for (&b, &entry_key) in
-                                self.entries[range.clone()].iter().zip(&self.entry_keys[range])
-                            {
-                                if entry_key == key {
-                                    consider(b as usize, partners);
-                                }
-                            }
-                        }
+                // Which of the two finds the pair first (an index compare, so half the
+                // candidates cost no distance); every grid entry has a usable reach:
+                // test it from the grid's copy.
+                self.around(pa, |b, sphere| {
+                    let reach = ra + sphere.w;
+                    if second(a, b as usize) && (pa - sphere.truncate()).length_squared() < reach * reach {
+                        partners.push(b);
                     }
-                }
+                });
                 self.oversized.iter().for_each(|&b| consider(b as usize, partners));
             }
             partners.sort_unstable();
