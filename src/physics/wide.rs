@@ -1,6 +1,7 @@
 //! Four lanes of `f32` at once: the contact solver works on four contacts of one colour
 //! together (Box2D v3's idea), with SSE where the target has it (every x86-64) and
-//! plain arrays elsewhere (wasm32).
+//! plain arrays elsewhere (wasm32). Where an x86-64 processor has AVX, the solve joins
+//! two batches into eight lanes ([`avx`]); it is written once, for any [`Lane`] type.
 //!
 //! Both give the same bits as scalar `f32` code doing the same operations lane by lane:
 //! every operation here is one IEEE-754 operation per lane (`+ - * /`, `sqrt`, compare,
@@ -395,24 +396,137 @@ impl std::ops::Neg for F4 {
     }
 }
 
-/// Four 3-vectors, one per lane: the lanes' x, y and z apart. Its operations are
-/// glam's `Vec3` formulas written out, in glam's order, so each lane equals what glam
-/// computes for that lane's vector.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct V4 {
-    pub x: F4,
-    pub y: F4,
-    pub z: F4,
+/// Lanes of `f32` that the contact solve is written for: [`F4`] everywhere, and
+/// [`F8`](avx::F8) inside functions compiled for AVX. Every operation is one IEEE-754
+/// operation per lane, so a lane computes the same bits whatever the width.
+pub trait Lane:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+    + std::ops::Neg<Output = Self>
+{
+    /// The result of comparing lanes.
+    type Mask: Mask<Self>;
+    /// One particle index per lane.
+    type Index: Copy + AsRef<[u32]>;
+    /// All lanes +0.
+    const ZERO: Self;
+    /// `x` in every lane.
+    fn splat(x: f32) -> Self;
+    /// Square root of each lane, correctly rounded.
+    fn sqrt(self) -> Self;
+    /// Per lane `if self > other { self } else { other }`.
+    fn max(self, other: Self) -> Self;
+    /// Per lane `self > other`.
+    fn gt(self, other: Self) -> Self::Mask;
+    /// Per lane `self == other`.
+    fn eq(self, other: Self) -> Self::Mask;
+    /// Lane `i` holds `base[indices[i]]`.
+    ///
+    /// # Safety
+    /// As [`V4::gather`], for every index.
+    unsafe fn gather(base: *const glam::Vec3, indices: Self::Index) -> V<Self>;
+    /// Writes lane `i` to `base[indices[i]]` for each bit `i` set in `lanes`.
+    ///
+    /// # Safety
+    /// As [`V4::scatter`], for every lane set.
+    unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: Self::Index, lanes: u32);
 }
 
-impl V4 {
+/// Lanes of true or false for a [`Lane`] type `L`.
+pub trait Mask<L>: Copy {
+    /// Lane `i` true where bit `i` of `bits` is set.
+    fn from_bits(bits: u32) -> Self;
+    /// Per lane: `a` where true, else `b` (bit for bit).
+    fn select(self, a: L, b: L) -> L;
+    /// Lane `i` true sets bit `i`.
+    fn bits(self) -> u32;
+    /// True where both are.
+    fn and(self, other: Self) -> Self;
+    /// True where either is.
+    fn or(self, other: Self) -> Self;
+}
+
+impl Lane for F4 {
+    type Mask = M4;
+    type Index = [u32; 4];
+    const ZERO: Self = F4::ZERO;
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        F4::splat(x)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        F4::sqrt(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        F4::max(self, other)
+    }
+    #[inline(always)]
+    fn gt(self, other: Self) -> M4 {
+        F4::gt(self, other)
+    }
+    #[inline(always)]
+    fn eq(self, other: Self) -> M4 {
+        F4::eq(self, other)
+    }
+    #[inline(always)]
+    unsafe fn gather(base: *const glam::Vec3, indices: [u32; 4]) -> V4 {
+        unsafe { V4::gather(base, indices) }
+    }
+    #[inline(always)]
+    unsafe fn scatter(value: V4, base: *mut glam::Vec3, indices: [u32; 4], lanes: u32) {
+        unsafe { value.scatter(base, indices, lanes) }
+    }
+}
+
+impl Mask<F4> for M4 {
+    #[inline(always)]
+    fn from_bits(bits: u32) -> Self {
+        M4::new([0, 1, 2, 3].map(|i| bits & (1 << i) != 0))
+    }
+    #[inline(always)]
+    fn select(self, a: F4, b: F4) -> F4 {
+        M4::select(self, a, b)
+    }
+    #[inline(always)]
+    fn bits(self) -> u32 {
+        M4::bits(self)
+    }
+    #[inline(always)]
+    fn and(self, other: Self) -> Self {
+        M4::and(self, other)
+    }
+    #[inline(always)]
+    fn or(self, other: Self) -> Self {
+        M4::or(self, other)
+    }
+}
+
+/// 3-vectors, one per lane: the lanes' x, y and z apart. Its operations are glam's
+/// `Vec3` formulas written out, in glam's order, so each lane equals what glam computes
+/// for that lane's vector.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct V<L> {
+    pub x: L,
+    pub y: L,
+    pub z: L,
+}
+
+/// Four 3-vectors.
+pub type V4 = V<F4>;
+
+impl<L: Lane> V<L> {
     /// All lanes the zero vector (+0).
-    pub const ZERO: Self = Self { x: F4::ZERO, y: F4::ZERO, z: F4::ZERO };
+    pub const ZERO: Self = Self { x: L::ZERO, y: L::ZERO, z: L::ZERO };
 
     /// `Vec3::dot`: `(x·x') + (y·y') + (z·z')`, summed left to right.
     #[inline(always)]
     #[must_use]
-    pub fn dot(self, other: Self) -> F4 {
+    pub fn dot(self, other: Self) -> L {
         (self.x * other.x) + (self.y * other.y) + (self.z * other.z)
     }
 
@@ -430,17 +544,19 @@ impl V4 {
     /// Each lane's vector times that lane's scalar.
     #[inline(always)]
     #[must_use]
-    pub fn scale(self, s: F4) -> Self {
+    pub fn scale(self, s: L) -> Self {
         Self { x: self.x * s, y: self.y * s, z: self.z * s }
     }
 
     /// Per lane: `a` where the mask is true, else `b`.
     #[inline(always)]
     #[must_use]
-    pub fn select(mask: M4, a: Self, b: Self) -> Self {
+    pub fn select(mask: L::Mask, a: Self, b: Self) -> Self {
         Self { x: mask.select(a.x, b.x), y: mask.select(a.y, b.y), z: mask.select(a.z, b.z) }
     }
+}
 
+impl V4 {
     /// Lane `i`'s vector.
     #[inline(always)]
     #[must_use]
@@ -486,7 +602,7 @@ impl V4 {
     }
 }
 
-impl std::ops::Add for V4 {
+impl<L: Lane> std::ops::Add for V<L> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
@@ -494,11 +610,184 @@ impl std::ops::Add for V4 {
     }
 }
 
-impl std::ops::Sub for V4 {
+impl<L: Lane> std::ops::Sub for V<L> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
         Self { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
+    }
+}
+
+/// Eight lanes with AVX: two batches of four contacts solved side by side.
+///
+/// Only x86-64 processors with AVX run this code: an [`F8`](avx::F8) is made and used
+/// only inside functions compiled with `#[target_feature(enable = "avx")]`, which are
+/// called only after `is_x86_feature_detected!("avx")` said yes (the contact solve's
+/// `solve_batches` and `warm_start_batches`). Each operation is the 256-bit form of
+/// the SSE one [`F4`] uses (the same IEEE operation in every lane; `max` and the
+/// comparisons with SSE's semantics), so lanes 0–3 and 4–7 give exactly what two
+/// [`F4`]s give.
+#[cfg(target_arch = "x86_64")]
+pub mod avx {
+    use std::arch::x86_64::*;
+
+    use super::{F4, Lane, M4, Mask, V, V4};
+
+    // SAFETY (every `unsafe` block below that calls an AVX intrinsic): these values
+    // exist only inside functions compiled for AVX on a processor that has it (see
+    // the module's note), so the instructions are available.
+
+    /// Eight `f32` lanes.
+    #[derive(Clone, Copy, Debug)]
+    #[repr(transparent)]
+    pub struct F8(__m256);
+
+    /// Eight lanes of true or false.
+    #[derive(Clone, Copy, Debug)]
+    #[repr(transparent)]
+    pub struct M8(__m256);
+
+    impl F8 {
+        /// Lanes 0–3 from `low`, 4–7 from `high`.
+        #[inline(always)]
+        #[must_use]
+        pub fn join(low: F4, high: F4) -> Self {
+            Self(unsafe { _mm256_set_m128(high.0, low.0) })
+        }
+
+        /// Lanes 0–3 and lanes 4–7.
+        #[inline(always)]
+        #[must_use]
+        pub fn halves(self) -> (F4, F4) {
+            unsafe { (F4(_mm256_castps256_ps128(self.0)), F4(_mm256_extractf128_ps::<1>(self.0))) }
+        }
+    }
+
+    impl M8 {
+        /// Lanes 0–3 from `low`, 4–7 from `high`.
+        #[inline(always)]
+        #[must_use]
+        pub fn join(low: M4, high: M4) -> Self {
+            Self(unsafe { _mm256_set_m128(high.0, low.0) })
+        }
+    }
+
+    macro_rules! avx_op {
+        ($trait:ident, $method:ident, $f:ident) => {
+            impl std::ops::$trait for F8 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: Self) -> Self {
+                    Self(unsafe { $f(self.0, other.0) })
+                }
+            }
+        };
+    }
+    avx_op!(Add, add, _mm256_add_ps);
+    avx_op!(Sub, sub, _mm256_sub_ps);
+    avx_op!(Mul, mul, _mm256_mul_ps);
+    avx_op!(Div, div, _mm256_div_ps);
+
+    impl std::ops::Neg for F8 {
+        type Output = Self;
+        /// Flips each lane's sign bit.
+        #[inline(always)]
+        fn neg(self) -> Self {
+            Self(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
+        }
+    }
+
+    impl V<F8> {
+        /// Lanes 0–3 from `low`, 4–7 from `high`.
+        #[inline(always)]
+        #[must_use]
+        pub fn join(low: V4, high: V4) -> Self {
+            Self { x: F8::join(low.x, high.x), y: F8::join(low.y, high.y), z: F8::join(low.z, high.z) }
+        }
+
+        /// Lanes 0–3 and lanes 4–7.
+        #[inline(always)]
+        #[must_use]
+        pub fn halves(self) -> (V4, V4) {
+            let ((x0, x1), (y0, y1), (z0, z1)) = (self.x.halves(), self.y.halves(), self.z.halves());
+            (V4 { x: x0, y: y0, z: z0 }, V4 { x: x1, y: y1, z: z1 })
+        }
+    }
+
+    /// The first and last four of eight indices.
+    #[inline(always)]
+    fn split(indices: [u32; 8]) -> ([u32; 4], [u32; 4]) {
+        let [a, b, c, d, e, f, g, h] = indices;
+        ([a, b, c, d], [e, f, g, h])
+    }
+
+    impl Lane for F8 {
+        type Mask = M8;
+        type Index = [u32; 8];
+        // SAFETY: `[f32; 8]` and `__m256` are both 32 bytes of eight f32 lanes.
+        const ZERO: Self = Self(unsafe { std::mem::transmute::<[f32; 8], __m256>([0.0; 8]) });
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            Self(unsafe { _mm256_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            Self(unsafe { _mm256_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            // `vmaxps` is `maxps` on eight lanes: `a > b ? a : b`.
+            Self(unsafe { _mm256_max_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> M8 {
+            // Ordered: false where either is NaN, as SSE's `cmpgtps`.
+            M8(unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn eq(self, other: Self) -> M8 {
+            M8(unsafe { _mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        unsafe fn gather(base: *const glam::Vec3, indices: [u32; 8]) -> V<Self> {
+            let (low, high) = split(indices);
+            // SAFETY: the caller's promise, for all eight indices.
+            unsafe { V::<F8>::join(V4::gather(base, low), V4::gather(base, high)) }
+        }
+        #[inline(always)]
+        unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: [u32; 8], lanes: u32) {
+            let ((low, high), (first, last)) = (split(indices), value.halves());
+            // SAFETY: the caller's promise, for every lane set.
+            unsafe {
+                first.scatter(base, low, lanes & 0xF);
+                last.scatter(base, high, lanes >> 4);
+            }
+        }
+    }
+
+    impl Mask<F8> for M8 {
+        #[inline(always)]
+        fn from_bits(bits: u32) -> Self {
+            M8::join(M4::from_bits(bits & 0xF), M4::from_bits(bits >> 4))
+        }
+        #[inline(always)]
+        fn select(self, a: F8, b: F8) -> F8 {
+            // The masks are whole lanes of ones or zeros, so the sign bit `blendv`
+            // reads decides as the whole lane would.
+            F8(unsafe { _mm256_blendv_ps(b.0, a.0, self.0) })
+        }
+        #[inline(always)]
+        fn bits(self) -> u32 {
+            unsafe { _mm256_movemask_ps(self.0) as u32 }
+        }
+        #[inline(always)]
+        fn and(self, other: Self) -> Self {
+            Self(unsafe { _mm256_and_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn or(self, other: Self) -> Self {
+            Self(unsafe { _mm256_or_ps(self.0, other.0) })
+        }
     }
 }
 
@@ -594,6 +883,85 @@ mod tests {
         assert_eq!(array[5], Vec3::splat(4.0));
         for i in [0, 1, 3, 4, 6] {
             assert_eq!(array[i], before[i]);
+        }
+    }
+
+    /// Eight AVX lanes compute what two [`F4`]s compute, to the bit, for every
+    /// operation the solve uses; joining, halving, gathering and scattering move whole
+    /// lanes. Skipped (with a note) on a processor without AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn eight_lanes_equal_two_fours() {
+        if !std::arch::is_x86_feature_detected!("avx") {
+            eprintln!("no AVX here: the eight-lane path is never taken, nothing to check");
+            return;
+        }
+        // SAFETY: the processor has AVX (checked just above).
+        unsafe { eight_lanes_check() }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    fn eight_lanes_check() {
+        use avx::{F8, M8};
+        let bits = |x: F4| x.to_array().map(f32::to_bits);
+        let halves_bits = |x: F8| {
+            let (low, high) = x.halves();
+            (bits(low), bits(high))
+        };
+        let mut checked = 0;
+        for (k, &a) in ODD.iter().enumerate() {
+            let lanes = |shift: usize| F4::new([0, 1, 2, 3].map(|i| ODD[(k + i + shift) % ODD.len()]));
+            let (x0, x1, y0, y1) = (lanes(0), lanes(4), F4::splat(a), lanes(7));
+            let (x, y) = (F8::join(x0, x1), F8::join(y0, y1));
+            let same_as = |wide: F8, low: F4, high: F4| {
+                let ((l, h), (el, eh)) = (halves_bits(wide), (bits(low), bits(high)));
+                // NaN payloads may differ between operations; everything else is bit for bit.
+                let agree = |w: [u32; 4], e: [u32; 4]| {
+                    (0..4).all(|i| {
+                        w[i] == e[i] || (f32::from_bits(w[i]).is_nan() && f32::from_bits(e[i]).is_nan())
+                    })
+                };
+                agree(l, el) && agree(h, eh)
+            };
+            assert!(same_as(x + y, x0 + y0, x1 + y1));
+            assert!(same_as(x - y, x0 - y0, x1 - y1));
+            assert!(same_as(x * y, x0 * y0, x1 * y1));
+            assert!(same_as(x / y, x0 / y0, x1 / y1));
+            assert!(same_as(-x, -x0, -x1));
+            assert!(same_as(Lane::sqrt(x), x0.sqrt(), x1.sqrt()));
+            assert!(same_as(Lane::max(x, y), x0.max(y0), x1.max(y1)));
+            let (gt, eq) = (Lane::gt(x, y), Lane::eq(x, y));
+            assert_eq!(gt.bits(), x0.gt(y0).bits() | x1.gt(y1).bits() << 4);
+            assert_eq!(eq.bits(), x0.eq(y0).bits() | x1.eq(y1).bits() << 4);
+            assert!(same_as(gt.select(x, y), x0.gt(y0).select(x0, y0), x1.gt(y1).select(x1, y1)));
+            let mask = <M8 as Mask<F8>>::from_bits(0b1001_0110);
+            assert_eq!(mask.bits(), 0b1001_0110);
+            assert_eq!(mask.and(gt).bits(), 0b1001_0110 & gt.bits());
+            assert_eq!(mask.or(gt).bits(), 0b1001_0110 | gt.bits());
+            checked += 1;
+        }
+        assert_eq!(checked, ODD.len());
+
+        let mut array: Vec<Vec3> =
+            (0..11).map(|i| Vec3::new(i as f32, 0.5 - i as f32, 10.0 * i as f32)).collect();
+        let indices = [10, 3, 0, 7, 2, 9, 5, 1];
+        // SAFETY: every index is below the array's 11 vectors, and they are distinct.
+        let wide = unsafe { F8::gather(array.as_ptr(), indices) };
+        let (low, high) = wide.halves();
+        let read: Vec<Vec3> = low.lanes().into_iter().chain(high.lanes()).collect();
+        assert_eq!(read, indices.map(|i| array[i as usize]).to_vec());
+        let before = array.clone();
+        let moved = V::<F8>::join(V4::new([Vec3::splat(-1.0); 4]), V4::new([Vec3::splat(-2.0); 4]));
+        // SAFETY: as above; lanes 0, 1 and 6 only.
+        unsafe { F8::scatter(moved, array.as_mut_ptr(), indices, 0b0100_0011) };
+        for (i, (now, was)) in array.iter().zip(&before).enumerate() {
+            let expected = match i {
+                10 | 3 => Vec3::splat(-1.0),
+                5 => Vec3::splat(-2.0),
+                _ => *was,
+            };
+            assert_eq!(*now, expected, "vector {i}");
         }
     }
 

@@ -13,16 +13,19 @@ use rayon::prelude::*;
 
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
-use crate::physics::wide::{F4, M4, V4};
+#[cfg(target_arch = "x86_64")]
+use crate::physics::wide::avx::F8;
+use crate::physics::wide::{F4, Lane, Mask, V, V4};
 
 /// Lanes of a batch.
 pub(super) const LANES: usize = 4;
 /// Contacts of a colour from which its batches are made on several threads.
 const PARALLEL_BATCHING: usize = 8192;
 
-/// Up to four contacts of one colour, lane by lane.
+/// Up to four contacts of one colour, lane by lane (`L` = [`F4`]); with AVX, two such
+/// batches of one colour are joined into one of eight lanes ([`ContactBatch::join`]).
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct ContactBatch {
+pub(super) struct ContactBatch<L: Lane = F4> {
     /// Lanes holding a contact (bit `i`: lane `i`); the rest repeat lane 0's particle
     /// indices and are never written back.
     pub(super) active: u32,
@@ -34,28 +37,82 @@ pub(super) struct ContactBatch {
     /// rolling pile's contacts).
     pub(super) full: bool,
     /// Dense index of each lane's particle `a`.
-    pub(super) a: [u32; LANES],
+    pub(super) a: L::Index,
     /// Dense index of each lane's particle `b`, or `a`'s where it has none (read, then
     /// replaced by zero through `has_b`).
-    pub(super) b: [u32; LANES],
-    pub(super) normal: V4,
-    pub(super) separation: F4,
-    pub(super) friction: F4,
-    pub(super) mass: F4,
-    pub(super) tangent_mass: F4,
-    pub(super) lever_a: F4,
-    pub(super) lever_b: F4,
-    pub(super) rolling: F4,
-    pub(super) rolling_mass: F4,
+    pub(super) b: L::Index,
+    pub(super) normal: V<L>,
+    pub(super) separation: L,
+    pub(super) friction: L,
+    pub(super) mass: L,
+    pub(super) tangent_mass: L,
+    pub(super) lever_a: L,
+    pub(super) lever_b: L,
+    pub(super) rolling: L,
+    pub(super) rolling_mass: L,
     /// Inverse masses of `a` and `b` (0 where there is no `b`) (1/kg).
-    pub(super) wa: F4,
-    pub(super) wb: F4,
+    pub(super) wa: L,
+    pub(super) wb: L,
     /// Inverse inertias of `a` and `b` (0 where there is no `b`) (1/(kg·m²)).
-    pub(super) ia: F4,
-    pub(super) ib: F4,
-    pub(super) normal_impulse: F4,
-    pub(super) tangent_impulse: V4,
-    pub(super) rolling_impulse: V4,
+    pub(super) ia: L,
+    pub(super) ib: L,
+    pub(super) normal_impulse: L,
+    pub(super) tangent_impulse: V<L>,
+    pub(super) rolling_impulse: V<L>,
+}
+
+impl<L: Lane> ContactBatch<L> {
+    /// `has_b` as a mask.
+    #[inline(always)]
+    pub(super) fn has_b_mask(&self) -> L::Mask {
+        L::Mask::from_bits(self.has_b)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl ContactBatch<F8> {
+    /// Two batches of one colour as one of eight lanes: `low`'s in lanes 0–3, `high`'s
+    /// in 4–7. Their eight contacts share no movable particle, so solving them side by
+    /// side gives what solving the two batches in turn gives.
+    #[inline(always)]
+    pub(super) fn join(low: &ContactBatch, high: &ContactBatch) -> Self {
+        let (l, h) = (low, high);
+        let [a0, a1, a2, a3] = l.a;
+        let [a4, a5, a6, a7] = h.a;
+        let [b0, b1, b2, b3] = l.b;
+        let [b4, b5, b6, b7] = h.b;
+        Self {
+            active: l.active | h.active << LANES,
+            has_b: l.has_b | h.has_b << LANES,
+            full: l.full && h.full,
+            a: [a0, a1, a2, a3, a4, a5, a6, a7],
+            b: [b0, b1, b2, b3, b4, b5, b6, b7],
+            normal: V::join(l.normal, h.normal),
+            separation: F8::join(l.separation, h.separation),
+            friction: F8::join(l.friction, h.friction),
+            mass: F8::join(l.mass, h.mass),
+            tangent_mass: F8::join(l.tangent_mass, h.tangent_mass),
+            lever_a: F8::join(l.lever_a, h.lever_a),
+            lever_b: F8::join(l.lever_b, h.lever_b),
+            rolling: F8::join(l.rolling, h.rolling),
+            rolling_mass: F8::join(l.rolling_mass, h.rolling_mass),
+            wa: F8::join(l.wa, h.wa),
+            wb: F8::join(l.wb, h.wb),
+            ia: F8::join(l.ia, h.ia),
+            ib: F8::join(l.ib, h.ib),
+            normal_impulse: F8::join(l.normal_impulse, h.normal_impulse),
+            tangent_impulse: V::join(l.tangent_impulse, h.tangent_impulse),
+            rolling_impulse: V::join(l.rolling_impulse, h.rolling_impulse),
+        }
+    }
+
+    /// Writes the impulses back to the two batches it was joined from.
+    #[inline(always)]
+    pub(super) fn split_impulses(&self, low: &mut ContactBatch, high: &mut ContactBatch) {
+        (low.normal_impulse, high.normal_impulse) = self.normal_impulse.halves();
+        (low.tangent_impulse, high.tangent_impulse) = self.tangent_impulse.halves();
+        (low.rolling_impulse, high.rolling_impulse) = self.rolling_impulse.halves();
+    }
 }
 
 impl ContactBatch {
@@ -97,12 +154,6 @@ impl ContactBatch {
             tangent_impulse: V4::new(c.map(|c| c.tangent_impulse)),
             rolling_impulse: V4::new(c.map(|c| c.rolling_impulse)),
         }
-    }
-
-    /// `has_b` as a mask.
-    #[inline(always)]
-    pub(super) fn has_b_mask(&self) -> M4 {
-        M4::new([0, 1, 2, 3].map(|i| self.has_b & (1 << i) != 0))
     }
 }
 

@@ -11,7 +11,7 @@ use glam::Vec3;
 use super::batch::{ContactBatch, LANES};
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
-use crate::physics::wide::V4;
+use crate::physics::wide::{Lane, V};
 
 /// Contacts in all from which a pass over them runs on several threads.
 const PARALLEL_CONTACTS: usize = 2048;
@@ -52,23 +52,23 @@ impl<'a> SharedVelocities<'a> {
     /// The velocities of the particles of a batch's four lanes. The batch's indices
     /// were checked against the particle count when it was made (`SoftStep::batch`).
     #[inline(always)]
-    pub(super) fn gather(&self, indices: [u32; LANES]) -> V4 {
-        debug_assert!(indices.iter().all(|&i| (i as usize) < self.len));
+    pub(super) fn gather<L: Lane>(&self, indices: L::Index) -> V<L> {
+        debug_assert!(indices.as_ref().iter().all(|&i| (i as usize) < self.len));
         // SAFETY: every index is in bounds (checked when the batch was made), within
         // the borrow `'a`; no other task writes these elements meanwhile (the
         // invariant above: a lane's particle is written only by its own contact).
-        unsafe { V4::gather(self.ptr, indices) }
+        unsafe { L::gather(self.ptr, indices) }
     }
 
     /// Sets the velocities of the lanes set in `lanes` (bit `i`: lane `i`), whose
     /// particles must be movable; the batch's indices were checked when it was made.
     #[inline(always)]
-    pub(super) fn scatter(&self, indices: [u32; LANES], lanes: u32, value: V4) {
-        debug_assert!(indices.iter().all(|&i| (i as usize) < self.len));
+    pub(super) fn scatter<L: Lane>(&self, indices: L::Index, lanes: u32, value: V<L>) {
+        debug_assert!(indices.as_ref().iter().all(|&i| (i as usize) < self.len));
         // SAFETY: in bounds (checked when the batch was made), within the borrow `'a`;
         // the lanes written are movable particles of one colour's contacts, distinct,
         // and by the invariant above read or written by no other task meanwhile.
-        unsafe { value.scatter(self.ptr, indices, lanes) }
+        unsafe { L::scatter(value, self.ptr, indices, lanes) }
     }
 }
 
@@ -208,11 +208,13 @@ impl SoftStep {
 /// batches of a colour in turn (see [`CLAIMS_PER_THREAD`]), and all wait for the colour to be done
 /// before any starts on the next (see [`run_on_all_threads`]); the overflow colour's
 /// batches, one contact each, run in order on one thread. A colour's contacts share no
-/// movable particle, so which thread solves which does not change a bit.
+/// movable particle, so which thread solves which does not change a bit. `f` is told
+/// whether its run is of one colour (the contacts of all its batches share no movable
+/// particle) or of the overflow.
 pub(super) fn for_each_batch(
     batches: &mut [ContactBatch],
     starts: &[usize; COLORS + 2],
-    f: impl Fn(&mut [ContactBatch]) + Sync,
+    f: impl Fn(&mut [ContactBatch], bool) + Sync,
 ) {
     if rayon::current_num_threads() > 1 && batches.len() * LANES >= PARALLEL_CONTACTS {
         run_on_all_threads(batches, starts, &f);
@@ -221,7 +223,7 @@ pub(super) fn for_each_batch(
     for color in 0..=COLORS {
         let run = &mut batches[starts[color]..starts[color + 1]];
         if !run.is_empty() {
-            f(run);
+            f(run, color != OVERFLOW);
         }
     }
 }
@@ -281,7 +283,7 @@ const CLAIMS_PER_THREAD: usize = 2;
 fn run_on_all_threads(
     batches: &mut [ContactBatch],
     starts: &[usize; COLORS + 2],
-    f: &(impl Fn(&mut [ContactBatch]) + Sync),
+    f: &(impl Fn(&mut [ContactBatch], bool) + Sync),
 ) {
     use std::sync::atomic::{AtomicUsize, Ordering};
     let claimed: [AtomicUsize; COLORS + 1] = std::array::from_fn(|_| AtomicUsize::new(0));
@@ -297,7 +299,7 @@ fn run_on_all_threads(
             if color == OVERFLOW {
                 if context.index() == 0 {
                     // SAFETY: only thread 0 takes the overflow colour.
-                    f(unsafe { shared.run(start..end) });
+                    f(unsafe { shared.run(start..end) }, false);
                     done[color].store(len, Ordering::Release);
                 }
             } else {
@@ -312,7 +314,7 @@ fn run_on_all_threads(
                     let last = (k + block).min(len);
                     // SAFETY: `k..last` was claimed by this thread alone (the counter
                     // only grows) and lies within the colour's batches.
-                    f(unsafe { shared.run(start + k..start + last) });
+                    f(unsafe { shared.run(start + k..start + last) }, true);
                     done[color].fetch_add(last - k, Ordering::Release);
                 }
             }

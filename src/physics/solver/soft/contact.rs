@@ -1,4 +1,5 @@
-//! Four contacts' solve at once (a [`ContactBatch`]): the normal impulse with soft
+//! Four contacts' solve at once (a [`ContactBatch`]; eight, two batches joined, where
+//! the processor has AVX): the normal impulse with soft
 //! position feedback, then Coulomb friction clamped to the normal impulse (at the
 //! contact point, turning spheres that roll), then rolling resistance clamped to it.
 //!
@@ -12,9 +13,11 @@
 use glam::Vec3;
 
 use super::Context;
-use super::batch::{ContactBatch, LANES};
+use super::batch::ContactBatch;
 use super::color::SharedVelocities;
-use crate::physics::wide::{F4, M4, V4};
+#[cfg(target_arch = "x86_64")]
+use crate::physics::wide::avx::F8;
+use crate::physics::wide::{Lane, Mask, V};
 
 /// Bias velocity, mass scale and impulse scale of a one-sided constraint with gap `s`:
 /// a positive gap may close by `s` this substep (speculative), an overlap is pushed out
@@ -33,14 +36,14 @@ pub(super) fn contact_terms(s: f32, context: Context) -> (f32, f32, f32) {
 
 /// [`contact_terms`] in four lanes.
 #[inline(always)]
-fn contact_terms_wide(s: F4, context: Context) -> (F4, F4, F4) {
-    let gap = s.gt(F4::ZERO);
-    let (one, zero) = (F4::splat(1.0), F4::ZERO);
-    let speculative = (s * F4::splat(context.inv_h), one, zero);
+fn contact_terms_wide<L: Lane>(s: L, context: Context) -> (L, L, L) {
+    let gap = s.gt(L::ZERO);
+    let (one, zero) = (L::splat(1.0), L::ZERO);
+    let speculative = (s * L::splat(context.inv_h), one, zero);
     let touching = if context.use_bias {
         let soft = context.soft;
-        let bias = (F4::splat(soft.bias_rate) * s).max(F4::splat(-context.max_push));
-        (bias, F4::splat(soft.mass_scale), F4::splat(soft.impulse_scale))
+        let bias = (L::splat(soft.bias_rate) * s).max(L::splat(-context.max_push));
+        (bias, L::splat(soft.mass_scale), L::splat(soft.impulse_scale))
     } else {
         (zero, one, zero)
     };
@@ -63,51 +66,79 @@ pub(super) struct Bodies<'a> {
 
 /// The vectors of the lanes' particles `indices` from `shared`.
 #[inline(always)]
-fn gather(shared: SharedVelocities<'_>, indices: &[u32; LANES]) -> V4 {
-    shared.gather(*indices)
+fn gather<L: Lane>(shared: SharedVelocities<'_>, indices: &L::Index) -> V<L> {
+    shared.gather::<L>(*indices)
 }
 
 /// Writes lane `i`'s vector of `value` to particle `indices[i]` for each lane set in
 /// `lanes`. Those particles are movable and distinct: a colour holds each movable
 /// particle once.
 #[inline(always)]
-fn scatter(shared: SharedVelocities<'_>, indices: &[u32; LANES], lanes: u32, value: V4) {
+fn scatter<L: Lane>(shared: SharedVelocities<'_>, indices: &L::Index, lanes: u32, value: V<L>) {
     shared.scatter(*indices, lanes, value);
 }
 
 /// How far the lanes' particles `indices` moved this step (m).
 #[inline(always)]
-fn motion(delta: &[Vec3], indices: &[u32; LANES]) -> V4 {
-    assert!(indices.iter().all(|&i| (i as usize) < delta.len()));
+fn motion<L: Lane>(delta: &[Vec3], indices: &L::Index) -> V<L> {
+    assert!(indices.as_ref().iter().all(|&i| (i as usize) < delta.len()));
     // SAFETY: every index is in bounds (checked above); `delta` is only read.
-    unsafe { V4::gather(delta.as_ptr(), *indices) }
+    unsafe { L::gather(delta.as_ptr(), *indices) }
 }
 
 /// Lanes where `x > 0`, as bits.
 #[inline(always)]
-fn positive(x: F4) -> u32 {
-    x.gt(F4::ZERO).bits()
+fn positive<L: Lane>(x: L) -> u32 {
+    x.gt(L::ZERO).bits()
 }
 
 /// The torque impulse of a contact's tangential impulse `p`, turning `a` by
 /// `(rolling - torque · lever_a) · I_a⁻¹` and `b` by `-(rolling + torque · lever_b) ·
 /// I_b⁻¹`: the new spins of both.
 #[inline(always)]
-fn turned(batch: &ContactBatch, spin_a: V4, spin_b: V4, p: V4, rolling: V4) -> (V4, V4) {
+fn turned<L: Lane>(
+    batch: &ContactBatch<L>,
+    spin_a: V<L>,
+    spin_b: V<L>,
+    p: V<L>,
+    rolling: V<L>,
+) -> (V<L>, V<L>) {
     let torque = batch.normal.cross(p);
     let a = spin_a + (rolling - torque.scale(batch.lever_a)).scale(batch.ia);
     let b = spin_b - (rolling + torque.scale(batch.lever_b)).scale(batch.ib);
     (a, b)
 }
 
+/// `total` cut back to length `limit` in the lanes where it is longer (`squared` is
+/// its squared length; `limit` is never negative): `total · limit / |total|` there.
+///
+/// The square root and division are the slowest operations of the solve, and most
+/// batches need them in no lane: where a lane over its limit has `limit = 0` (a
+/// contact that carries no load) the cut is `total · 0`, computed as that (the same
+/// bits, signed zeros included, since `0 / |total|` is `+0`). Only a batch with a lane
+/// over a positive limit takes the root.
+#[inline(always)]
+fn clamped<L: Lane>(total: V<L>, squared: L, limit: L) -> V<L> {
+    let over = squared.gt(limit * limit);
+    if over.bits() == 0 {
+        total
+    } else if over.and(limit.gt(L::ZERO)).bits() == 0 {
+        V::select(over, total.scale(L::ZERO), total)
+    } else {
+        V::select(over, total.scale(limit / squared.sqrt()), total)
+    }
+}
+
 /// `new` where `mask` is set, else `old`; just `new` when `ALL` says every lane is set.
 #[inline(always)]
-fn pick<const ALL: bool>(mask: M4, new: V4, old: V4) -> V4 {
-    if ALL { new } else { V4::select(mask, new, old) }
+fn pick<L: Lane, const ALL: bool>(mask: L::Mask, new: V<L>, old: V<L>) -> V<L> {
+    if ALL { new } else { V::select(mask, new, old) }
 }
 
 /// Warm-starts a run of batches (see [`warm_start_batch`]), with AVX's three-operand
-/// instructions where the processor has them (the same operations, the same bits).
+/// instructions where the processor has them (the same operations, the same bits). Its
+/// few operations per contact are not worth joining two batches into eight lanes as the
+/// solve does: the joins cost more than they save (measured on a pile).
 pub(super) fn warm_start_batches(batches: &mut [ContactBatch], bodies: Bodies<'_>) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
@@ -124,55 +155,86 @@ fn warm_start_avx(batches: &mut [ContactBatch], bodies: Bodies<'_>) {
     batches.iter().for_each(|batch| warm_start_batch(batch, bodies));
 }
 
-/// Solves a run of batches (see [`solve_batch`]), with AVX's three-operand instructions
-/// where the processor has them (the same operations, the same bits).
-pub(super) fn solve_batches(batches: &mut [ContactBatch], bodies: Bodies<'_>, context: Context) {
+/// Solves a run of batches (see [`solve_batch`]), with AVX where the processor has it:
+/// then a run of one colour is solved two batches at a time, joined into eight lanes
+/// ([`ContactBatch::join`]; their eight contacts share no movable particle), and the
+/// overflow's one batch at a time in four. Each lane computes the same operations
+/// either way, so the width changes the time, not the bits.
+pub(super) fn solve_batches(
+    batches: &mut [ContactBatch],
+    one_colour: bool,
+    bodies: Bodies<'_>,
+    context: Context,
+) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the processor has AVX (checked just above).
-        unsafe { solve_avx(batches, bodies, context) };
+        unsafe { solve_avx(batches, one_colour, bodies, context) };
         return;
     }
+    let _ = one_colour;
     solve_run(batches, bodies, context);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn solve_avx(batches: &mut [ContactBatch], bodies: Bodies<'_>, context: Context) {
-    solve_run(batches, bodies, context);
+fn solve_avx(batches: &mut [ContactBatch], one_colour: bool, bodies: Bodies<'_>, context: Context) {
+    if !one_colour {
+        solve_run(batches, bodies, context);
+        return;
+    }
+    let mut pairs = batches.chunks_exact_mut(2);
+    for pair in &mut pairs {
+        let [low, high] = pair else { unreachable!("chunks of two") };
+        let mut wide = ContactBatch::<F8>::join(low, high);
+        solve_one(&mut wide, bodies, context);
+        wide.split_impulses(low, high);
+    }
+    solve_run(pairs.into_remainder(), bodies, context);
 }
 
 #[inline(always)]
 fn solve_run(batches: &mut [ContactBatch], bodies: Bodies<'_>, context: Context) {
     for batch in batches {
-        if batch.full {
-            solve_batch::<true>(batch, bodies, context);
-        } else {
-            solve_batch::<false>(batch, bodies, context);
-        }
+        solve_one(batch, bodies, context);
+    }
+}
+
+/// [`solve_batch`], without the selects where the batch is [`full`](ContactBatch::full).
+#[inline(always)]
+fn solve_one<L: Lane>(batch: &mut ContactBatch<L>, bodies: Bodies<'_>, context: Context) {
+    if batch.full {
+        solve_batch::<L, true>(batch, bodies, context);
+    } else {
+        solve_batch::<L, false>(batch, bodies, context);
     }
 }
 
 /// Applies last step's impulses of a batch's contacts (warm start).
 #[inline(always)]
-fn warm_start_batch(batch: &ContactBatch, bodies: Bodies<'_>) {
+fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
     let has_b = batch.has_b_mask();
     let impulse = batch.normal.scale(batch.normal_impulse) + batch.tangent_impulse;
-    let va = gather(bodies.velocities, &batch.a);
-    let vb = gather(bodies.velocities, &batch.b);
-    scatter(bodies.velocities, &batch.a, batch.active & positive(batch.wa), va + impulse.scale(batch.wa));
+    let va = gather::<L>(bodies.velocities, &batch.a);
+    let vb = gather::<L>(bodies.velocities, &batch.b);
+    scatter::<L>(
+        bodies.velocities,
+        &batch.a,
+        batch.active & positive(batch.wa),
+        va + impulse.scale(batch.wa),
+    );
     let b_lanes = batch.active & batch.has_b & positive(batch.wb);
-    scatter(bodies.velocities, &batch.b, b_lanes, vb - impulse.scale(batch.wb));
+    scatter::<L>(bodies.velocities, &batch.b, b_lanes, vb - impulse.scale(batch.wb));
     // Only spheres that roll turn (a positive inverse inertia means a movable sphere
     // that rolls, so its contact rolls).
     let (turn_a, turn_b) =
         (batch.active & positive(batch.ia), batch.active & batch.has_b & positive(batch.ib));
     if turn_a | turn_b != 0 {
-        let spin_a = gather(bodies.spins, &batch.a);
-        let spin_b = V4::select(has_b, gather(bodies.spins, &batch.b), V4::ZERO);
+        let spin_a = gather::<L>(bodies.spins, &batch.a);
+        let spin_b = V::select(has_b, gather::<L>(bodies.spins, &batch.b), V::ZERO);
         let (a, b) = turned(batch, spin_a, spin_b, batch.tangent_impulse, batch.rolling_impulse);
-        scatter(bodies.spins, &batch.a, turn_a, a);
-        scatter(bodies.spins, &batch.b, turn_b, b);
+        scatter::<L>(bodies.spins, &batch.a, turn_a, a);
+        scatter::<L>(bodies.spins, &batch.b, turn_b, b);
     }
 }
 
@@ -190,68 +252,71 @@ fn warm_start_batch(batch: &ContactBatch, bodies: Bodies<'_>) {
 /// resistance ([`ContactBatch::full`]), so no part of the solve is skipped in any lane
 /// and the selects that would keep old values are left out.
 #[inline(always)]
-fn solve_batch<const FULL: bool>(batch: &mut ContactBatch, bodies: Bodies<'_>, context: Context) {
+fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: Bodies<'_>, context: Context) {
     let has_b = batch.has_b_mask();
     let n = batch.normal;
-    let va = gather(bodies.velocities, &batch.a);
-    let vb = pick::<FULL>(has_b, gather(bodies.velocities, &batch.b), V4::ZERO);
-    let da = motion(bodies.delta, &batch.a);
-    let db = pick::<FULL>(has_b, motion(bodies.delta, &batch.b), V4::ZERO);
+    let va = gather::<L>(bodies.velocities, &batch.a);
+    let vb = pick::<L, FULL>(has_b, gather::<L>(bodies.velocities, &batch.b), V::ZERO);
+    let da = motion::<L>(bodies.delta, &batch.a);
+    let db = pick::<L, FULL>(has_b, motion::<L>(bodies.delta, &batch.b), V::ZERO);
     let s = batch.separation + (da - db).dot(n);
     // Relaxing a contact that has not touched: leave its closing speed alone. The next
     // substep's solve still stops it at the surface, and the impact stage needs the
     // speed it really arrives with to bounce it.
     let skip = if context.use_bias {
-        M4::new([false; LANES])
+        L::Mask::from_bits(0)
     } else {
-        s.gt(F4::ZERO).and(batch.normal_impulse.eq(F4::ZERO))
+        s.gt(L::ZERO).and(batch.normal_impulse.eq(L::ZERO))
     };
     let (bias, mass_scale, impulse_scale) = contact_terms_wide(s, context);
     let vn = (va - vb).dot(n);
     let old_normal = batch.normal_impulse;
     let impulse = -batch.mass * mass_scale * (vn + bias) - impulse_scale * old_normal;
-    let total = (old_normal + impulse).max(F4::ZERO);
+    let total = (old_normal + impulse).max(L::ZERO);
     let applied = total - old_normal;
     let normal_impulse = total;
     let mut p = n.scale(applied);
 
-    let rolls = batch.lever_a.gt(F4::ZERO).or(batch.lever_b.gt(F4::ZERO));
-    let (turns_a, turns_b) = (batch.ia.gt(F4::ZERO), batch.ib.gt(F4::ZERO).and(has_b));
+    let rolls = batch.lever_a.gt(L::ZERO).or(batch.lever_b.gt(L::ZERO));
+    let (turns_a, turns_b) = (batch.ia.gt(L::ZERO), batch.ib.gt(L::ZERO).and(has_b));
     let any_spin = FULL || (rolls.bits() & batch.active) != 0;
     let (mut spin_a, mut spin_b) = if any_spin {
-        (gather(bodies.spins, &batch.a), pick::<FULL>(has_b, gather(bodies.spins, &batch.b), V4::ZERO))
+        (
+            gather::<L>(bodies.spins, &batch.a),
+            pick::<L, FULL>(has_b, gather::<L>(bodies.spins, &batch.b), V::ZERO),
+        )
     } else {
-        (V4::ZERO, V4::ZERO)
+        (V::ZERO, V::ZERO)
     };
+    let (spin_a_read, spin_b_read) = (spin_a, spin_b);
 
-    let with_friction = batch.friction.gt(F4::ZERO);
+    let with_friction = batch.friction.gt(L::ZERO);
     let mut tangent_impulse = batch.tangent_impulse;
     if FULL || (with_friction.bits() & batch.active) != 0 {
         // Velocities after the normal impulse, in registers.
         let mut v = (va + p.scale(batch.wa)) - (vb - p.scale(batch.wb));
         if any_spin {
             let spinning = spin_a.scale(batch.lever_a) + spin_b.scale(batch.lever_b);
-            v = pick::<FULL>(rolls, v - spinning.cross(n), v);
+            v = pick::<L, FULL>(rolls, v - spinning.cross(n), v);
         }
         let tangential = v - n.scale(v.dot(n));
         let old = batch.tangent_impulse;
         let mut total = old - tangential.scale(batch.tangent_mass);
         let limit = batch.friction * normal_impulse;
         let squared = total.dot(total);
-        let over = squared.gt(limit * limit);
-        total = V4::select(over, total.scale(limit / squared.sqrt()), total);
-        tangent_impulse = pick::<FULL>(with_friction, total, old);
+        total = clamped(total, squared, limit);
+        tangent_impulse = pick::<L, FULL>(with_friction, total, old);
         let friction = total - old;
         if any_spin {
-            let (a, b) = turned(batch, spin_a, spin_b, friction, V4::ZERO);
+            let (a, b) = turned(batch, spin_a, spin_b, friction, V::ZERO);
             let turning = with_friction.and(rolls);
-            spin_a = pick::<FULL>(turning.and(turns_a), a, spin_a);
-            spin_b = pick::<FULL>(turning.and(turns_b), b, spin_b);
+            spin_a = pick::<L, FULL>(turning.and(turns_a), a, spin_a);
+            spin_b = pick::<L, FULL>(turning.and(turns_b), b, spin_b);
         }
-        p = pick::<FULL>(with_friction, p + friction, p);
+        p = pick::<L, FULL>(with_friction, p + friction, p);
     }
 
-    let resisting = batch.rolling.gt(F4::ZERO);
+    let resisting = batch.rolling.gt(L::ZERO);
     let mut rolling_impulse = batch.rolling_impulse;
     if FULL || (resisting.bits() & batch.active) != 0 {
         let relative = spin_a - spin_b;
@@ -259,29 +324,33 @@ fn solve_batch<const FULL: bool>(batch: &mut ContactBatch, bodies: Bodies<'_>, c
         let mut total = old - relative.scale(batch.rolling_mass);
         let limit = batch.rolling * normal_impulse;
         let squared = total.dot(total);
-        let over = squared.gt(limit * limit);
-        total = V4::select(over, total.scale(limit / squared.sqrt()), total);
-        rolling_impulse = pick::<FULL>(resisting, total, old);
-        let (a, b) = turned(batch, spin_a, spin_b, V4::ZERO, total - old);
-        spin_a = pick::<FULL>(resisting.and(turns_a), a, spin_a);
-        spin_b = pick::<FULL>(resisting.and(turns_b), b, spin_b);
+        total = clamped(total, squared, limit);
+        rolling_impulse = pick::<L, FULL>(resisting, total, old);
+        let (a, b) = turned(batch, spin_a, spin_b, V::ZERO, total - old);
+        spin_a = pick::<L, FULL>(resisting.and(turns_a), a, spin_a);
+        spin_b = pick::<L, FULL>(resisting.and(turns_b), b, spin_b);
     }
 
-    let solved = if context.use_bias {
+    let (mut va_new, mut vb_new) = (va + p.scale(batch.wa), vb - p.scale(batch.wb));
+    if context.use_bias {
         batch.normal_impulse = normal_impulse;
         batch.tangent_impulse = tangent_impulse;
         batch.rolling_impulse = rolling_impulse;
-        batch.active
     } else {
         batch.normal_impulse = skip.select(old_normal, normal_impulse);
-        batch.tangent_impulse = V4::select(skip, batch.tangent_impulse, tangent_impulse);
-        batch.rolling_impulse = V4::select(skip, batch.rolling_impulse, rolling_impulse);
-        batch.active & !skip.bits()
-    };
-    scatter(bodies.velocities, &batch.a, solved & positive(batch.wa), va + p.scale(batch.wa));
-    scatter(bodies.velocities, &batch.b, solved & batch.has_b & positive(batch.wb), vb - p.scale(batch.wb));
+        batch.tangent_impulse = V::select(skip, batch.tangent_impulse, tangent_impulse);
+        batch.rolling_impulse = V::select(skip, batch.rolling_impulse, rolling_impulse);
+        // A skipped lane writes back what it read (the same bits; no other contact of
+        // the colour touches its particles): cheaper than leaving it out, since which
+        // lanes skip changes from batch to batch and each left-out lane is a branch.
+        (va_new, vb_new) = (V::select(skip, va, va_new), V::select(skip, vb, vb_new));
+        (spin_a, spin_b) = (V::select(skip, spin_a_read, spin_a), V::select(skip, spin_b_read, spin_b));
+    }
+    let active = batch.active;
+    scatter::<L>(bodies.velocities, &batch.a, active & positive(batch.wa), va_new);
+    scatter::<L>(bodies.velocities, &batch.b, active & batch.has_b & positive(batch.wb), vb_new);
     if any_spin {
-        scatter(bodies.spins, &batch.a, solved & turns_a.bits(), spin_a);
-        scatter(bodies.spins, &batch.b, solved & turns_b.bits(), spin_b);
+        scatter::<L>(bodies.spins, &batch.a, active & turns_a.bits(), spin_a);
+        scatter::<L>(bodies.spins, &batch.b, active & turns_b.bits(), spin_b);
     }
 }

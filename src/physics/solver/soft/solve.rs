@@ -16,7 +16,7 @@ impl SoftStep {
             spins: SharedVelocities::new(&mut particles.angular_velocity),
             delta: &self.delta,
         };
-        for_each_batch(&mut self.batches, &self.batch_starts, |run| warm_start_batches(run, bodies));
+        for_each_batch(&mut self.batches, &self.batch_starts, |run, _| warm_start_batches(run, bodies));
         if self.network.exact() {
             return; // the network solves its links whole each substep: no warm start
         }
@@ -40,7 +40,9 @@ impl SoftStep {
             spins: SharedVelocities::new(&mut particles.angular_velocity),
             delta: &self.delta,
         };
-        for_each_batch(&mut self.batches, &self.batch_starts, |run| solve_batches(run, bodies, contacts));
+        for_each_batch(&mut self.batches, &self.batch_starts, |run, one_colour| {
+            solve_batches(run, one_colour, bodies, contacts);
+        });
         if self.network.exact() {
             // The shake with position feedback, the projection in the relax pass.
             if joints.use_bias {
