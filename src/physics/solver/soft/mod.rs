@@ -188,7 +188,12 @@ pub struct SoftStep {
     batches: Vec<batch::ContactBatch>,
     /// First batch of each colour, and the end.
     batch_starts: [usize; COLORS + 2],
+    /// Colour of each fresh contact.
     colors: Vec<u8>,
+    /// The keys `colors` and `color_starts` were made for, and which particles were
+    /// movable then: while both are unchanged, so is the colouring (`SoftStep::color`).
+    colored_keys: Vec<u64>,
+    colored_movable: Vec<bool>,
     /// Where each fresh contact went in `contacts` (by generation order).
     slots: Vec<u32>,
     /// Per chunk of fresh contacts, its first slot in each colour (the counting sort).
