@@ -168,7 +168,7 @@ impl SoftStep {
             count += if color == OVERFLOW { contacts } else { contacts.div_ceil(LANES) };
         }
         self.batch_starts[COLORS + 1] = count;
-        self.batches.clear();
+        // Every batch is written below: only growth needs filling.
         self.batches.resize(count, ContactBatch::default());
         // Each batch is made from its own contacts alone: threads change nothing but
         // the time.

@@ -145,9 +145,10 @@ impl SoftStep {
     /// Contacts of the broad phase's pairs that can come within `slack` of touching in
     /// the step `dt` (see [`swept_contact`]: a pair that only passes by gets none).
     ///
-    /// The pairs are taken in chunks, on several threads when there are many; each
-    /// chunk's contacts (and islands to wake) are then appended in chunk order, so the
-    /// contacts come out in the pairs' order whatever the number of threads.
+    /// The pairs are taken in chunks on several threads when there are many and the
+    /// pool has more than one; each chunk's contacts (and islands to wake) are then
+    /// appended in chunk order, so the contacts come out in the pairs' order whatever
+    /// the number of threads. On one thread they are made straight onto the lists.
     fn collide_spheres(
         &mut self,
         spheres: &SphereCollisions,
@@ -156,22 +157,29 @@ impl SoftStep {
         slack: f32,
         dt: f32,
     ) {
+        let asleep = &self.asleep;
+        if pairs.len() < PARALLEL_PAIRS || rayon::current_num_threads() == 1 {
+            // One task: straight onto the fresh lists (the order chunks would give),
+            // without copying each contact a second time.
+            let mut out = PairChunk {
+                keys: std::mem::take(&mut self.fresh_keys),
+                contacts: std::mem::take(&mut self.fresh),
+                wake: std::mem::take(&mut self.to_wake),
+            };
+            collide_pairs(spheres, particles, asleep, pairs, slack, dt, &mut out);
+            (self.fresh_keys, self.fresh, self.to_wake) = (out.keys, out.contacts, out.wake);
+            return;
+        }
         let chunks = pairs.len().div_ceil(PAIR_CHUNK);
         if self.pair_chunks.len() < chunks {
             self.pair_chunks.resize_with(chunks, PairChunk::default);
         }
-        let asleep = &self.asleep;
         let collide = |(k, out): (usize, &mut PairChunk)| {
             out.clear();
             let pairs = &pairs[k * PAIR_CHUNK..((k + 1) * PAIR_CHUNK).min(pairs.len())];
             collide_pairs(spheres, particles, asleep, pairs, slack, dt, out);
         };
-        let outputs = &mut self.pair_chunks[..chunks];
-        if pairs.len() >= PARALLEL_PAIRS {
-            outputs.par_iter_mut().enumerate().for_each(collide);
-        } else {
-            outputs.iter_mut().enumerate().for_each(collide);
-        }
+        self.pair_chunks[..chunks].par_iter_mut().enumerate().for_each(collide);
         for out in &self.pair_chunks[..chunks] {
             self.fresh_keys.extend_from_slice(&out.keys);
             self.fresh.extend_from_slice(&out.contacts);

@@ -146,7 +146,7 @@ impl SoftStep {
 /// Fresh contacts a counting-sort task places (see [`SoftStep::sort_by_color`]).
 const SORT_CHUNK: usize = 8192;
 /// Contacts from which the counting sort runs on several threads.
-const PARALLEL_SORT: usize = 32_768;
+const PARALLEL_SORT: usize = 8192;
 
 /// A chunk of the counting sort: its index, fresh contacts, their colours, where they
 /// go (written), and the chunk's first slot in each colour.

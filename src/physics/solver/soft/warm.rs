@@ -133,7 +133,7 @@ impl SoftStep {
 
     /// Stage 4: keep impulses for the next step; report link tensions.
     pub(super) fn store(&mut self, h: f32, link_tension: &mut [f32]) {
-        self.warm.clear();
+        // Every entry is written below: only growth needs filling.
         self.warm.resize(self.fresh.len(), Warm::default());
         // In generation order: each entry reads the contact its fresh one became.
         let (contacts, slots, keys) = (&self.contacts, &self.slots, &self.fresh_keys);
