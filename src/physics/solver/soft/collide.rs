@@ -180,9 +180,10 @@ impl SoftStep {
             collide_pairs(spheres, particles, asleep, pairs, slack, dt, out);
         };
         self.pair_chunks[..chunks].par_iter_mut().enumerate().for_each(collide);
-        for out in &self.pair_chunks[..chunks] {
-            self.fresh_keys.extend_from_slice(&out.keys);
-            self.fresh.extend_from_slice(&out.contacts);
+        let outputs = &self.pair_chunks[..chunks];
+        append(&mut self.fresh_keys, outputs, |out| &out.keys);
+        append(&mut self.fresh, outputs, |out| &out.contacts);
+        for out in outputs {
             self.to_wake.extend_from_slice(&out.wake);
         }
     }
@@ -237,6 +238,51 @@ impl SoftStep {
 const PAIR_CHUNK: usize = 2048;
 /// Pairs from which the sphere contacts are made on several threads.
 const PARALLEL_PAIRS: usize = 4096;
+
+/// Elements from which [`append`] copies on several threads.
+const PARALLEL_APPEND: usize = 32_768;
+
+/// Appends `part` of every chunk to `to`, chunk after chunk: on several threads for
+/// many (a falling pile of 100,000 spheres makes 33 MB of contacts a step, too much
+/// to copy on one).
+fn append<T: Copy + Send + Sync>(to: &mut Vec<T>, chunks: &[PairChunk], part: fn(&PairChunk) -> &[T]) {
+    let total: usize = chunks.iter().map(|chunk| part(chunk).len()).sum();
+    if total < PARALLEL_APPEND {
+        chunks.iter().for_each(|chunk| to.extend_from_slice(part(chunk)));
+        return;
+    }
+    let start = to.len();
+    to.reserve(total);
+    copy_parts(&mut to.spare_capacity_mut()[..total], chunks, part);
+    // SAFETY: `copy_parts` wrote all `total` elements after the first `start` (each
+    // chunk's part to its own run, the runs one after another, summing to `total`).
+    unsafe { to.set_len(start + total) };
+}
+
+/// Writes `part` of each chunk into `out`, one after another, which they fill exactly:
+/// halves of the chunks on two tasks at a time.
+fn copy_parts<T: Copy + Send + Sync>(
+    out: &mut [std::mem::MaybeUninit<T>],
+    chunks: &[PairChunk],
+    part: fn(&PairChunk) -> &[T],
+) {
+    if chunks.len() <= 4 {
+        let mut at = 0;
+        for chunk in chunks {
+            let values = part(chunk);
+            for (slot, &value) in out[at..at + values.len()].iter_mut().zip(values) {
+                slot.write(value);
+            }
+            at += values.len();
+        }
+        assert_eq!(at, out.len(), "the parts fill their run");
+        return;
+    }
+    let middle = chunks.len() / 2;
+    let left: usize = chunks[..middle].iter().map(|chunk| part(chunk).len()).sum();
+    let (low, high) = out.split_at_mut(left);
+    rayon::join(|| copy_parts(low, &chunks[..middle], part), || copy_parts(high, &chunks[middle..], part));
+}
 
 /// One chunk's sphere contacts, their keys and the sleeping islands its pairs reached.
 #[derive(Clone, Debug, Default)]
@@ -377,4 +423,35 @@ fn swept_contact(offset: Vec3, velocity: Vec3, reach: f32, dt: f32, slack: f32) 
     };
     let (normal, _) = unit_or_up(at);
     Some((normal, offset.dot(normal) - reach))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Appending chunks of uneven sizes (some empty) on several threads gives the list
+    /// appending them one after another gives, after what the list held.
+    #[test]
+    fn appending_on_several_threads_is_appending_in_order() {
+        let sizes = (0..97).map(|k: usize| (k * 7919) % 1200 + if k % 13 == 0 { 0 } else { 100 });
+        let chunks: Vec<PairChunk> = sizes
+            .enumerate()
+            .map(|(k, size)| PairChunk {
+                keys: (0..size).map(|i| (k as u64) << 32 | i as u64).collect(),
+                ..PairChunk::default()
+            })
+            .collect();
+        let total: usize = chunks.iter().map(|c| c.keys.len()).sum();
+        assert!(total >= 2 * PARALLEL_APPEND, "{total} keys: the parallel path");
+        let mut expected = vec![7, 8, 9];
+        chunks.iter().for_each(|c| expected.extend_from_slice(&c.keys));
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let mut appended = vec![7, 8, 9];
+        pool.install(|| append(&mut appended, &chunks, |c| &c.keys));
+        assert_eq!(appended, expected);
+        // A few, on one thread.
+        let mut few = Vec::new();
+        append(&mut few, &chunks[..3], |c| &c.keys);
+        assert_eq!(few, expected[3..3 + few.len()]);
+    }
 }
