@@ -433,7 +433,7 @@ mod tests {
     /// appending them one after another gives, after what the list held.
     #[test]
     fn appending_on_several_threads_is_appending_in_order() {
-        let sizes = (0..97).map(|k: usize| (k * 7919) % 1200 + if k % 13 == 0 { 0 } else { 100 });
+        let sizes = (0..97).map(|k: usize| (k * 7919) % 1200 + if k.is_multiple_of(13) { 0 } else { 100 });
         let chunks: Vec<PairChunk> = sizes
             .enumerate()
             .map(|(k, size)| PairChunk {
