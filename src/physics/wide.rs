@@ -628,7 +628,7 @@ impl<L: Lane> std::ops::Sub for V<L> {
 /// comparisons with SSE's semantics), so lanes 0–3 and 4–7 give exactly what two
 /// [`F4`]s give.
 #[cfg(target_arch = "x86_64")]
-pub mod avx {
+pub(crate) mod avx {
     use std::arch::x86_64::*;
 
     use super::{F4, Lane, M4, Mask, V, V4};
