@@ -49,7 +49,7 @@ impl<'a> SharedVelocities<'a> {
         Self { ptr: velocities.as_mut_ptr(), len: velocities.len(), _borrow: PhantomData }
     }
 
-    /// The velocities of the particles of a batch's four lanes. The batch's indices
+    /// The velocities of the particles of a batch's lanes (four or eight). The batch's indices
     /// were checked against the particle count when it was made (`SoftStep::batch`).
     #[inline(always)]
     pub(super) fn gather<L: Lane>(&self, indices: L::Index) -> V<L> {

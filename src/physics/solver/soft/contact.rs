@@ -34,7 +34,7 @@ pub(super) fn contact_terms(s: f32, context: Context) -> (f32, f32, f32) {
     }
 }
 
-/// [`contact_terms`] in four lanes.
+/// [`contact_terms`] in lanes.
 #[inline(always)]
 fn contact_terms_wide<L: Lane>(s: L, context: Context) -> (L, L, L) {
     let gap = s.gt(L::ZERO);
