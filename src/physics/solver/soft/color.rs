@@ -223,8 +223,8 @@ impl SoftStep {
 }
 
 /// Runs `f` on every batch of contacts, colour by colour, a run of batches at a time.
-/// With several threads and enough contacts, every thread of the pool takes runs of
-/// batches of a colour in turn (see [`CLAIMS_PER_THREAD`]), and all wait for the colour to be done
+/// With several threads and enough contacts, every thread of the pool takes its own run
+/// of the batches of a colour, and all wait for the colour to be done
 /// before any starts on the next (see [`run_on_all_threads`]); the overflow colour's
 /// batches, one contact each, run in order on one thread. A colour's contacts share no
 /// movable particle, so which thread solves which does not change a bit. `f` is told
@@ -248,8 +248,8 @@ pub(super) fn for_each_batch(
 }
 
 /// A slice shared by tasks that each touch their own disjoint runs of it: the batches
-/// of a pass (`run_on_all_threads` hands out each run to exactly one thread: a run is
-/// claimed by an atomic counter that only grows, the overflow colour only by thread 0)
+/// of a pass (`run_on_all_threads` hands out each run to exactly one thread: thread `i`
+/// takes the `i`-th equal run of a colour, the overflow colour only thread 0)
 /// and the coloured contact list of the counting sort (`sort_by_color` gives each
 /// chunk of fresh contacts, in each colour, its own slots: the prefix sums of the
 /// chunks' counts). It holds the slice's exclusive borrow for as long as it lives, and
@@ -284,31 +284,30 @@ impl<'a, T> Disjoint<'a, T> {
     }
 }
 
-/// Fewest batches a thread claims at a time.
-const BLOCK: usize = 32;
-/// Claims per thread a colour is cut into (when that makes them more than [`BLOCK`]).
-/// Small claims interleave the threads along a colour, and since a colour lists its
-/// contacts roughly in space order, two threads then write velocities that share
-/// cache lines: cutting each colour into two claims per thread made the passes over a
-/// falling 100,000-sphere pile about 10% faster on 2 threads than 32-batch claims.
-const CLAIMS_PER_THREAD: usize = 2;
-
 /// One pass over the colours on every thread of the current pool at once: one rayon
 /// broadcast for the whole pass, not a fork and join per colour (a pass over a pile's
 /// 15 colours then wakes the pool once, and threads hand over between colours through
-/// two atomic counters per colour). The writes of a colour are published by the
+/// an atomic counter per colour). The writes of a colour are published by the
 /// `Release` add to its `done` counter and seen by the `Acquire` load that ends the
 /// wait, before any thread starts on the next colour.
+///
+/// Thread `i` of `t` takes the `i`-th of `t` equal runs of every colour. A colour
+/// lists its contacts roughly in particle order, so each thread then writes the same
+/// particles' velocities from colour to colour, and they stay in its core's cache.
+/// Runs claimed from a shared counter instead went to whichever thread came first,
+/// and every colour moved the velocities between the cores: on an 8,000-sphere pile
+/// on 2 threads (three runs of 300 steps each), a step took 8.0–9.5 ms with claims
+/// and 7.2–8.0 ms with fixed runs (the same bits).
 fn run_on_all_threads(
     batches: &mut [ContactBatch],
     starts: &[usize; COLORS + 2],
     f: &(impl Fn(&mut [ContactBatch], bool) + Sync),
 ) {
     use std::sync::atomic::{AtomicUsize, Ordering};
-    let claimed: [AtomicUsize; COLORS + 1] = std::array::from_fn(|_| AtomicUsize::new(0));
     let done: [AtomicUsize; COLORS + 1] = std::array::from_fn(|_| AtomicUsize::new(0));
     let shared = Disjoint::new(batches);
     rayon::broadcast(|context| {
+        let (i, threads) = (context.index(), context.num_threads());
         for color in 0..=COLORS {
             let (start, end) = (starts[color], starts[color + 1]);
             let len = end - start;
@@ -316,25 +315,18 @@ fn run_on_all_threads(
                 continue;
             }
             if color == OVERFLOW {
-                if context.index() == 0 {
+                if i == 0 {
                     // SAFETY: only thread 0 takes the overflow colour.
                     f(unsafe { shared.run(start..end) }, false);
                     done[color].store(len, Ordering::Release);
                 }
             } else {
-                // Big claims keep the threads apart: neighbouring batches touch
-                // neighbouring particles, whose velocities share cache lines.
-                let block = BLOCK.max(len / (CLAIMS_PER_THREAD * context.num_threads()));
-                loop {
-                    let k = claimed[color].fetch_add(block, Ordering::Relaxed);
-                    if k >= len {
-                        break;
-                    }
-                    let last = (k + block).min(len);
-                    // SAFETY: `k..last` was claimed by this thread alone (the counter
-                    // only grows) and lies within the colour's batches.
-                    f(unsafe { shared.run(start + k..start + last) }, true);
-                    done[color].fetch_add(last - k, Ordering::Release);
+                let (first, last) = (len * i / threads, len * (i + 1) / threads);
+                if first < last {
+                    // SAFETY: the runs of the threads' indices are disjoint and lie
+                    // within the colour's batches.
+                    f(unsafe { shared.run(start + first..start + last) }, true);
+                    done[color].fetch_add(last - first, Ordering::Release);
                 }
             }
             wait_for(|| done[color].load(Ordering::Acquire) == len);

@@ -38,6 +38,7 @@
 //! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking).
 //! This file holds the data every stage shares.
 
+mod awake;
 mod batch;
 mod collide;
 mod color;
