@@ -35,7 +35,8 @@
 //! start, contacts and links) and `contact.rs` (one contact's impulse), `links.rs`
 //! (the exact link solve, with `envelope.rs`, its direct solver, and `taut.rs`,
 //! particles a taut path of links holds still), `warm.rs` (4,
-//! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking).
+//! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking),
+//! `awake.rs` (the pool's threads kept ready through a step).
 //! This file holds the data every stage shares.
 
 mod awake;
