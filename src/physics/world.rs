@@ -18,7 +18,7 @@ pub use super::solver::paper::MAX_POSITION_PASSES;
 use super::solver::paper::resolver::ContactResolver;
 use super::solver::paper::{PaperStep, PaperWorld};
 use super::solver::report::{Profile, ResolveReport};
-use super::solver::soft::{NONE, SoftStep};
+use super::solver::soft::{NONE, PARALLEL_PARTICLES, SoftStep, keep_pool_awake};
 use super::solver::{SolverKind, SolverSettings};
 use super::state::{self, WorldState};
 
@@ -217,17 +217,23 @@ impl World {
     /// The soft step: see [`SoftStep`].
     fn step_soft(&mut self, dt: f32) -> ResolveReport {
         self.paper.forget();
-        let report = self.soft.step(
-            &self.solver,
-            &mut self.particles,
-            &mut self.forces,
-            &self.contact_generators,
-            &mut self.broad_phase,
-            &mut self.scratch,
-            dt,
-            &mut self.link_tension,
-            &mut self.profile,
-        );
+        let shared = self.particles.len() >= PARALLEL_PARTICLES;
+        let mut step = || {
+            self.soft.step(
+                &self.solver,
+                &mut self.particles,
+                &mut self.forces,
+                &self.contact_generators,
+                &mut self.broad_phase,
+                &mut self.scratch,
+                dt,
+                &mut self.link_tension,
+                &mut self.profile,
+            )
+        };
+        // Enough particles for the stages to be shared out: keep the pool's other
+        // threads ready between them (see `solver/soft/awake.rs`).
+        let report = if shared { keep_pool_awake(step) } else { step() };
         ResolveReport {
             velocity_iterations: 2 * self.solver.substeps as usize,
             position_iterations: 0,

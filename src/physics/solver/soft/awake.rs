@@ -36,7 +36,7 @@ const ROUNDS_PER_CLOCK: u32 = 64;
 
 /// Runs `body` with every other thread of the current pool kept awake, asking for
 /// work, until `body` returns (see the module's note). With one thread, just `body`.
-pub(super) fn keep_pool_awake<R>(body: impl FnOnce() -> R) -> R {
+pub(crate) fn keep_pool_awake<R>(body: impl FnOnce() -> R) -> R {
     if rayon::current_num_threads() < 2 {
         return body();
     }

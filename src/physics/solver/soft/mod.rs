@@ -40,6 +40,7 @@
 //! This file holds the data every stage shares.
 
 mod awake;
+pub(crate) use awake::keep_pool_awake;
 mod batch;
 mod collide;
 mod color;

@@ -5,7 +5,6 @@ use web_time::Instant;
 
 use glam::Vec3;
 
-use super::awake::keep_pool_awake;
 use super::sleep::wake;
 use super::{Context, NONE, PARALLEL_PARTICLES, SoftStep, ms};
 use rayon::prelude::*;
@@ -36,39 +35,6 @@ impl SoftStep {
     /// tension of every link by generator index (N).
     #[allow(clippy::too_many_arguments)]
     pub fn step(
-        &mut self,
-        settings: &SolverSettings,
-        particles: &mut Particles,
-        forces: &mut ForceRegistry,
-        generators: &[(ContactGeneratorId, ContactGenerator)],
-        broad_phase: &mut BroadPhase,
-        scratch: &mut Scratch,
-        dt: f32,
-        link_tension: &mut [f32],
-        profile: &mut Profile,
-    ) -> SoftReport {
-        let shared = particles.len() >= PARALLEL_PARTICLES;
-        let mut step = || {
-            self.step_here(
-                settings,
-                particles,
-                forces,
-                generators,
-                broad_phase,
-                scratch,
-                dt,
-                link_tension,
-                profile,
-            )
-        };
-        // Enough particles for the stages to be shared out: keep the other threads
-        // ready between them (see `awake.rs`).
-        if shared { keep_pool_awake(step) } else { step() }
-    }
-
-    /// [`SoftStep::step`] on the calling thread.
-    #[allow(clippy::too_many_arguments)]
-    fn step_here(
         &mut self,
         settings: &SolverSettings,
         particles: &mut Particles,
