@@ -138,18 +138,34 @@ fn quality(positions: &[Vec3], velocities: &[Vec3], width: f32) -> PileQuality {
 
 /// Steps `engine` on `pool` until its median speed is below [`SETTLED_SPEED`] (checked
 /// every 30 steps after `plan.settle_min`) or `plan.settle_max` steps have run, then
-/// `plan.rest` more.
-fn settle(pool: &ThreadPool, engine: &mut dyn Engine, n: usize, plan: Plan) {
+/// `plan.rest` more. The first `plan.settle_min` steps are the fall (the top layer
+/// needs about 2 s to land): their mean time per step is printed with the pile's
+/// quality at their end, and the quality again once it has settled.
+fn settle(pool: &ThreadPool, engine: &mut dyn Engine, n: usize, width: f32, plan: Plan) {
     let start = Instant::now();
     let mut steps = 0;
     let mut speed = f32::INFINITY;
     while steps < plan.settle_max {
         let chunk =
             if steps < plan.settle_min { plan.settle_min - steps } else { 30 }.min(plan.settle_max - steps);
-        run(pool, engine, chunk as u64);
+        let times = run(pool, engine, chunk as u64);
         steps += chunk;
-        let (_, velocities) = engine.state();
+        let (positions, velocities) = engine.state();
         speed = median(velocities.iter().map(|v| v.length()).collect());
+        if steps == plan.settle_min {
+            let ms = times.iter().map(Duration::as_secs_f32).sum::<f32>() * 1000.0 / chunk as f32;
+            let q = quality(&positions, &velocities, width);
+            eprintln!(
+                "pile: {} n={n} falling: {chunk} steps from the drop, {ms:.1} ms/step on {} threads; then median \
+                 speed {:.4} m/s, fastest {:.2} m/s, deepest overlap {:.2} mm, {} escaped",
+                engine.name(),
+                pool.current_num_threads(),
+                q.median_speed,
+                q.max_speed,
+                q.deepest_overlap * 1000.0,
+                q.escaped
+            );
+        }
         if speed < SETTLED_SPEED {
             break;
         }
@@ -563,7 +579,7 @@ fn main() {
         #[cfg(feature = "peer")]
         engines.push(Box::new(peer::Rapier::new(&pile::starting_grid(n, RADIUS, width), width)));
         for engine in &mut engines {
-            settle(widest, engine.as_mut(), n, plan);
+            settle(widest, engine.as_mut(), n, width, plan);
         }
 
         let mut group = criterion.benchmark_group(format!("pile_{n}"));

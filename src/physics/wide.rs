@@ -1,9 +1,10 @@
 //! Four lanes of `f32` at once: the contact solver works on four contacts of one colour
 //! together (Box2D v3's idea), with SSE where the target has it (every x86-64) and
 //! plain arrays elsewhere (wasm32). Where an x86-64 processor has AVX, the solve joins
-//! two batches into eight lanes ([`avx`]); it is written once, for any [`Lane`] type.
+//! two batches into eight lanes ([`avx`]), and where it has AVX-512 four into sixteen
+//! ([`avx512`]); it is written once, for any [`Lane`] type.
 //!
-//! Both give the same bits as scalar `f32` code doing the same operations lane by lane:
+//! All give the same bits as scalar `f32` code doing the same operations lane by lane:
 //! every operation here is one IEEE-754 operation per lane (`+ - * /`, `sqrt`, compare,
 //! select), with no fused multiply-add and no reordering, so a lane computes exactly
 //! what the scalar formula it mirrors computes. [`F4::max`] is defined
@@ -663,6 +664,20 @@ pub(crate) mod avx {
         }
     }
 
+    impl F8 {
+        /// The register.
+        #[inline(always)]
+        pub(crate) fn raw(self) -> __m256 {
+            self.0
+        }
+
+        /// From a register.
+        #[inline(always)]
+        pub(crate) fn from_raw(raw: __m256) -> Self {
+            Self(raw)
+        }
+    }
+
     impl M8 {
         /// Lanes 0–3 from `low`, 4–7 from `high`.
         #[inline(always)]
@@ -787,6 +802,187 @@ pub(crate) mod avx {
         #[inline(always)]
         fn or(self, other: Self) -> Self {
             Self(unsafe { _mm256_or_ps(self.0, other.0) })
+        }
+    }
+}
+
+/// Sixteen lanes with AVX-512: four batches of four contacts solved side by side.
+///
+/// As [`avx`], one level up: an [`F16`](avx512::F16) is made and used only inside
+/// functions compiled with `#[target_feature(enable = "avx512f")]` (and AVX), called
+/// only after `is_x86_feature_detected!("avx512f")` said yes. Each operation is the
+/// 512-bit form of the one [`F4`] and [`F8`](avx::F8) use (the same IEEE operation in
+/// every lane; `max` and the ordered comparisons with SSE's semantics), so lanes 0–7
+/// and 8–15 give exactly what two [`F8`](avx::F8)s give. Comparisons give a mask
+/// register's sixteen bits, and a select is a masked blend.
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod avx512 {
+    use std::arch::x86_64::*;
+
+    use super::avx::F8;
+    use super::{Lane, Mask, V};
+
+    // SAFETY (every `unsafe` block below that calls an AVX-512 intrinsic): these
+    // values exist only inside functions compiled for AVX-512F on a processor that has
+    // it (see the module's note), so the instructions are available.
+
+    /// Sixteen `f32` lanes.
+    #[derive(Clone, Copy, Debug)]
+    #[repr(transparent)]
+    pub struct F16(__m512);
+
+    /// Sixteen lanes of true or false: one bit each.
+    #[derive(Clone, Copy, Debug)]
+    #[repr(transparent)]
+    pub struct M16(__mmask16);
+
+    impl F16 {
+        /// Lanes 0–7 from `low`, 8–15 from `high`.
+        #[inline(always)]
+        #[must_use]
+        pub fn join(low: F8, high: F8) -> Self {
+            let (low, high): (__m256, __m256) = (low.raw(), high.raw());
+            Self(unsafe {
+                _mm512_castpd_ps(_mm512_insertf64x4::<1>(
+                    _mm512_castpd256_pd512(_mm256_castps_pd(low)),
+                    _mm256_castps_pd(high),
+                ))
+            })
+        }
+
+        /// Lanes 0–7 and lanes 8–15.
+        #[inline(always)]
+        #[must_use]
+        pub fn halves(self) -> (F8, F8) {
+            unsafe {
+                let (low, high) =
+                    (_mm512_castps512_ps256(self.0), _mm512_extractf64x4_pd::<1>(_mm512_castps_pd(self.0)));
+                (F8::from_raw(low), F8::from_raw(_mm256_castpd_ps(high)))
+            }
+        }
+    }
+
+    macro_rules! avx512_op {
+        ($trait:ident, $method:ident, $f:ident) => {
+            impl std::ops::$trait for F16 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: Self) -> Self {
+                    Self(unsafe { $f(self.0, other.0) })
+                }
+            }
+        };
+    }
+    avx512_op!(Add, add, _mm512_add_ps);
+    avx512_op!(Sub, sub, _mm512_sub_ps);
+    avx512_op!(Mul, mul, _mm512_mul_ps);
+    avx512_op!(Div, div, _mm512_div_ps);
+
+    impl std::ops::Neg for F16 {
+        type Output = Self;
+        /// Flips each lane's sign bit.
+        #[inline(always)]
+        fn neg(self) -> Self {
+            Self(unsafe {
+                _mm512_castsi512_ps(_mm512_xor_si512(
+                    _mm512_castps_si512(self.0),
+                    _mm512_set1_epi32(i32::MIN),
+                ))
+            })
+        }
+    }
+
+    impl V<F16> {
+        /// Lanes 0–7 from `low`, 8–15 from `high`.
+        #[inline(always)]
+        #[must_use]
+        pub fn join(low: V<F8>, high: V<F8>) -> Self {
+            Self { x: F16::join(low.x, high.x), y: F16::join(low.y, high.y), z: F16::join(low.z, high.z) }
+        }
+
+        /// Lanes 0–7 and lanes 8–15.
+        #[inline(always)]
+        #[must_use]
+        pub fn halves(self) -> (V<F8>, V<F8>) {
+            let ((x0, x1), (y0, y1), (z0, z1)) = (self.x.halves(), self.y.halves(), self.z.halves());
+            (V { x: x0, y: y0, z: z0 }, V { x: x1, y: y1, z: z1 })
+        }
+    }
+
+    /// The first and last eight of sixteen indices.
+    #[inline(always)]
+    fn split(indices: [u32; 16]) -> ([u32; 8], [u32; 8]) {
+        let mut halves = ([0; 8], [0; 8]);
+        halves.0.copy_from_slice(&indices[..8]);
+        halves.1.copy_from_slice(&indices[8..]);
+        halves
+    }
+
+    impl Lane for F16 {
+        type Mask = M16;
+        type Index = [u32; 16];
+        // SAFETY: `[f32; 16]` and `__m512` are both 64 bytes of sixteen f32 lanes.
+        const ZERO: Self = Self(unsafe { std::mem::transmute::<[f32; 16], __m512>([0.0; 16]) });
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            Self(unsafe { _mm512_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            Self(unsafe { _mm512_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            // `vmaxps` on sixteen lanes: `a > b ? a : b`, as SSE's `maxps`.
+            Self(unsafe { _mm512_max_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> M16 {
+            // Ordered: false where either is NaN, as SSE's `cmpgtps`.
+            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_GT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn eq(self, other: Self) -> M16 {
+            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        unsafe fn gather(base: *const glam::Vec3, indices: [u32; 16]) -> V<Self> {
+            let (low, high) = split(indices);
+            // SAFETY: the caller's promise, for all sixteen indices.
+            unsafe { V::<F16>::join(F8::gather(base, low), F8::gather(base, high)) }
+        }
+        #[inline(always)]
+        unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: [u32; 16], lanes: u32) {
+            let ((low, high), (first, last)) = (split(indices), value.halves());
+            // SAFETY: the caller's promise, for every lane set.
+            unsafe {
+                F8::scatter(first, base, low, lanes & 0xFF);
+                F8::scatter(last, base, high, lanes >> 8);
+            }
+        }
+    }
+
+    impl Mask<F16> for M16 {
+        #[inline(always)]
+        fn from_bits(bits: u32) -> Self {
+            M16(bits as __mmask16)
+        }
+        #[inline(always)]
+        fn select(self, a: F16, b: F16) -> F16 {
+            // The blend takes its second operand where the mask's bit is set.
+            F16(unsafe { _mm512_mask_blend_ps(self.0, b.0, a.0) })
+        }
+        #[inline(always)]
+        fn bits(self) -> u32 {
+            u32::from(self.0)
+        }
+        #[inline(always)]
+        fn and(self, other: Self) -> Self {
+            Self(self.0 & other.0)
+        }
+        #[inline(always)]
+        fn or(self, other: Self) -> Self {
+            Self(self.0 | other.0)
         }
     }
 }
@@ -959,6 +1155,103 @@ mod tests {
             let expected = match i {
                 10 | 3 => Vec3::splat(-1.0),
                 5 => Vec3::splat(-2.0),
+                _ => *was,
+            };
+            assert_eq!(*now, expected, "vector {i}");
+        }
+    }
+
+    /// Sixteen lanes (AVX-512) compute what two eight-lane halves compute, bit for bit,
+    /// and move whole vectors in and out of an array. Checked where the processor has
+    /// AVX-512F; elsewhere the path is never taken.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn sixteen_lanes_equal_two_eights() {
+        if !(std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl"))
+        {
+            eprintln!("no AVX-512 here: the sixteen-lane path is never taken, nothing to check");
+            return;
+        }
+        // SAFETY: the processor has AVX-512F and VL, and so AVX (checked just above).
+        unsafe { sixteen_lanes_check() }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx512f,avx512vl")]
+    fn sixteen_lanes_check() {
+        use avx::F8;
+        use avx512::{F16, M16};
+        let quarter = |x: F8| {
+            let (low, high) = x.halves();
+            [low.to_array(), high.to_array()]
+        };
+        let bits16 = |x: F16| {
+            let (low, high) = x.halves();
+            let [a, b] = quarter(low);
+            let [c, d] = quarter(high);
+            [a, b, c, d].concat().into_iter().map(f32::to_bits).collect::<Vec<u32>>()
+        };
+        let bits8x2 = |low: F8, high: F8| {
+            let [a, b] = quarter(low);
+            let [c, d] = quarter(high);
+            [a, b, c, d].concat().into_iter().map(f32::to_bits).collect::<Vec<u32>>()
+        };
+        // NaN payloads may differ between operations; everything else is bit for bit.
+        let agree = |w: Vec<u32>, e: Vec<u32>| {
+            w.iter()
+                .zip(&e)
+                .all(|(&w, &e)| w == e || (f32::from_bits(w).is_nan() && f32::from_bits(e).is_nan()))
+        };
+        let eight = |k: usize, shift: usize| {
+            let lanes = |s: usize| F4::new([0, 1, 2, 3].map(|i| ODD[(k + i + s) % ODD.len()]));
+            F8::join(lanes(shift), lanes(shift + 4))
+        };
+        let mut checked = 0;
+        for (k, &a) in ODD.iter().enumerate() {
+            let (x0, x1) = (eight(k, 0), eight(k, 5));
+            let (y0, y1) = (F8::splat(a), eight(k, 3));
+            let (x, y) = (F16::join(x0, x1), F16::join(y0, y1));
+            assert!(agree(bits16(x + y), bits8x2(x0 + y0, x1 + y1)));
+            assert!(agree(bits16(x - y), bits8x2(x0 - y0, x1 - y1)));
+            assert!(agree(bits16(x * y), bits8x2(x0 * y0, x1 * y1)));
+            assert!(agree(bits16(x / y), bits8x2(x0 / y0, x1 / y1)));
+            assert!(agree(bits16(-x), bits8x2(-x0, -x1)));
+            assert!(agree(bits16(Lane::sqrt(x)), bits8x2(Lane::sqrt(x0), Lane::sqrt(x1))));
+            assert!(agree(bits16(Lane::max(x, y)), bits8x2(Lane::max(x0, y0), Lane::max(x1, y1))));
+            let (gt, eq) = (Lane::gt(x, y), Lane::eq(x, y));
+            assert_eq!(gt.bits(), Lane::gt(x0, y0).bits() | Lane::gt(x1, y1).bits() << 8);
+            assert_eq!(eq.bits(), Lane::eq(x0, y0).bits() | Lane::eq(x1, y1).bits() << 8);
+            let picked = bits8x2(Lane::gt(x0, y0).select(x0, y0), Lane::gt(x1, y1).select(x1, y1));
+            assert!(agree(bits16(gt.select(x, y)), picked));
+            let mask = <M16 as Mask<F16>>::from_bits(0b1001_0110_0011_1010);
+            assert_eq!(mask.bits(), 0b1001_0110_0011_1010);
+            assert_eq!(mask.and(gt).bits(), 0b1001_0110_0011_1010 & gt.bits());
+            assert_eq!(mask.or(gt).bits(), 0b1001_0110_0011_1010 | gt.bits());
+            checked += 1;
+        }
+        assert_eq!(checked, ODD.len());
+
+        let mut array: Vec<Vec3> =
+            (0..19).map(|i| Vec3::new(i as f32, 0.5 - i as f32, 10.0 * i as f32)).collect();
+        let indices = [10, 3, 0, 7, 2, 9, 5, 1, 18, 11, 4, 16, 6, 13, 8, 12];
+        // SAFETY: every index is below the array's 19 vectors, and they are distinct.
+        let wide = unsafe { F16::gather(array.as_ptr(), indices) };
+        let (low, high) = wide.halves();
+        let ((l0, l1), (h0, h1)) = (low.halves(), high.halves());
+        let read: Vec<Vec3> = [l0, l1, h0, h1].into_iter().flat_map(V4::lanes).collect();
+        assert_eq!(read, indices.map(|i| array[i as usize]).to_vec());
+        let before = array.clone();
+        let fill = |v: f32| V::<F8>::join(V4::new([Vec3::splat(v); 4]), V4::new([Vec3::splat(v - 0.5); 4]));
+        let moved = V::<F16>::join(fill(-1.0), fill(-2.0));
+        // SAFETY: as above; lanes 0, 6, 9 and 15 only.
+        unsafe { F16::scatter(moved, array.as_mut_ptr(), indices, 1 | 1 << 6 | 1 << 9 | 1 << 15) };
+        for (i, (now, was)) in array.iter().zip(&before).enumerate() {
+            let expected = match i {
+                10 => Vec3::splat(-1.0),
+                5 => Vec3::splat(-1.5),
+                11 => Vec3::splat(-2.0),
+                12 => Vec3::splat(-2.5),
                 _ => *was,
             };
             assert_eq!(*now, expected, "vector {i}");

@@ -15,6 +15,8 @@ use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::wide::avx::F8;
+#[cfg(target_arch = "x86_64")]
+use crate::physics::wide::avx512::F16;
 use crate::physics::wide::{F4, Lane, Mask, V, V4};
 
 /// Lanes of a batch.
@@ -87,7 +89,7 @@ impl ContactBatch<F8> {
             full: l.full && h.full,
             a: [a0, a1, a2, a3, a4, a5, a6, a7],
             b: [b0, b1, b2, b3, b4, b5, b6, b7],
-            normal: V::join(l.normal, h.normal),
+            normal: V::<F8>::join(l.normal, h.normal),
             separation: F8::join(l.separation, h.separation),
             friction: F8::join(l.friction, h.friction),
             mass: F8::join(l.mass, h.mass),
@@ -101,8 +103,8 @@ impl ContactBatch<F8> {
             ia: F8::join(l.ia, h.ia),
             ib: F8::join(l.ib, h.ib),
             normal_impulse: F8::join(l.normal_impulse, h.normal_impulse),
-            tangent_impulse: V::join(l.tangent_impulse, h.tangent_impulse),
-            rolling_impulse: V::join(l.rolling_impulse, h.rolling_impulse),
+            tangent_impulse: V::<F8>::join(l.tangent_impulse, h.tangent_impulse),
+            rolling_impulse: V::<F8>::join(l.rolling_impulse, h.rolling_impulse),
         }
     }
 
@@ -112,6 +114,58 @@ impl ContactBatch<F8> {
         (low.normal_impulse, high.normal_impulse) = self.normal_impulse.halves();
         (low.tangent_impulse, high.tangent_impulse) = self.tangent_impulse.halves();
         (low.rolling_impulse, high.rolling_impulse) = self.rolling_impulse.halves();
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl ContactBatch<F16> {
+    /// Two joined batches of one colour as one of sixteen lanes: `low`'s in lanes
+    /// 0–7, `high`'s in 8–15 (four batches of four, sharing no movable particle).
+    #[inline(always)]
+    pub(super) fn join(low: &ContactBatch<F8>, high: &ContactBatch<F8>) -> Self {
+        let (l, h) = (low, high);
+        let mut a = [0; 16];
+        a[..8].copy_from_slice(&l.a);
+        a[8..].copy_from_slice(&h.a);
+        let mut b = [0; 16];
+        b[..8].copy_from_slice(&l.b);
+        b[8..].copy_from_slice(&h.b);
+        Self {
+            active: l.active | h.active << (2 * LANES),
+            has_b: l.has_b | h.has_b << (2 * LANES),
+            full: l.full && h.full,
+            a,
+            b,
+            normal: V::<F16>::join(l.normal, h.normal),
+            separation: F16::join(l.separation, h.separation),
+            friction: F16::join(l.friction, h.friction),
+            mass: F16::join(l.mass, h.mass),
+            tangent_mass: F16::join(l.tangent_mass, h.tangent_mass),
+            lever_a: F16::join(l.lever_a, h.lever_a),
+            lever_b: F16::join(l.lever_b, h.lever_b),
+            rolling: F16::join(l.rolling, h.rolling),
+            rolling_mass: F16::join(l.rolling_mass, h.rolling_mass),
+            wa: F16::join(l.wa, h.wa),
+            wb: F16::join(l.wb, h.wb),
+            ia: F16::join(l.ia, h.ia),
+            ib: F16::join(l.ib, h.ib),
+            normal_impulse: F16::join(l.normal_impulse, h.normal_impulse),
+            tangent_impulse: V::<F16>::join(l.tangent_impulse, h.tangent_impulse),
+            rolling_impulse: V::<F16>::join(l.rolling_impulse, h.rolling_impulse),
+        }
+    }
+
+    /// Writes the impulses back to the four batches it was joined from, in order.
+    #[inline(always)]
+    pub(super) fn split_impulses(&self, [b0, b1, b2, b3]: &mut [ContactBatch; 4]) {
+        let (n01, n23) = self.normal_impulse.halves();
+        let (t01, t23) = self.tangent_impulse.halves();
+        let (r01, r23) = self.rolling_impulse.halves();
+        for ((n, t, r), (low, high)) in [((n01, t01, r01), (b0, b1)), ((n23, t23, r23), (b2, b3))] {
+            (low.normal_impulse, high.normal_impulse) = n.halves();
+            (low.tangent_impulse, high.tangent_impulse) = t.halves();
+            (low.rolling_impulse, high.rolling_impulse) = r.halves();
+        }
     }
 }
 
