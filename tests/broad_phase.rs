@@ -171,6 +171,35 @@ fn large_worlds_take_the_threaded_path_and_agree() {
     assert_eq!(found, expected);
 }
 
+/// A still block with more kept pairs than one task tests (16,384) serves them on
+/// several threads: on a 2-thread pool the kept pairs give exactly the all-pairs
+/// list, in its order, step after step, with a sphere moving within its skin.
+#[test]
+fn many_kept_pairs_are_served_on_several_threads_in_order() {
+    let side = 20;
+    let positions: Vec<Vec3> = (0..side * side * side)
+        .map(|i| Vec3::new((i % side) as f32, ((i / side) % side) as f32, (i / (side * side)) as f32) * 0.95)
+        .collect();
+    let reach = vec![0.5; positions.len()];
+    let (mut found, mut expected) = (Vec::new(), Vec::new());
+    all_pairs(&positions, &reach, &mut expected);
+    assert!(expected.len() > 16_384, "enough pairs for several tasks: {}", expected.len());
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
+    pool.install(|| {
+        let mut grid = BroadPhase::new();
+        let mut moved = positions.clone();
+        for step in 0..4 {
+            grid.find_pairs(&moved, &reach, &mut found);
+            assert_eq!(grid.reused_pairs(), step > 0, "step {step}: the kept pairs serve after the first");
+            all_pairs(&moved, &reach, &mut expected);
+            assert_eq!(found, expected, "step {step}");
+            // Sphere 4,321 closes on its neighbour along x by a quarter of the gap each
+            // step: within the skin, so the kept pairs still serve.
+            moved[4321].x += 0.01;
+        }
+    });
+}
+
 #[test]
 fn far_flung_and_non_finite_positions_do_not_panic() {
     let positions = [Vec3::ZERO, Vec3::splat(1e30), Vec3::splat(-1e30), Vec3::NAN, Vec3::new(0.5, 0.0, 0.0)];

@@ -159,7 +159,14 @@ struct KeptPairs {
     /// The movers' new pairs, and the merged list (scratch).
     fresh: Vec<(u32, u32)>,
     merged: Vec<(u32, u32)>,
+    /// The pairs each chunk of [`SERVE_CHUNK`] kept pairs serves (scratch).
+    served_chunks: Vec<Vec<(u32, u32)>>,
 }
+
+/// Kept pairs tested by one task when they are served on several threads.
+const SERVE_CHUNK: usize = 8192;
+/// Kept pairs from which they are served on several threads.
+const PARALLEL_SERVE: usize = 2 * SERVE_CHUNK;
 
 /// A sphere past its skin in this search.
 const MOVER: u8 = 1;
@@ -618,12 +625,31 @@ impl KeptPairs {
     /// (the grid's).
     fn serve(&mut self, positions: &[Vec3], reach: &[f32], out: &mut Vec<(u32, u32)>) {
         out.clear();
-        out.extend(self.pairs.iter().copied().filter(|&(a, b)| {
+        let touching = |&(a, b): &(u32, u32)| {
             let (a, b) = (a as usize, b as usize);
             let (ra, rb) = (reach[a], reach[b]);
             let reach = ra + rb;
             (positions[a] - positions[b]).length_squared() < reach * reach
-        }));
+        };
+        if self.pairs.len() >= PARALLEL_SERVE && rayon::current_num_threads() > 1 {
+            // Chunk by chunk on several threads, then the chunks' pairs in order: the
+            // same list as the plain filter. (A pile at rest keeps its pairs for good,
+            // so this runs every step: serial, it took 0.17 ms of a 2.4 ms 2-thread
+            // step of an 8,000-sphere pile.)
+            let chunks = self.pairs.len().div_ceil(SERVE_CHUNK);
+            if self.served_chunks.len() < chunks {
+                self.served_chunks.resize_with(chunks, Vec::new);
+            }
+            let served = &mut self.served_chunks[..chunks];
+            served.par_iter_mut().zip(self.pairs.par_chunks(SERVE_CHUNK)).for_each(|(served, pairs)| {
+                served.clear();
+                served.extend(pairs.iter().copied().filter(touching));
+            });
+            out.reserve(served.iter().map(Vec::len).sum());
+            served.iter().for_each(|served| out.extend_from_slice(served));
+        } else {
+            out.extend(self.pairs.iter().copied().filter(touching));
+        }
         self.served += 1;
     }
 }
