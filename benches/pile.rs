@@ -535,6 +535,59 @@ struct Row {
     /// The machine's 1-minute load average when our timing ended (other processes
     /// compete for the cores).
     load: Option<f32>,
+    /// The cores' round trip then (ns), see [`core_round_trip_ns`].
+    round_trip: Option<f32>,
+}
+
+/// Time for one thread to hand a cache line to another and get it back (ns): the
+/// median of five means of 4,000 round trips of an atomic counter, after 20 ms for
+/// the pools' threads to stop spinning; `None` on one core.
+///
+/// On the 2-vCPU virtual machines these figures come from, the host sometimes places
+/// the two cores far apart: on 2026-12-04 (AMD EPYC) the round trip was 90–135 ns in
+/// one mode and 380–450 ns in the other, and every 2-thread step of an 8,000-sphere
+/// pile took 2.3–2.4 ms in the first and 4.0–4.3 ms in the second (slower than one
+/// thread's 4.0), as the threads hand each other particles' velocities all step long.
+/// So each row says which mode it was timed in.
+fn core_round_trip_ns() -> Option<f32> {
+    const ROUNDS: u64 = 4_000;
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) < 2 {
+        return None;
+    }
+    std::thread::sleep(Duration::from_millis(20));
+    let means: Vec<f32> = (0..5).map(|_| round_trips(ROUNDS)).collect();
+    Some(median(means))
+}
+
+/// Mean of `rounds` round trips between this thread and a new one (ns), timed after
+/// 100 untimed ones (so the new thread's start is not counted).
+fn round_trips(rounds: u64) -> f32 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    const UNTIMED: u64 = 100;
+    let turn = AtomicU64::new(0);
+    let total = UNTIMED + rounds;
+    let elapsed = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            for round in 0..total {
+                while turn.load(Ordering::Acquire) != 2 * round + 1 {
+                    std::hint::spin_loop();
+                }
+                turn.store(2 * round + 2, Ordering::Release);
+            }
+        });
+        let mut start = Instant::now();
+        for round in 0..total {
+            if round == UNTIMED {
+                start = Instant::now();
+            }
+            turn.store(2 * round + 1, Ordering::Release);
+            while turn.load(Ordering::Acquire) != 2 * round + 2 {
+                std::hint::spin_loop();
+            }
+        }
+        start.elapsed()
+    });
+    elapsed.as_secs_f32() * 1e9 / rounds as f32
 }
 
 /// The 1-minute load average (Linux).
@@ -603,6 +656,7 @@ fn main() {
                     let times = run(pool, engine, plan.timed as u64);
                     let ms = median(times.iter().map(|t| t.as_secs_f32() * 1000.0).collect());
                     let load = load_average();
+                    let round_trip = core_round_trip_ns();
                     let (positions, velocities) = engine.state();
                     let quality = quality(&positions, &velocities, width);
                     let asleep = engine.asleep();
@@ -626,6 +680,7 @@ fn main() {
                         quality,
                         asleep,
                         load,
+                        round_trip,
                     });
                 }
             }
@@ -642,8 +697,9 @@ fn print_table(rows: &[Row]) {
         "pile: ms/step = median of our own timing after criterion's; quality measured on the positions afterwards;"
     );
     eprintln!("pile: load = 1-minute load average then (other processes share the cores)");
+    eprintln!("pile: rt ns = the two cores' round trip then (see core_round_trip_ns: high means far apart)");
     eprintln!(
-        "{:<13} {:>7} {:>5} {:>3} {:>9} {:>8} {:>10} {:>9} {:>10} {:>7} {:>7} {:>7} {:>5}",
+        "{:<13} {:>7} {:>5} {:>3} {:>9} {:>8} {:>10} {:>9} {:>10} {:>7} {:>7} {:>7} {:>5} {:>6}",
         "engine",
         "n",
         "sleep",
@@ -656,7 +712,8 @@ fn print_table(rows: &[Row]) {
         "escaped",
         "asleep",
         "rap/lab",
-        "load"
+        "load",
+        "rt ns"
     );
     for row in rows {
         let lab = rows
@@ -668,7 +725,7 @@ fn print_table(rows: &[Row]) {
         };
         let q = row.quality;
         eprintln!(
-            "{:<13} {:>7} {:>5} {:>3} {:>9.3} {:>8.0} {:>10.4} {:>9.3} {:>10.2} {:>7} {:>7} {:>7} {:>5}",
+            "{:<13} {:>7} {:>5} {:>3} {:>9.3} {:>8.0} {:>10.4} {:>9.3} {:>10.2} {:>7} {:>7} {:>7} {:>5} {:>6}",
             row.engine,
             row.n,
             if row.sleep { "on" } else { "off" },
@@ -681,7 +738,8 @@ fn print_table(rows: &[Row]) {
             q.escaped,
             row.asleep,
             ratio,
-            row.load.map_or_else(|| "-".into(), |l| format!("{l:.1}"))
+            row.load.map_or_else(|| "-".into(), |l| format!("{l:.1}")),
+            row.round_trip.map_or_else(|| "-".into(), |ns| format!("{ns:.0}"))
         );
     }
 }
