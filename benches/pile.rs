@@ -157,13 +157,14 @@ fn settle(pool: &ThreadPool, engine: &mut dyn Engine, n: usize, width: f32, plan
             let q = quality(&positions, &velocities, width);
             eprintln!(
                 "pile: {} n={n} falling: {chunk} steps from the drop, {ms:.1} ms/step on {} threads; then median \
-                 speed {:.4} m/s, fastest {:.2} m/s, deepest overlap {:.2} mm, {} escaped",
+                 speed {:.4} m/s, fastest {:.2} m/s, deepest overlap {:.2} mm, {} escaped; rt {} ns",
                 engine.name(),
                 pool.current_num_threads(),
                 q.median_speed,
                 q.max_speed,
                 q.deepest_overlap * 1000.0,
-                q.escaped
+                q.escaped,
+                core_round_trip_ns().map_or_else(|| "-".into(), |ns| format!("{ns:.0}"))
             );
         }
         if speed < SETTLED_SPEED {
