@@ -450,6 +450,54 @@ pub trait Mask<L>: Copy {
     fn or(self, other: Self) -> Self;
 }
 
+/// Lanes made of two halves of a narrower [`Lane`] type: eight of two fours
+/// ([`F8`](avx::F8), AVX) and sixteen of two eights ([`F16`](avx512::F16), AVX-512). The
+/// solve joins batches of one colour with it and splits their impulses back.
+#[cfg(target_arch = "x86_64")]
+pub(crate) trait Joined: Lane {
+    /// The half.
+    type Half: Lane;
+    /// The lanes of `low`, then those of `high`.
+    fn join(low: Self::Half, high: Self::Half) -> Self;
+    /// The first half of the lanes, and the second.
+    fn halves(self) -> (Self::Half, Self::Half);
+    /// The indices of `low`'s lanes, then those of `high`'s.
+    fn join_indices(low: <Self::Half as Lane>::Index, high: <Self::Half as Lane>::Index) -> Self::Index;
+    /// The first half of the indices, and the second.
+    fn split_indices(indices: Self::Index) -> (<Self::Half as Lane>::Index, <Self::Half as Lane>::Index);
+}
+
+/// Two halves' arrays of indices as one, and back.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn concat<const HALF: usize, const ALL: usize>(low: [u32; HALF], high: [u32; HALF]) -> [u32; ALL] {
+    std::array::from_fn(|i| if i < HALF { low[i] } else { high[i - HALF] })
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn halve<const HALF: usize, const ALL: usize>(all: [u32; ALL]) -> ([u32; HALF], [u32; HALF]) {
+    (std::array::from_fn(|i| all[i]), std::array::from_fn(|i| all[HALF + i]))
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<L: Joined> V<L> {
+    /// The lanes of `low`, then those of `high`.
+    #[inline(always)]
+    #[must_use]
+    pub fn join(low: V<L::Half>, high: V<L::Half>) -> Self {
+        Self { x: L::join(low.x, high.x), y: L::join(low.y, high.y), z: L::join(low.z, high.z) }
+    }
+
+    /// The first half of the lanes, and the second.
+    #[inline(always)]
+    #[must_use]
+    pub fn halves(self) -> (V<L::Half>, V<L::Half>) {
+        let ((x0, x1), (y0, y1), (z0, z1)) = (self.x.halves(), self.y.halves(), self.z.halves());
+        (V { x: x0, y: y0, z: z0 }, V { x: x1, y: y1, z: z1 })
+    }
+}
+
 impl Lane for F4 {
     type Mask = M4;
     type Index = [u32; 4];
@@ -632,7 +680,7 @@ impl<L: Lane> std::ops::Sub for V<L> {
 pub(crate) mod avx {
     use std::arch::x86_64::*;
 
-    use super::{F4, Lane, M4, Mask, V, V4};
+    use super::{F4, Joined, Lane, M4, Mask, V, V4};
 
     // SAFETY (every `unsafe` block below that calls an AVX intrinsic): these values
     // exist only inside functions compiled for AVX on a processor that has it (see
@@ -648,19 +696,23 @@ pub(crate) mod avx {
     #[repr(transparent)]
     pub struct M8(__m256);
 
-    impl F8 {
-        /// Lanes 0–3 from `low`, 4–7 from `high`.
+    impl Joined for F8 {
+        type Half = F4;
         #[inline(always)]
-        #[must_use]
-        pub fn join(low: F4, high: F4) -> Self {
+        fn join(low: F4, high: F4) -> Self {
             Self(unsafe { _mm256_set_m128(high.0, low.0) })
         }
-
-        /// Lanes 0–3 and lanes 4–7.
         #[inline(always)]
-        #[must_use]
-        pub fn halves(self) -> (F4, F4) {
+        fn halves(self) -> (F4, F4) {
             unsafe { (F4(_mm256_castps256_ps128(self.0)), F4(_mm256_extractf128_ps::<1>(self.0))) }
+        }
+        #[inline(always)]
+        fn join_indices(low: [u32; 4], high: [u32; 4]) -> [u32; 8] {
+            super::concat(low, high)
+        }
+        #[inline(always)]
+        fn split_indices(indices: [u32; 8]) -> ([u32; 4], [u32; 4]) {
+            super::halve(indices)
         }
     }
 
@@ -712,30 +764,6 @@ pub(crate) mod avx {
         }
     }
 
-    impl V<F8> {
-        /// Lanes 0–3 from `low`, 4–7 from `high`.
-        #[inline(always)]
-        #[must_use]
-        pub fn join(low: V4, high: V4) -> Self {
-            Self { x: F8::join(low.x, high.x), y: F8::join(low.y, high.y), z: F8::join(low.z, high.z) }
-        }
-
-        /// Lanes 0–3 and lanes 4–7.
-        #[inline(always)]
-        #[must_use]
-        pub fn halves(self) -> (V4, V4) {
-            let ((x0, x1), (y0, y1), (z0, z1)) = (self.x.halves(), self.y.halves(), self.z.halves());
-            (V4 { x: x0, y: y0, z: z0 }, V4 { x: x1, y: y1, z: z1 })
-        }
-    }
-
-    /// The first and last four of eight indices.
-    #[inline(always)]
-    fn split(indices: [u32; 8]) -> ([u32; 4], [u32; 4]) {
-        let [a, b, c, d, e, f, g, h] = indices;
-        ([a, b, c, d], [e, f, g, h])
-    }
-
     impl Lane for F8 {
         type Mask = M8;
         type Index = [u32; 8];
@@ -765,13 +793,13 @@ pub(crate) mod avx {
         }
         #[inline(always)]
         unsafe fn gather(base: *const glam::Vec3, indices: [u32; 8]) -> V<Self> {
-            let (low, high) = split(indices);
+            let (low, high) = Self::split_indices(indices);
             // SAFETY: the caller's promise, for all eight indices.
             unsafe { V::<F8>::join(V4::gather(base, low), V4::gather(base, high)) }
         }
         #[inline(always)]
         unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: [u32; 8], lanes: u32) {
-            let ((low, high), (first, last)) = (split(indices), value.halves());
+            let ((low, high), (first, last)) = (Self::split_indices(indices), value.halves());
             // SAFETY: the caller's promise, for every lane set.
             unsafe {
                 first.scatter(base, low, lanes & 0xF);
@@ -820,7 +848,7 @@ pub(crate) mod avx512 {
     use std::arch::x86_64::*;
 
     use super::avx::F8;
-    use super::{Lane, Mask, V};
+    use super::{Joined, Lane, Mask, V};
 
     // SAFETY (every `unsafe` block below that calls an AVX-512 intrinsic): these
     // values exist only inside functions compiled for AVX-512F on a processor that has
@@ -836,11 +864,10 @@ pub(crate) mod avx512 {
     #[repr(transparent)]
     pub struct M16(__mmask16);
 
-    impl F16 {
-        /// Lanes 0–7 from `low`, 8–15 from `high`.
+    impl Joined for F16 {
+        type Half = F8;
         #[inline(always)]
-        #[must_use]
-        pub fn join(low: F8, high: F8) -> Self {
+        fn join(low: F8, high: F8) -> Self {
             let (low, high): (__m256, __m256) = (low.raw(), high.raw());
             Self(unsafe {
                 _mm512_castpd_ps(_mm512_insertf64x4::<1>(
@@ -849,16 +876,21 @@ pub(crate) mod avx512 {
                 ))
             })
         }
-
-        /// Lanes 0–7 and lanes 8–15.
         #[inline(always)]
-        #[must_use]
-        pub fn halves(self) -> (F8, F8) {
+        fn halves(self) -> (F8, F8) {
             unsafe {
                 let (low, high) =
                     (_mm512_castps512_ps256(self.0), _mm512_extractf64x4_pd::<1>(_mm512_castps_pd(self.0)));
                 (F8::from_raw(low), F8::from_raw(_mm256_castpd_ps(high)))
             }
+        }
+        #[inline(always)]
+        fn join_indices(low: [u32; 8], high: [u32; 8]) -> [u32; 16] {
+            super::concat(low, high)
+        }
+        #[inline(always)]
+        fn split_indices(indices: [u32; 16]) -> ([u32; 8], [u32; 8]) {
+            super::halve(indices)
         }
     }
 
@@ -892,32 +924,6 @@ pub(crate) mod avx512 {
         }
     }
 
-    impl V<F16> {
-        /// Lanes 0–7 from `low`, 8–15 from `high`.
-        #[inline(always)]
-        #[must_use]
-        pub fn join(low: V<F8>, high: V<F8>) -> Self {
-            Self { x: F16::join(low.x, high.x), y: F16::join(low.y, high.y), z: F16::join(low.z, high.z) }
-        }
-
-        /// Lanes 0–7 and lanes 8–15.
-        #[inline(always)]
-        #[must_use]
-        pub fn halves(self) -> (V<F8>, V<F8>) {
-            let ((x0, x1), (y0, y1), (z0, z1)) = (self.x.halves(), self.y.halves(), self.z.halves());
-            (V { x: x0, y: y0, z: z0 }, V { x: x1, y: y1, z: z1 })
-        }
-    }
-
-    /// The first and last eight of sixteen indices.
-    #[inline(always)]
-    fn split(indices: [u32; 16]) -> ([u32; 8], [u32; 8]) {
-        let mut halves = ([0; 8], [0; 8]);
-        halves.0.copy_from_slice(&indices[..8]);
-        halves.1.copy_from_slice(&indices[8..]);
-        halves
-    }
-
     impl Lane for F16 {
         type Mask = M16;
         type Index = [u32; 16];
@@ -947,13 +953,13 @@ pub(crate) mod avx512 {
         }
         #[inline(always)]
         unsafe fn gather(base: *const glam::Vec3, indices: [u32; 16]) -> V<Self> {
-            let (low, high) = split(indices);
+            let (low, high) = Self::split_indices(indices);
             // SAFETY: the caller's promise, for all sixteen indices.
             unsafe { V::<F16>::join(F8::gather(base, low), F8::gather(base, high)) }
         }
         #[inline(always)]
         unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: [u32; 16], lanes: u32) {
-            let ((low, high), (first, last)) = (split(indices), value.halves());
+            let ((low, high), (first, last)) = (Self::split_indices(indices), value.halves());
             // SAFETY: the caller's promise, for every lane set.
             unsafe {
                 F8::scatter(first, base, low, lanes & 0xFF);

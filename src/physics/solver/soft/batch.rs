@@ -14,9 +14,7 @@ use rayon::prelude::*;
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 #[cfg(target_arch = "x86_64")]
-use crate::physics::wide::avx::F8;
-#[cfg(target_arch = "x86_64")]
-use crate::physics::wide::avx512::F16;
+use crate::physics::wide::Joined;
 use crate::physics::wide::{F4, Lane, Mask, V, V4};
 
 /// Lanes of a batch.
@@ -71,101 +69,66 @@ impl<L: Lane> ContactBatch<L> {
     }
 }
 
+/// A batch's impulses: normal, tangent and rolling.
 #[cfg(target_arch = "x86_64")]
-impl ContactBatch<F8> {
-    /// Two batches of one colour as one of eight lanes: `low`'s in lanes 0–3, `high`'s
-    /// in 4–7. Their eight contacts share no movable particle, so solving them side by
-    /// side gives what solving the two batches in turn gives.
-    #[inline(always)]
-    pub(super) fn join(low: &ContactBatch, high: &ContactBatch) -> Self {
-        let (l, h) = (low, high);
-        let [a0, a1, a2, a3] = l.a;
-        let [a4, a5, a6, a7] = h.a;
-        let [b0, b1, b2, b3] = l.b;
-        let [b4, b5, b6, b7] = h.b;
-        Self {
-            active: l.active | h.active << LANES,
-            has_b: l.has_b | h.has_b << LANES,
-            full: l.full && h.full,
-            a: [a0, a1, a2, a3, a4, a5, a6, a7],
-            b: [b0, b1, b2, b3, b4, b5, b6, b7],
-            normal: V::<F8>::join(l.normal, h.normal),
-            separation: F8::join(l.separation, h.separation),
-            friction: F8::join(l.friction, h.friction),
-            mass: F8::join(l.mass, h.mass),
-            tangent_mass: F8::join(l.tangent_mass, h.tangent_mass),
-            lever_a: F8::join(l.lever_a, h.lever_a),
-            lever_b: F8::join(l.lever_b, h.lever_b),
-            rolling: F8::join(l.rolling, h.rolling),
-            rolling_mass: F8::join(l.rolling_mass, h.rolling_mass),
-            wa: F8::join(l.wa, h.wa),
-            wb: F8::join(l.wb, h.wb),
-            ia: F8::join(l.ia, h.ia),
-            ib: F8::join(l.ib, h.ib),
-            normal_impulse: F8::join(l.normal_impulse, h.normal_impulse),
-            tangent_impulse: V::<F8>::join(l.tangent_impulse, h.tangent_impulse),
-            rolling_impulse: V::<F8>::join(l.rolling_impulse, h.rolling_impulse),
-        }
-    }
+pub(super) type Impulses<L> = (L, V<L>, V<L>);
 
-    /// Writes the impulses back to the two batches it was joined from.
+/// The impulses of the first half of the lanes, and of the second.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(super) fn split<W: Joined>((normal, tangent, rolling): Impulses<W>) -> [Impulses<W::Half>; 2] {
+    let ((n0, n1), (t0, t1), (r0, r1)) = (normal.halves(), tangent.halves(), rolling.halves());
+    [(n0, t0, r0), (n1, t1, r1)]
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<W: Joined> ContactBatch<W> {
+    /// Two batches of one colour as one twice as wide: `low`'s lanes first, then
+    /// `high`'s. Their contacts share no movable particle, so solving them side by side
+    /// gives what solving the two in turn gives (eight lanes of two fours with AVX,
+    /// sixteen of two eights with AVX-512).
     #[inline(always)]
-    pub(super) fn split_impulses(&self, low: &mut ContactBatch, high: &mut ContactBatch) {
-        (low.normal_impulse, high.normal_impulse) = self.normal_impulse.halves();
-        (low.tangent_impulse, high.tangent_impulse) = self.tangent_impulse.halves();
-        (low.rolling_impulse, high.rolling_impulse) = self.rolling_impulse.halves();
+    pub(super) fn join(low: &ContactBatch<W::Half>, high: &ContactBatch<W::Half>) -> Self {
+        let (l, h) = (low, high);
+        let shift = l.a.as_ref().len();
+        Self {
+            active: l.active | h.active << shift,
+            has_b: l.has_b | h.has_b << shift,
+            full: l.full && h.full,
+            a: W::join_indices(l.a, h.a),
+            b: W::join_indices(l.b, h.b),
+            normal: V::join(l.normal, h.normal),
+            separation: W::join(l.separation, h.separation),
+            friction: W::join(l.friction, h.friction),
+            mass: W::join(l.mass, h.mass),
+            tangent_mass: W::join(l.tangent_mass, h.tangent_mass),
+            lever_a: W::join(l.lever_a, h.lever_a),
+            lever_b: W::join(l.lever_b, h.lever_b),
+            rolling: W::join(l.rolling, h.rolling),
+            rolling_mass: W::join(l.rolling_mass, h.rolling_mass),
+            wa: W::join(l.wa, h.wa),
+            wb: W::join(l.wb, h.wb),
+            ia: W::join(l.ia, h.ia),
+            ib: W::join(l.ib, h.ib),
+            normal_impulse: W::join(l.normal_impulse, h.normal_impulse),
+            tangent_impulse: V::join(l.tangent_impulse, h.tangent_impulse),
+            rolling_impulse: V::join(l.rolling_impulse, h.rolling_impulse),
+        }
     }
 }
 
 #[cfg(target_arch = "x86_64")]
-impl ContactBatch<F16> {
-    /// Two joined batches of one colour as one of sixteen lanes: `low`'s in lanes
-    /// 0–7, `high`'s in 8–15 (four batches of four, sharing no movable particle).
+impl<L: Lane> ContactBatch<L> {
+    /// The impulses, to be written back to the batches this one was joined from.
     #[inline(always)]
-    pub(super) fn join(low: &ContactBatch<F8>, high: &ContactBatch<F8>) -> Self {
-        let (l, h) = (low, high);
-        let mut a = [0; 16];
-        a[..8].copy_from_slice(&l.a);
-        a[8..].copy_from_slice(&h.a);
-        let mut b = [0; 16];
-        b[..8].copy_from_slice(&l.b);
-        b[8..].copy_from_slice(&h.b);
-        Self {
-            active: l.active | h.active << (2 * LANES),
-            has_b: l.has_b | h.has_b << (2 * LANES),
-            full: l.full && h.full,
-            a,
-            b,
-            normal: V::<F16>::join(l.normal, h.normal),
-            separation: F16::join(l.separation, h.separation),
-            friction: F16::join(l.friction, h.friction),
-            mass: F16::join(l.mass, h.mass),
-            tangent_mass: F16::join(l.tangent_mass, h.tangent_mass),
-            lever_a: F16::join(l.lever_a, h.lever_a),
-            lever_b: F16::join(l.lever_b, h.lever_b),
-            rolling: F16::join(l.rolling, h.rolling),
-            rolling_mass: F16::join(l.rolling_mass, h.rolling_mass),
-            wa: F16::join(l.wa, h.wa),
-            wb: F16::join(l.wb, h.wb),
-            ia: F16::join(l.ia, h.ia),
-            ib: F16::join(l.ib, h.ib),
-            normal_impulse: F16::join(l.normal_impulse, h.normal_impulse),
-            tangent_impulse: V::<F16>::join(l.tangent_impulse, h.tangent_impulse),
-            rolling_impulse: V::<F16>::join(l.rolling_impulse, h.rolling_impulse),
-        }
+    pub(super) fn impulses(&self) -> Impulses<L> {
+        (self.normal_impulse, self.tangent_impulse, self.rolling_impulse)
     }
 
-    /// Writes the impulses back to the four batches it was joined from, in order.
+    /// Sets the impulses (of a batch this one's wider copy was solved in).
     #[inline(always)]
-    pub(super) fn split_impulses(&self, [b0, b1, b2, b3]: &mut [ContactBatch; 4]) {
-        let (n01, n23) = self.normal_impulse.halves();
-        let (t01, t23) = self.tangent_impulse.halves();
-        let (r01, r23) = self.rolling_impulse.halves();
-        for ((n, t, r), (low, high)) in [((n01, t01, r01), (b0, b1)), ((n23, t23, r23), (b2, b3))] {
-            (low.normal_impulse, high.normal_impulse) = n.halves();
-            (low.tangent_impulse, high.tangent_impulse) = t.halves();
-            (low.rolling_impulse, high.rolling_impulse) = r.halves();
-        }
+    pub(super) fn set_impulses(&mut self, (normal, tangent, rolling): Impulses<L>) {
+        (self.normal_impulse, self.tangent_impulse, self.rolling_impulse) = (normal, tangent, rolling);
     }
 }
 

@@ -15,6 +15,8 @@ use glam::Vec3;
 
 use super::Context;
 use super::batch::ContactBatch;
+#[cfg(target_arch = "x86_64")]
+use super::batch::split;
 use super::color::SharedVelocities;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::wide::avx::F8;
@@ -213,7 +215,11 @@ fn solve_avx512(batches: &mut [ContactBatch], one_colour: bool, bodies: Bodies<'
         let (low, high) = (ContactBatch::<F8>::join(b0, b1), ContactBatch::<F8>::join(b2, b3));
         let mut wide = ContactBatch::<F16>::join(&low, &high);
         solve_one(&mut wide, bodies, context);
-        wide.split_impulses(four);
+        for (half, pair) in split(wide.impulses()).into_iter().zip(four.chunks_exact_mut(2)) {
+            for (impulses, batch) in split::<F8>(half).into_iter().zip(pair) {
+                batch.set_impulses(impulses);
+            }
+        }
     }
     solve_in_eights(rest, bodies, context);
 }
@@ -228,7 +234,9 @@ fn solve_in_eights(batches: &mut [ContactBatch], bodies: Bodies<'_>, context: Co
         let [low, high] = pair else { unreachable!("chunks of two") };
         let mut wide = ContactBatch::<F8>::join(low, high);
         solve_one(&mut wide, bodies, context);
-        wide.split_impulses(low, high);
+        let [first, second] = split(wide.impulses());
+        low.set_impulses(first);
+        high.set_impulses(second);
     }
     solve_run(pairs.into_remainder(), bodies, context);
 }
