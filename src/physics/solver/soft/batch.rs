@@ -11,6 +11,7 @@
 
 use rayon::prelude::*;
 
+use super::color::share;
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 #[cfg(target_arch = "x86_64")]
@@ -185,16 +186,23 @@ impl SoftStep {
             count += if color == OVERFLOW { contacts } else { contacts.div_ceil(LANES) };
         }
         self.batch_starts[COLORS + 1] = count;
+        // A batch that holds both pushing and waiting contacts counts as pushing.
+        for color in 0..=COLORS {
+            let pushing = self.waiting_contacts[color] - self.color_starts[color];
+            let per_batch = if color == OVERFLOW { 1 } else { LANES };
+            self.waiting_batches[color] = self.batch_starts[color] + pushing.div_ceil(per_batch);
+        }
         // Every batch is written below: only growth needs filling.
         self.batches.resize(count, ContactBatch::default());
         // Each batch is made from its own contacts alone: threads change nothing but
         // the time.
         let (contacts, color_starts, batch_starts) = (&self.contacts, &self.color_starts, &self.batch_starts);
-        let make = |color: usize, k: usize, batch: &mut ContactBatch| {
+        let make = |color: usize, k: usize, (batch, origin): (&mut ContactBatch, &mut u32)| {
             let per_batch = if color == OVERFLOW { 1 } else { LANES };
             let first = color_starts[color] + k * per_batch;
             let last = (first + per_batch).min(color_starts[color + 1]);
             *batch = ContactBatch::new(&contacts[first..last], particles);
+            *origin = contacts[first].origin;
         };
         // The solve reads and writes the lanes' particles without checking each index
         // again (`SharedVelocities::gather`): check them all once here.
@@ -202,18 +210,31 @@ impl SoftStep {
         // One pass over every batch of every colour (a batch's colour is the last whose
         // first batch is at or before it), on several threads for many contacts: a
         // pile's colours are each too small to share out alone.
-        let make_any = |(g, batch): (usize, &mut ContactBatch)| {
+        let make_any = |(g, (batch, origin)): (usize, (&mut ContactBatch, &mut u32))| {
             let color = batch_starts[1..=COLORS + 1].partition_point(|&start| start <= g);
-            make(color, g - batch_starts[color], batch);
+            make(color, g - batch_starts[color], (batch, origin));
             assert!(
                 batch.a.iter().chain(&batch.b).all(|&i| i < n),
                 "a contact names a particle beyond the {n} there are"
             );
         };
+        self.batch_origins.resize(count, 0);
+        let origins = &mut self.batch_origins;
         if self.contacts.len() >= PARALLEL_BATCHING {
-            self.batches.par_iter_mut().enumerate().with_min_len(256).for_each(make_any);
+            let batches = self.batches.par_iter_mut().zip(origins.par_iter_mut());
+            batches.enumerate().with_min_len(256).for_each(make_any);
         } else {
-            self.batches.iter_mut().enumerate().for_each(make_any);
+            self.batches.iter_mut().zip(origins.iter_mut()).enumerate().for_each(make_any);
+        }
+        // Each thread's share of each colour, for the passes of this step.
+        let threads = rayon::current_num_threads();
+        self.shares.clear();
+        if threads > 1 {
+            for color in 0..OVERFLOW {
+                let colour = self.batch_starts[color]..self.batch_starts[color + 1];
+                let (wait, origins) = (self.waiting_batches[color], &self.batch_origins);
+                self.shares.extend(share(colour, wait, origins, threads));
+            }
         }
     }
 

@@ -303,8 +303,6 @@ fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
 fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: Bodies<'_>, context: Context) {
     let has_b = batch.has_b_mask();
     let n = batch.normal;
-    let va = gather::<L>(bodies.velocities, &batch.a);
-    let vb = pick::<L, FULL>(has_b, gather::<L>(bodies.velocities, &batch.b), V::ZERO);
     let da = motion::<L>(bodies.delta, &batch.a);
     let db = pick::<L, FULL>(has_b, motion::<L>(bodies.delta, &batch.b), V::ZERO);
     let s = batch.separation + (da - db).dot(n);
@@ -316,6 +314,14 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     } else {
         s.gt(L::ZERO).and(batch.normal_impulse.eq(L::ZERO))
     };
+    // A skipped lane writes back what it read (below): a batch whose every contact is
+    // skipped changes nothing, so it is left at that. Most of a pile's speculative
+    // contacts, which the colouring gathers into batches of their own, are such.
+    if skip.bits() & batch.active == batch.active {
+        return;
+    }
+    let va = gather::<L>(bodies.velocities, &batch.a);
+    let vb = pick::<L, FULL>(has_b, gather::<L>(bodies.velocities, &batch.b), V::ZERO);
     let (bias, mass_scale, impulse_scale) = contact_terms_wide(s, context);
     let vn = (va - vb).dot(n);
     let old_normal = batch.normal_impulse;

@@ -191,6 +191,17 @@ pub struct SoftStep {
     batches: Vec<batch::ContactBatch>,
     /// First batch of each colour, and the end.
     batch_starts: [usize; COLORS + 2],
+    /// Each colour's first contact, and first batch, of those that wait (see
+    /// `color::bucket`): the end of the colour where none does.
+    waiting_contacts: [usize; COLORS + 1],
+    waiting_batches: [usize; COLORS + 1],
+    /// Each batch's first contact's place in `fresh` (see `color::share`).
+    batch_origins: Vec<u32>,
+    /// Each thread's share of each colour, for the pool the step runs on (see
+    /// `color::for_each_batch`).
+    shares: Vec<color::Share>,
+    /// Per fresh contact: it waits (see `color::bucket`).
+    waits: Vec<bool>,
     /// Colour of each fresh contact.
     colors: Vec<u8>,
     /// The keys `colors` and `color_starts` were made for, and which particles were
@@ -199,8 +210,9 @@ pub struct SoftStep {
     colored_movable: Vec<bool>,
     /// Where each fresh contact went in `contacts` (by generation order).
     slots: Vec<u32>,
-    /// Per chunk of fresh contacts, its first slot in each colour (the counting sort).
-    chunk_starts: Vec<[usize; COLORS + 1]>,
+    /// Per chunk of fresh contacts, its first slot in each of the counting sort's
+    /// buckets (two per colour, see `color::bucket`).
+    chunk_starts: Vec<[usize; 2 * (COLORS + 1)]>,
     masks: Vec<u32>,
     links: Vec<SoftLink>,
     /// Last step's contacts, in generation order, with their groups.

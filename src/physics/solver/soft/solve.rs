@@ -16,7 +16,9 @@ impl SoftStep {
             spins: SharedVelocities::new(&mut particles.angular_velocity),
             delta: &self.delta,
         };
-        for_each_batch(&mut self.batches, &self.batch_starts, |run, _| warm_start_batches(run, bodies));
+        for_each_batch(&mut self.batches, &self.batch_starts, &self.shares, |run, _| {
+            warm_start_batches(run, bodies)
+        });
         if self.network.exact() {
             return; // the network solves its links whole each substep: no warm start
         }
@@ -40,7 +42,7 @@ impl SoftStep {
             spins: SharedVelocities::new(&mut particles.angular_velocity),
             delta: &self.delta,
         };
-        for_each_batch(&mut self.batches, &self.batch_starts, |run, one_colour| {
+        for_each_batch(&mut self.batches, &self.batch_starts, &self.shares, |run, one_colour| {
             solve_batches(run, one_colour, bodies, contacts);
         });
         if self.network.exact() {

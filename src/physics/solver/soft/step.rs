@@ -10,13 +10,16 @@ use super::{Context, NONE, PARALLEL_PARTICLES, SoftStep, ms};
 use rayon::prelude::*;
 
 /// Particles from which the per-substep copies of velocities run on several threads.
-const PARALLEL_COPY: usize = 32_768;
+const PARALLEL_COPY: usize = 4096;
+
+/// Contacts from which the deepest overlap is found on several threads.
+const PARALLEL_OVERLAP: usize = 8192;
 
 /// `to = from`, in parallel chunks for large arrays.
 fn copy(to: &mut Vec<Vec3>, from: &[Vec3], parallel: bool) {
     if parallel {
         to.resize(from.len(), Vec3::ZERO);
-        to.par_chunks_mut(8192).zip(from.par_chunks(8192)).for_each(|(to, from)| to.copy_from_slice(from));
+        to.par_chunks_mut(2048).zip(from.par_chunks(2048)).for_each(|(to, from)| to.copy_from_slice(from));
     } else {
         to.clear();
         to.extend_from_slice(from);
@@ -244,7 +247,7 @@ impl SoftStep {
             -(c.separation + d.dot(c.normal))
         };
         // The largest of the same numbers, in any order (on several threads for many).
-        if self.contacts.len() >= PARALLEL_COPY {
+        if self.contacts.len() >= PARALLEL_OVERLAP {
             self.contacts.par_iter().with_min_len(4096).map(overlap).reduce(|| 0.0, f32::max)
         } else {
             self.contacts.iter().map(overlap).fold(0.0, f32::max)

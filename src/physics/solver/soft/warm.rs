@@ -80,20 +80,35 @@ impl SoftStep {
 
     /// Copies last step's impulses into this step's matching contacts and links;
     /// `generators` is how many contact generators the world has.
+    ///
+    /// It also marks the contacts that wait (`waits`): apart at the start of the step
+    /// and without a normal impulse to start from (see `color::bucket`).
     pub(super) fn warm_start_from_last_step(&mut self, generators: usize) {
+        self.waits.clear();
+        self.waits.resize(self.fresh.len(), false);
+        let mark = |(contacts, waits): (&[SoftContact], &mut [bool])| {
+            for (contact, waits) in contacts.iter().zip(waits) {
+                *waits = contact.separation > 0.0 && contact.normal_impulse == 0.0;
+            }
+        };
         for (id, range) in &self.fresh_groups {
-            let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else { continue };
-            let (old_keys, new_keys) = (&self.warm[old.clone()], &self.fresh_keys[range.clone()]);
             let contacts = &mut self.fresh[range.clone()];
+            let waits = &mut self.waits[range.clone()];
+            let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else {
+                mark((contacts, waits));
+                continue;
+            };
+            let (old_keys, new_keys) = (&self.warm[old.clone()], &self.fresh_keys[range.clone()]);
             // Both runs are sorted by key: walk them together, from where the old run
             // reaches a piece's first key (pieces on several threads for long runs).
-            let pick_up = |(contacts, new_keys): (&mut [SoftContact], &[u64])| {
+            let pick_up = |((contacts, new_keys), waits): ((&mut [SoftContact], &[u64]), &mut [bool])| {
                 let Some(&first) = new_keys.first() else { return };
                 let mut j = old_keys.partition_point(|warm| warm.key < first);
-                for (contact, &k) in contacts.iter_mut().zip(new_keys) {
+                for ((contact, &k), waits) in contacts.iter_mut().zip(new_keys).zip(waits) {
                     while j < old_keys.len() && old_keys[j].key < k {
                         j += 1;
                     }
+                    *waits = contact.separation > 0.0;
                     if j < old_keys.len() && old_keys[j].key == k {
                         let warm = old_keys[j];
                         contact.normal_impulse = warm.normal_impulse;
@@ -103,13 +118,15 @@ impl SoftStep {
                         if contact.rolling > 0.0 {
                             contact.rolling_impulse = warm.rolling_impulse;
                         }
+                        *waits &= warm.normal_impulse == 0.0;
                     }
                 }
             };
             if contacts.len() >= PARALLEL_STORE {
-                contacts.par_chunks_mut(PIECE).zip(new_keys.par_chunks(PIECE)).for_each(pick_up);
+                let pieces = contacts.par_chunks_mut(PIECE).zip(new_keys.par_chunks(PIECE));
+                pieces.zip(waits.par_chunks_mut(PIECE)).for_each(pick_up);
             } else {
-                pick_up((contacts, new_keys));
+                pick_up(((contacts, new_keys), waits));
             }
         }
         // Last step's impulses by generator index, so each link finds its own at once
