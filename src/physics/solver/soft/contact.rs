@@ -289,7 +289,7 @@ fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
 /// Solves a batch of four contacts: the normal impulse with soft feedback, then Coulomb
 /// friction clamped to `μ` times it (a disc, since a particle's tangent plane has two
 /// directions), then rolling resistance. Every velocity and spin is read once and
-/// written once.
+/// written once (neither, in a relax pass over a batch whose every contact skips).
 ///
 /// For spheres that roll, friction acts on the velocity of the contact point, `v_a +
 /// ω_a × (-r_a n) - v_b - ω_b × (r_b n)`, and its impulse `P` turns each sphere by

@@ -191,8 +191,9 @@ pub struct SoftStep {
     batches: Vec<batch::ContactBatch>,
     /// First batch of each colour, and the end.
     batch_starts: [usize; COLORS + 2],
-    /// Each colour's first contact, and first batch, of those that wait (see
-    /// `color::bucket`): the end of the colour where none does.
+    /// Each colour's first contact of those that wait (see `color::bucket`), and its
+    /// first batch made of waiting contacts only (a batch holding both counts as
+    /// pushing): the end of the colour where none waits.
     waiting_contacts: [usize; COLORS + 1],
     waiting_batches: [usize; COLORS + 1],
     /// Each batch's first contact's place in `fresh` (see `color::share`).

@@ -246,11 +246,13 @@ impl SoftStep {
             }
             -(c.separation + d.dot(c.normal))
         };
-        // The largest of the same numbers, in any order (on several threads for many).
-        if self.contacts.len() >= PARALLEL_OVERLAP {
+        // The largest of the same numbers, in any order (on several threads for many);
+        // a zero is reported as +0, since `max` may give either of +0 and -0.
+        let deepest = if self.contacts.len() >= PARALLEL_OVERLAP {
             self.contacts.par_iter().with_min_len(4096).map(overlap).reduce(|| 0.0, f32::max)
         } else {
             self.contacts.iter().map(overlap).fold(0.0, f32::max)
-        }
+        };
+        if deepest == 0.0 { 0.0 } else { deepest }
     }
 }

@@ -108,7 +108,6 @@ impl SoftStep {
                     while j < old_keys.len() && old_keys[j].key < k {
                         j += 1;
                     }
-                    *waits = contact.separation > 0.0;
                     if j < old_keys.len() && old_keys[j].key == k {
                         let warm = old_keys[j];
                         contact.normal_impulse = warm.normal_impulse;
@@ -118,8 +117,8 @@ impl SoftStep {
                         if contact.rolling > 0.0 {
                             contact.rolling_impulse = warm.rolling_impulse;
                         }
-                        *waits &= warm.normal_impulse == 0.0;
                     }
+                    *waits = contact.separation > 0.0 && contact.normal_impulse == 0.0;
                 }
             };
             if contacts.len() >= PARALLEL_STORE {
