@@ -10,9 +10,11 @@
 //! scene's default rolling resistance (0.1), shown beside it for what it costs. Each pile is settled first (the engine's own defaults, both
 //! threads), then criterion measures one step of 1/60 s on 1 thread and on all threads,
 //! first with each engine's default sleeping (both put resting islands to sleep), then
-//! with sleeping turned off. Every measurement is followed by a timing of our own (the
-//! median of a few steps, quotable next to criterion's figures) and a measurement of the
-//! pile from its positions, so no time is reported without the quality it bought.
+//! with sleeping turned off. Criterion's measurements of the engines are followed by a
+//! timing of our own (the median of 30 steps, the engines stepped in turn a few at a
+//! time so that both sides of a ratio are timed across the same spells of the machine,
+//! see [`time_in_turn`]) and a measurement of each pile from its positions, so no time
+//! is reported without the quality it bought.
 //!
 //! Both engines sleep by default with the same rule (slower than 0.05 m/s for 0.5 s, a
 //! whole island at once): rapier's `RigidBodyActivation::default()`, particle-lab's
@@ -69,12 +71,15 @@ struct Plan {
     rest: usize,
     /// Steps after sleeping is switched off, before measuring.
     resettle: usize,
-    /// Steps of our own timing after each criterion measurement.
-    timed: usize,
+    /// Rounds of our own timing after criterion's measurements (see [`time_in_turn`]).
+    rounds: usize,
 }
 
-const FULL: Plan = Plan { settle_min: 150, settle_max: 600, rest: 60, resettle: 60, timed: 30 };
-const QUICK: Plan = Plan { settle_min: 20, settle_max: 40, rest: 2, resettle: 5, timed: 3 };
+const FULL: Plan = Plan { settle_min: 150, settle_max: 600, rest: 60, resettle: 60, rounds: 10 };
+const QUICK: Plan = Plan { settle_min: 20, settle_max: 40, rest: 2, resettle: 5, rounds: 1 };
+
+/// Steps each engine takes in a round of our own timing, timed after one untimed step.
+const BLOCK: u64 = 3;
 
 /// Inner width of the box for `n` spheres: about ten layers deep.
 fn width_for(n: usize) -> f32 {
@@ -108,6 +113,24 @@ fn run(pool: &ThreadPool, engine: &mut dyn Engine, steps: u64) -> Vec<Duration> 
             })
             .collect()
     })
+}
+
+/// Our own timing of every engine under the same conditions: `rounds` rounds, each of
+/// which steps every engine in turn, one untimed step (which fills the caches the other
+/// engines emptied) and then [`BLOCK`] timed ones. How fast this virtual machine runs
+/// changes from one second to the next (other processes; where the host puts the two
+/// cores, see [`core_round_trip_ns`]), and timing the engines one after the other let
+/// the two sides of a ratio draw different spells: taken in turn, every engine is
+/// timed across the same spells. The wall time of each engine's timed steps.
+fn time_in_turn(pool: &ThreadPool, engines: &mut [Box<dyn Engine>], rounds: usize) -> Vec<Vec<Duration>> {
+    let mut times = vec![Vec::new(); engines.len()];
+    for _ in 0..rounds {
+        for (engine, times) in engines.iter_mut().zip(&mut times) {
+            run(pool, engine.as_mut(), 1);
+            times.extend(run(pool, engine.as_mut(), BLOCK));
+        }
+    }
+    times
 }
 
 fn median(mut values: Vec<f32>) -> f32 {
@@ -536,8 +559,9 @@ struct Row {
     /// The machine's 1-minute load average when our timing ended (other processes
     /// compete for the cores).
     load: Option<f32>,
-    /// The cores' round trip then (ns), see [`core_round_trip_ns`].
-    round_trip: Option<f32>,
+    /// The cores' round trip before and after our timing (ns), see
+    /// [`core_round_trip_ns`].
+    round_trip: [Option<f32>; 2],
 }
 
 /// Time for one thread to hand a cache line to another and get it back (ns): the
@@ -646,18 +670,24 @@ fn main() {
                     run(widest, engine.as_mut(), plan.resettle as u64);
                 }
             }
+            let id = |engine: &dyn Engine, threads: usize| {
+                format!("{}/sleep_{}/{threads}t", engine.name(), if sleep { "on" } else { "off" })
+            };
             for (threads, pool) in &pools {
                 for engine in &mut engines {
                     let engine = engine.as_mut();
-                    let id =
-                        format!("{}/sleep_{}/{threads}t", engine.name(), if sleep { "on" } else { "off" });
-                    group.bench_function(&id, |b| {
+                    group.bench_function(id(engine, *threads), |b| {
                         b.iter_custom(|iters| run(pool, &mut *engine, iters).into_iter().sum())
                     });
-                    let times = run(pool, engine, plan.timed as u64);
+                }
+                let round_trip_before = core_round_trip_ns();
+                let timed = time_in_turn(pool, &mut engines, plan.rounds);
+                let round_trip = core_round_trip_ns();
+                let load = load_average();
+                for (engine, times) in engines.iter_mut().zip(timed) {
+                    let engine = engine.as_mut();
+                    let id = id(engine, *threads);
                     let ms = median(times.iter().map(|t| t.as_secs_f32() * 1000.0).collect());
-                    let load = load_average();
-                    let round_trip = core_round_trip_ns();
                     let (positions, velocities) = engine.state();
                     let quality = quality(&positions, &velocities, width);
                     let asleep = engine.asleep();
@@ -681,7 +711,7 @@ fn main() {
                         quality,
                         asleep,
                         load,
-                        round_trip,
+                        round_trip: [round_trip_before, round_trip],
                     });
                 }
             }
@@ -695,12 +725,14 @@ fn main() {
 fn print_table(rows: &[Row]) {
     eprintln!();
     eprintln!(
-        "pile: ms/step = median of our own timing after criterion's; quality measured on the positions afterwards;"
+        "pile: ms/step = median of our own timing after criterion's (the engines in turn); quality measured on the positions afterwards;"
     );
     eprintln!("pile: load = 1-minute load average then (other processes share the cores)");
-    eprintln!("pile: rt ns = the two cores' round trip then (see core_round_trip_ns: high means far apart)");
     eprintln!(
-        "{:<13} {:>7} {:>5} {:>3} {:>9} {:>8} {:>10} {:>9} {:>10} {:>7} {:>7} {:>7} {:>5} {:>6}",
+        "pile: rt ns = the two cores' round trip before/after our timing (core_round_trip_ns: high means far apart)"
+    );
+    eprintln!(
+        "{:<13} {:>7} {:>5} {:>3} {:>9} {:>8} {:>10} {:>9} {:>10} {:>7} {:>7} {:>7} {:>5} {:>9}",
         "engine",
         "n",
         "sleep",
@@ -726,7 +758,7 @@ fn print_table(rows: &[Row]) {
         };
         let q = row.quality;
         eprintln!(
-            "{:<13} {:>7} {:>5} {:>3} {:>9.3} {:>8.0} {:>10.4} {:>9.3} {:>10.2} {:>7} {:>7} {:>7} {:>5} {:>6}",
+            "{:<13} {:>7} {:>5} {:>3} {:>9.3} {:>8.0} {:>10.4} {:>9.3} {:>10.2} {:>7} {:>7} {:>7} {:>5} {:>9}",
             row.engine,
             row.n,
             if row.sleep { "on" } else { "off" },
@@ -740,7 +772,7 @@ fn print_table(rows: &[Row]) {
             row.asleep,
             ratio,
             row.load.map_or_else(|| "-".into(), |l| format!("{l:.1}")),
-            row.round_trip.map_or_else(|| "-".into(), |ns| format!("{ns:.0}"))
+            row.round_trip.map(|ns| ns.map_or_else(|| "-".into(), |ns| format!("{ns:.0}"))).join("/")
         );
     }
 }

@@ -774,6 +774,64 @@ impl Particles {
         self.force.fill(Vec3::ZERO);
     }
 
+    /// [`Particles::integrate_velocities`], keeping copies on the way: each velocity
+    /// before the kick into `before`, each spin into `spins` (when given) and each
+    /// velocity after it into `after`. The same numbers as the copies and the kick made
+    /// one after the other, in one sweep over the particles (on several threads when
+    /// `parallel`) instead of four: on 2 threads, an 8,000-sphere pile's kicks took
+    /// 0.066 ms a step this way against 0.076 ms, and 0.12 against 0.20 ms when the
+    /// two cores were far apart.
+    pub(crate) fn integrate_velocities_keeping(
+        &mut self,
+        h: f32,
+        parallel: bool,
+        before: &mut Vec<Vec3>,
+        mut spins: Option<&mut Vec<Vec3>>,
+        after: &mut Vec<Vec3>,
+    ) {
+        /// Particles per task.
+        const RUN: usize = 2048;
+        let n = self.len();
+        for out in [Some(&mut *before), spins.as_deref_mut(), Some(&mut *after)].into_iter().flatten() {
+            out.resize(n, Vec3::ZERO);
+        }
+        let (acceleration, force, inverse_mass) = (&self.acceleration, &self.force, &self.inverse_mass);
+        let (damping, sleep, spin) = (&self.damping_per_step, &self.sleep, &self.angular_velocity);
+        // The run of particles from `first`: their velocities and their parts of the copies.
+        let sweep = |first: usize,
+                     v: &mut [Vec3],
+                     before: &mut [Vec3],
+                     spins: Option<&mut [Vec3]>,
+                     after: &mut [Vec3]| {
+            let run = first..first + v.len();
+            before.copy_from_slice(v);
+            if let Some(spins) = spins {
+                spins.copy_from_slice(&spin[run.clone()]);
+            }
+            let bodies = inverse_mass[run.clone()].iter().zip(&damping[run.clone()]).zip(&sleep[run.clone()]);
+            let inputs = acceleration[run.clone()].iter().zip(&force[run]).zip(bodies);
+            for (v, ((&a, &f), ((&inverse_mass, &damp), sleep))) in v.iter_mut().zip(inputs) {
+                if inverse_mass > 0.0 && sleep.island == AWAKE {
+                    *v = kicked(*v, a + f * inverse_mass, h, damp);
+                }
+            }
+            after.copy_from_slice(v);
+        };
+        if parallel {
+            use rayon::prelude::*;
+            let runs = self.velocity.par_chunks_mut(RUN).zip(before.par_chunks_mut(RUN));
+            let runs = runs.zip(after.par_chunks_mut(RUN)).enumerate();
+            match spins {
+                Some(spins) => runs
+                    .zip(spins.par_chunks_mut(RUN))
+                    .for_each(|((k, ((v, b), a)), s)| sweep(k * RUN, v, b, Some(s), a)),
+                None => runs.for_each(|(k, ((v, b), a))| sweep(k * RUN, v, b, None, a)),
+            }
+        } else {
+            sweep(0, &mut self.velocity, before, spins.map(Vec::as_mut_slice), after);
+        }
+    }
+
     /// The velocity half of a semi-implicit Euler (sub)step: `v = (v + (a + F/m) h)
     /// damping^h` for every movable, awake particle ([`kicked`]).
     /// [`Particles::prepare_damping`] must have been called with `h`; the position half
@@ -1062,6 +1120,61 @@ fn sin_cos_series(x: f64) -> (f32, f32) {
 mod tests {
     use super::*;
     use glam::Vec4;
+
+    /// The kick that keeps copies gives, bit for bit, the velocities of the plain kick
+    /// and copies of the velocities before and after it and of the spins, on one thread
+    /// and on several, for a mix of movable, immovable, damped and sleeping particles
+    /// with forces on them, in more particles than one task takes.
+    #[test]
+    fn the_kick_that_keeps_copies_is_the_kick_and_the_copies() {
+        let mut particles = Particles::new();
+        for i in 0..5000 {
+            let f = i as f32;
+            let desc = ParticleDesc {
+                velocity: Vec3::new((f * 0.37).sin(), (f * 0.11).cos(), -f * 1e-3),
+                acceleration: Vec3::new(0.0, -9.81, 0.1 * (f * 0.7).sin()),
+                mass: 1.0 + (i % 7) as f32,
+                immovable: i % 17 == 3,
+                damping: if i % 5 == 0 { 0.9 } else { 1.0 },
+                radius: 0.5,
+                ..ParticleDesc::default()
+            };
+            particles.add(desc).expect("a valid particle");
+            particles.force[i] = Vec3::new(f.cos(), 0.5, f * 1e-2);
+            particles.angular_velocity[i] = Vec3::new(f * 1e-3, -1.0, (f * 0.3).cos());
+        }
+        particles.sleep[11].island = 0;
+        let h = 1.0 / 240.0;
+        particles.prepare_damping(h);
+        let mut expected = particles.clone();
+        let start = expected.velocity.clone();
+        expected.integrate_velocities(h, false);
+        let bits = |v: &[Vec3]| v.iter().flat_map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        for parallel in [false, true] {
+            for with_spins in [false, true] {
+                let mut p = particles.clone();
+                let (mut before, mut spins, mut after) =
+                    (Vec::new(), vec![Vec3::NAN; 3], vec![Vec3::NAN; 9000]);
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
+                pool.install(|| {
+                    p.integrate_velocities_keeping(
+                        h,
+                        parallel,
+                        &mut before,
+                        with_spins.then_some(&mut spins),
+                        &mut after,
+                    )
+                });
+                assert_eq!(bits(&p.velocity), bits(&expected.velocity), "parallel {parallel}");
+                assert_eq!(bits(&before), bits(&start));
+                assert_eq!(bits(&after), bits(&expected.velocity));
+                if with_spins {
+                    assert_eq!(bits(&spins), bits(&particles.angular_velocity));
+                }
+            }
+        }
+        assert_ne!(bits(&expected.velocity), bits(&start), "the kick changed the velocities");
+    }
 
     /// A run of spheres turned four at a time (AVX's f64 lanes, where the processor
     /// has them) comes out bit for bit as each turned alone, including the spheres

@@ -97,23 +97,30 @@ impl SoftStep {
         // Spheres that roll: the contacts change their spin as well (nothing else does).
         let rolling = constrained && particles.any_rolling();
         for _ in 0..substeps {
-            if bouncy || constrained {
-                copy(&mut self.substep_velocity, &particles.velocity, copying);
-            }
-            if rolling {
-                copy(&mut self.substep_spin, &particles.angular_velocity, copying);
-            }
             if semi_implicit {
                 particles.clear_forces();
                 forces.apply(particles, h);
-                particles.integrate_velocities(h, parallel);
+                if constrained {
+                    // The velocities and spins at the start of the substep, and the
+                    // velocities kicked, copied in the kick's own sweep (the forces
+                    // change neither). Restitution needs contacts: `bouncy` implies
+                    // `constrained`.
+                    let (start, spins) =
+                        (&mut self.substep_velocity, rolling.then_some(&mut self.substep_spin));
+                    particles.integrate_velocities_keeping(h, copying, start, spins, &mut self.kicked);
+                } else {
+                    particles.integrate_velocities(h, parallel);
+                }
                 if damped {
                     particles.count_damping_loss();
                 }
-                if constrained {
-                    copy(&mut self.kicked, &particles.velocity, copying);
-                }
             } else {
+                if bouncy || constrained {
+                    copy(&mut self.substep_velocity, &particles.velocity, copying);
+                }
+                if rolling {
+                    copy(&mut self.substep_spin, &particles.angular_velocity, copying);
+                }
                 self.integration.predict(integrator, particles, forces, h);
             }
             let before = if constrained && !semi_implicit { particles.kinetic_energy() } else { 0.0 };
