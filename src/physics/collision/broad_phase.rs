@@ -37,8 +37,8 @@
 
 //!
 //! **Kept pairs.** A pile lying still would rebuild the same grid and find the same
-//! pairs step after step. So the search grows every reach by a skin (a tenth of the
-//! mean reach) and keeps the pairs it finds, with the positions and reaches it saw.
+//! pairs step after step. So the search grows every reach by a skin (0.3 of the mean
+//! reach, `SKIN_FRACTION`) and keeps the pairs it finds, with the positions and reaches it saw.
 //! While no sphere has moved by more than the skin (less what its reach grew) since,
 //! every pair that touches now is among the kept ones, and a search only tests those
 //! again, with the grid's own arithmetic and in its order: the same pairs, the same
