@@ -789,46 +789,36 @@ impl Particles {
         mut spins: Option<&mut Vec<Vec3>>,
         after: &mut Vec<Vec3>,
     ) {
-        /// Particles per task.
-        const RUN: usize = 2048;
         let n = self.len();
         for out in [Some(&mut *before), spins.as_deref_mut(), Some(&mut *after)].into_iter().flatten() {
             out.resize(n, Vec3::ZERO);
         }
-        let (acceleration, force, inverse_mass) = (&self.acceleration, &self.force, &self.inverse_mass);
-        let (damping, sleep, spin) = (&self.damping_per_step, &self.sleep, &self.angular_velocity);
+        let (velocity, inputs, spin) = self.kick_parts();
         // The run of particles from `first`: their velocities and their parts of the copies.
         let sweep = |first: usize,
                      v: &mut [Vec3],
                      before: &mut [Vec3],
                      spins: Option<&mut [Vec3]>,
                      after: &mut [Vec3]| {
-            let run = first..first + v.len();
             before.copy_from_slice(v);
             if let Some(spins) = spins {
-                spins.copy_from_slice(&spin[run.clone()]);
+                spins.copy_from_slice(&spin[first..first + v.len()]);
             }
-            let bodies = inverse_mass[run.clone()].iter().zip(&damping[run.clone()]).zip(&sleep[run.clone()]);
-            let inputs = acceleration[run.clone()].iter().zip(&force[run]).zip(bodies);
-            for (v, ((&a, &f), ((&inverse_mass, &damp), sleep))) in v.iter_mut().zip(inputs) {
-                if inverse_mass > 0.0 && sleep.island == AWAKE {
-                    *v = kicked(*v, a + f * inverse_mass, h, damp);
-                }
-            }
+            inputs.kick(first, v, h);
             after.copy_from_slice(v);
         };
         if parallel {
             use rayon::prelude::*;
-            let runs = self.velocity.par_chunks_mut(RUN).zip(before.par_chunks_mut(RUN));
-            let runs = runs.zip(after.par_chunks_mut(RUN)).enumerate();
+            let runs = velocity.par_chunks_mut(KICK_RUN).zip(before.par_chunks_mut(KICK_RUN));
+            let runs = runs.zip(after.par_chunks_mut(KICK_RUN)).enumerate();
             match spins {
                 Some(spins) => runs
-                    .zip(spins.par_chunks_mut(RUN))
-                    .for_each(|((k, ((v, b), a)), s)| sweep(k * RUN, v, b, Some(s), a)),
-                None => runs.for_each(|(k, ((v, b), a))| sweep(k * RUN, v, b, None, a)),
+                    .zip(spins.par_chunks_mut(KICK_RUN))
+                    .for_each(|((k, ((v, b), a)), s)| sweep(k * KICK_RUN, v, b, Some(s), a)),
+                None => runs.for_each(|(k, ((v, b), a))| sweep(k * KICK_RUN, v, b, None, a)),
             }
         } else {
-            sweep(0, &mut self.velocity, before, spins.map(Vec::as_mut_slice), after);
+            sweep(0, velocity, before, spins.map(Vec::as_mut_slice), after);
         }
     }
 
@@ -837,22 +827,29 @@ impl Particles {
     /// [`Particles::prepare_damping`] must have been called with `h`; the position half
     /// is [`Particles::integrate_positions`].
     pub(crate) fn integrate_velocities(&mut self, h: f32, parallel: bool) {
-        type Inputs<'a> = ((&'a Vec3, &'a Vec3), ((&'a f32, &'a f32), &'a Sleep));
-        let kick = |(v, ((&a, &f), ((&inverse_mass, &damp), sleep))): (&mut Vec3, Inputs<'_>)| {
-            if inverse_mass > 0.0 && sleep.island == AWAKE {
-                *v = kicked(*v, a + f * inverse_mass, h, damp);
-            }
-        };
-        let bodies = self.inverse_mass.iter().zip(&self.damping_per_step).zip(&self.sleep);
-        let inputs = self.acceleration.iter().zip(&self.force).zip(bodies);
+        let (velocity, inputs, _) = self.kick_parts();
         if parallel {
             use rayon::prelude::*;
-            let bodies = self.inverse_mass.par_iter().zip(&self.damping_per_step).zip(&self.sleep);
-            let inputs = self.acceleration.par_iter().zip(&self.force).zip(bodies);
-            self.velocity.par_iter_mut().zip(inputs).with_min_len(2048).for_each(kick);
+            velocity.par_chunks_mut(KICK_RUN).enumerate().for_each(|(k, v)| inputs.kick(k * KICK_RUN, v, h));
         } else {
-            self.velocity.iter_mut().zip(inputs).for_each(kick);
+            inputs.kick(0, velocity, h);
         }
+    }
+
+    /// The velocities, what the kick reads, and the spins, borrowed apart.
+    fn kick_parts(&mut self) -> (&mut [Vec3], KickInputs<'_>, &[Vec3]) {
+        let Self {
+            velocity,
+            acceleration,
+            force,
+            inverse_mass,
+            damping_per_step,
+            sleep,
+            angular_velocity,
+            ..
+        } = self;
+        let inputs = KickInputs { acceleration, force, inverse_mass, damping: damping_per_step, sleep };
+        (velocity, inputs, angular_velocity)
     }
 
     /// The position half of a substep: `p += v h` for every movable particle, adding the
@@ -899,6 +896,37 @@ impl Particles {
 #[must_use]
 pub(crate) fn kicked(v: Vec3, acceleration: Vec3, h: f32, damping_per_step: f32) -> Vec3 {
     (v + acceleration * h) * damping_per_step
+}
+
+/// Particles per task of the kick.
+const KICK_RUN: usize = 2048;
+
+/// What the velocity kick reads of every particle.
+#[derive(Clone, Copy)]
+struct KickInputs<'a> {
+    acceleration: &'a [Vec3],
+    force: &'a [Vec3],
+    inverse_mass: &'a [f32],
+    damping: &'a [f32],
+    sleep: &'a [Sleep],
+}
+
+impl KickInputs<'_> {
+    /// Kicks the velocities `v` of the particles from `first` on: [`kicked`] for every
+    /// movable, awake one.
+    fn kick(&self, first: usize, v: &mut [Vec3], h: f32) {
+        let run = first..first + v.len();
+        let bodies = self.inverse_mass[run.clone()]
+            .iter()
+            .zip(&self.damping[run.clone()])
+            .zip(&self.sleep[run.clone()]);
+        let inputs = self.acceleration[run.clone()].iter().zip(&self.force[run]).zip(bodies);
+        for (v, ((&a, &f), ((&inverse_mass, &damp), sleep))) in v.iter_mut().zip(inputs) {
+            if inverse_mass > 0.0 && sleep.island == AWAKE {
+                *v = kicked(*v, a + f * inverse_mass, h, damp);
+            }
+        }
+    }
 }
 
 /// Inverse moment of inertia of a solid sphere of inverse mass `w` and radius `r`:

@@ -88,7 +88,7 @@ impl SoftStep {
         self.waits.resize(self.fresh.len(), false);
         let mark = |(contacts, waits): (&[SoftContact], &mut [bool])| {
             for (contact, waits) in contacts.iter().zip(waits) {
-                *waits = contact.separation > 0.0 && contact.normal_impulse == 0.0;
+                *waits = waiting(contact);
             }
         };
         for (id, range) in &self.fresh_groups {
@@ -118,7 +118,7 @@ impl SoftStep {
                             contact.rolling_impulse = warm.rolling_impulse;
                         }
                     }
-                    *waits = contact.separation > 0.0 && contact.normal_impulse == 0.0;
+                    *waits = waiting(contact);
                 }
             };
             if contacts.len() >= PARALLEL_STORE {
@@ -193,4 +193,10 @@ impl SoftStep {
 #[inline]
 pub(super) fn key(a: u32, b: u32) -> u64 {
     (u64::from(a) << 32) | u64::from(b)
+}
+
+/// Whether a contact waits: apart at the start of the step and without a normal
+/// impulse to start from (see `color::bucket`).
+fn waiting(contact: &SoftContact) -> bool {
+    contact.separation > 0.0 && contact.normal_impulse == 0.0
 }
