@@ -72,6 +72,10 @@ impl<'a> SharedVelocities<'a> {
     }
 }
 
+/// Fresh contacts from which the greedy colouring runs beside the warm start's pick-up
+/// (on two threads), rather than before it.
+const PARALLEL_PICK_UP: usize = 4096;
+
 impl SoftStep {
     /// Stage 2: greedy colouring in generation order, then a counting sort into
     /// `contacts`. Depends on the contacts alone, never on the thread count.
@@ -85,13 +89,61 @@ impl SoftStep {
     /// movable: when both are as they were for the last colouring (a pile at rest keeps
     /// its contacts from step to step), the last colours are used again, the same
     /// colours the greedy pass would give, and only the sort runs.
-    pub(super) fn color(&mut self, particles: &Particles) {
+    ///
+    /// The warm start's pick-up of last step's impulses
+    /// ([`warm_start_from_last_step`](SoftStep::warm_start_from_last_step), for
+    /// `generators` contact generators) comes first: the sort places the contacts that
+    /// wait by what it finds. It reads the keys and writes the fresh contacts, the
+    /// greedy pass reads the keys alone, so with many contacts and several threads the
+    /// serial greedy pass runs on one thread while the pick-up runs beside it (on the
+    /// other, and on this one once the colours are done): the same colours and
+    /// impulses, sooner.
+    pub(super) fn pick_up_and_color(&mut self, particles: &Particles, generators: usize) {
         let w = &particles.inverse_mass;
-        let unchanged = self.fresh_keys == self.colored_keys
+        let recolor = !self.colors_still_hold(w);
+        let keys = std::mem::take(&mut self.fresh_keys);
+        if recolor && keys.len() >= PARALLEL_PICK_UP && rayon::current_num_threads() > 1 {
+            let (mut masks, mut colors) = (std::mem::take(&mut self.masks), std::mem::take(&mut self.colors));
+            let (starts, ()) = rayon::join(
+                || color_greedily(&keys, w, &mut masks, &mut colors),
+                || self.warm_start_from_last_step(&keys, generators),
+            );
+            (self.masks, self.colors, self.color_starts) = (masks, colors, starts);
+        } else {
+            self.warm_start_from_last_step(&keys, generators);
+            if recolor {
+                self.color_starts = color_greedily(&keys, w, &mut self.masks, &mut self.colors);
+            }
+        }
+        self.fresh_keys = keys;
+        self.finish_coloring(w, recolor);
+    }
+
+    /// [`pick_up_and_color`](SoftStep::pick_up_and_color) without a pick-up (the
+    /// contacts keep the impulses they hold), for tests of the colouring.
+    #[cfg(test)]
+    fn color(&mut self, particles: &Particles) {
+        let w = &particles.inverse_mass;
+        let recolor = !self.colors_still_hold(w);
+        if recolor {
+            self.color_starts = color_greedily(&self.fresh_keys, w, &mut self.masks, &mut self.colors);
+        }
+        self.finish_coloring(w, recolor);
+    }
+
+    /// Whether the last colouring holds for the fresh keys: they, and which particles
+    /// are movable, are as they were then.
+    fn colors_still_hold(&self, w: &[f32]) -> bool {
+        self.fresh_keys == self.colored_keys
             && self.colored_movable.len() == w.len()
-            && w.iter().zip(&self.colored_movable).all(|(&w, &movable)| (w > 0.0) == movable);
-        if !unchanged {
-            self.color_greedily(w);
+            && w.iter().zip(&self.colored_movable).all(|(&w, &movable)| (w > 0.0) == movable)
+    }
+
+    /// After the colours are known (`recolored`: made afresh for the fresh keys): note
+    /// what they were made for, and sort the contacts by them.
+    fn finish_coloring(&mut self, w: &[f32], recolored: bool) {
+        debug_assert_eq!(self.colors.len(), self.fresh.len(), "a colour per fresh contact");
+        if recolored {
             self.colored_keys.clone_from(&self.fresh_keys);
             self.colored_movable.clear();
             self.colored_movable.extend(w.iter().map(|&w| w > 0.0));
@@ -102,45 +154,51 @@ impl SoftStep {
             "a colour holds two contacts of one movable particle"
         );
     }
+}
 
-    /// The greedy colouring of the fresh contacts, in generation order: `colors` and
-    /// `color_starts`.
-    fn color_greedily(&mut self, w: &[f32]) {
-        self.masks.clear();
-        self.masks.resize(w.len(), 0);
-        self.colors.clear();
-        let mut counts = [0usize; COLORS + 1];
-        debug_assert_eq!(self.fresh_keys.len(), self.fresh.len(), "a key per fresh contact");
-        for &key in &self.fresh_keys {
-            let (a, b) = ((key >> 32) as usize, key as u32);
-            let movable_a = w[a] > 0.0;
-            let movable_b = b != NONE && w[b as usize] > 0.0;
-            let b = b as usize;
-            let mut used = if movable_a { self.masks[a] } else { 0 };
-            if movable_b {
-                used |= self.masks[b];
+/// The greedy colouring of the contacts of `keys`, in order: each contact's colour into
+/// `colors` (`masks`: per particle, the colours it has taken), and where each colour's
+/// run will start once sorted.
+fn color_greedily(
+    keys: &[u64],
+    w: &[f32],
+    masks: &mut Vec<u32>,
+    colors: &mut Vec<u8>,
+) -> [usize; COLORS + 2] {
+    masks.clear();
+    masks.resize(w.len(), 0);
+    colors.clear();
+    let mut counts = [0usize; COLORS + 1];
+    for &key in keys {
+        let (a, b) = ((key >> 32) as usize, key as u32);
+        let movable_a = w[a] > 0.0;
+        let movable_b = b != NONE && w[b as usize] > 0.0;
+        let b = b as usize;
+        let mut used = if movable_a { masks[a] } else { 0 };
+        if movable_b {
+            used |= masks[b];
+        }
+        let color = (!used).trailing_zeros() as usize;
+        let color = if color < COLORS {
+            let bit = 1u32 << color;
+            if movable_a {
+                masks[a] |= bit;
             }
-            let color = (!used).trailing_zeros() as usize;
-            let color = if color < COLORS {
-                let bit = 1u32 << color;
-                if movable_a {
-                    self.masks[a] |= bit;
-                }
-                if movable_b {
-                    self.masks[b] |= bit;
-                }
-                color
-            } else {
-                OVERFLOW
-            };
-            self.colors.push(color as u8);
-            counts[color] += 1;
-        }
-        self.color_starts[0] = 0;
-        for (c, &count) in counts.iter().enumerate() {
-            self.color_starts[c + 1] = self.color_starts[c] + count;
-        }
+            if movable_b {
+                masks[b] |= bit;
+            }
+            color
+        } else {
+            OVERFLOW
+        };
+        colors.push(color as u8);
+        counts[color] += 1;
     }
+    let mut starts = [0; COLORS + 2];
+    for (c, &count) in counts.iter().enumerate() {
+        starts[c + 1] = starts[c] + count;
+    }
+    starts
 }
 
 /// Fresh contacts a counting-sort task places (see [`SoftStep::sort_by_color`]).

@@ -258,25 +258,36 @@ fn solve_one<L: Lane>(batch: &mut ContactBatch<L>, bodies: Bodies<'_>, context: 
     }
 }
 
-/// Applies last step's impulses of a batch's contacts (warm start).
+/// Lanes whose normal, tangent and rolling impulses are all zero (either sign).
+#[inline(always)]
+fn without_impulse<L: Lane>(batch: &ContactBatch<L>) -> u32 {
+    let zero = |x: L| x.eq(L::ZERO);
+    let (t, r) = (batch.tangent_impulse, batch.rolling_impulse);
+    let tangent = zero(t.x).and(zero(t.y)).and(zero(t.z));
+    let rolling = zero(r.x).and(zero(r.y)).and(zero(r.z));
+    zero(batch.normal_impulse).and(tangent).and(rolling).bits()
+}
+
+/// Applies last step's impulses of a batch's contacts (warm start). A contact without
+/// any impulse has nothing to apply and writes nothing (adding zero would change only
+/// a velocity of -0 to +0): a batch of such contacts, most of a pile's speculative
+/// ones, which the colouring gathers into batches of their own, is passed over.
 #[inline(always)]
 fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
+    let pushing = batch.active & !without_impulse(batch);
+    if pushing == 0 {
+        return;
+    }
     let has_b = batch.has_b_mask();
     let impulse = batch.normal.scale(batch.normal_impulse) + batch.tangent_impulse;
     let va = gather::<L>(bodies.velocities, &batch.a);
     let vb = gather::<L>(bodies.velocities, &batch.b);
-    scatter::<L>(
-        bodies.velocities,
-        &batch.a,
-        batch.active & positive(batch.wa),
-        va + impulse.scale(batch.wa),
-    );
-    let b_lanes = batch.active & batch.has_b & positive(batch.wb);
+    scatter::<L>(bodies.velocities, &batch.a, pushing & positive(batch.wa), va + impulse.scale(batch.wa));
+    let b_lanes = pushing & batch.has_b & positive(batch.wb);
     scatter::<L>(bodies.velocities, &batch.b, b_lanes, vb - impulse.scale(batch.wb));
     // Only spheres that roll turn (a positive inverse inertia means a movable sphere
     // that rolls, so its contact rolls).
-    let (turn_a, turn_b) =
-        (batch.active & positive(batch.ia), batch.active & batch.has_b & positive(batch.ib));
+    let (turn_a, turn_b) = (pushing & positive(batch.ia), pushing & batch.has_b & positive(batch.ib));
     if turn_a | turn_b != 0 {
         let spin_a = gather::<L>(bodies.spins, &batch.a);
         let spin_b = V::select(has_b, gather::<L>(bodies.spins, &batch.b), V::ZERO);
@@ -406,5 +417,63 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     if any_spin {
         scatter::<L>(bodies.spins, &batch.a, active & turns_a.bits(), spin_a);
         scatter::<L>(bodies.spins, &batch.b, active & turns_b.bits(), spin_b);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::wide::{F4, V4};
+
+    /// The warm start applies a contact's impulses to both its particles, and a
+    /// contact without any impulse writes nothing: its particles keep their
+    /// velocities and spins bit for bit, a -0 included (adding zero would make it +0).
+    #[test]
+    fn a_contact_without_impulse_leaves_its_particles_alone_in_the_warm_start() {
+        let still = Vec3::new(-0.0, 1.0, -0.0);
+        let mut velocities = vec![still; 8];
+        let mut spins = vec![Vec3::new(-0.0, 0.0, -0.0); 8];
+        let delta = vec![Vec3::ZERO; 8];
+        // Four contacts between particles 0-1, 2-3, 4-5 and 6-7; those of lanes 1 and
+        // 3 carry no impulse (zeros of either sign).
+        let batch = ContactBatch {
+            active: 0b1111,
+            has_b: 0b1111,
+            full: true,
+            a: [0, 2, 4, 6],
+            b: [1, 3, 5, 7],
+            normal: V4::new([Vec3::Y; 4]),
+            lever_a: F4::splat(0.5),
+            lever_b: F4::splat(0.5),
+            wa: F4::splat(1.0),
+            wb: F4::splat(0.5),
+            ia: F4::splat(2.0),
+            ib: F4::splat(4.0),
+            normal_impulse: F4::new([1.0, 0.0, 0.5, -0.0]),
+            tangent_impulse: V4::new([Vec3::X * 0.25, Vec3::ZERO, Vec3::ZERO, Vec3::new(-0.0, 0.0, -0.0)]),
+            ..ContactBatch::default()
+        };
+        {
+            let bodies = Bodies {
+                velocities: SharedVelocities::new(&mut velocities),
+                spins: SharedVelocities::new(&mut spins),
+                delta: &delta,
+            };
+            warm_start_batches(&mut [batch], bodies);
+        }
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        for i in [2, 3, 6, 7] {
+            assert_eq!(bits(velocities[i]), bits(still), "particle {i}'s velocity");
+            assert_eq!(bits(spins[i]), bits(Vec3::new(-0.0, 0.0, -0.0)), "particle {i}'s spin");
+        }
+        // Lane 0: the impulse (0.25, 1, 0) pushes `a` by 1/kg and `b` back by 0.5/kg;
+        // the friction part turns both, by the lever times n × P, over the inertia.
+        assert_eq!(velocities[0], Vec3::new(0.25, 2.0, 0.0));
+        assert_eq!(velocities[1], Vec3::new(-0.125, 0.5, 0.0));
+        assert_eq!(spins[0], Vec3::new(0.0, 0.0, 0.25));
+        assert_eq!(spins[1], Vec3::new(0.0, 0.0, 0.5));
+        // Lane 2: the normal impulse alone.
+        assert_eq!(velocities[4], Vec3::new(0.0, 1.5, 0.0));
+        assert_eq!(velocities[5], Vec3::new(0.0, 0.75, 0.0));
     }
 }

@@ -65,8 +65,7 @@ impl SoftStep {
             wake(particles, &mut self.to_wake);
         }
         let collided = Instant::now();
-        self.warm_start_from_last_step(generators.len());
-        self.color(particles);
+        self.pick_up_and_color(particles, generators.len());
         self.batch(particles);
         self.network.prepare(&self.links, particles, settings);
 

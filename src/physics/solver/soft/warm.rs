@@ -79,11 +79,13 @@ impl SoftStep {
     }
 
     /// Copies last step's impulses into this step's matching contacts and links;
-    /// `generators` is how many contact generators the world has.
+    /// `keys` are the fresh contacts' keys (taken out of `fresh_keys` while the
+    /// colouring reads them too), `generators` is how many contact generators the
+    /// world has.
     ///
     /// It also marks the contacts that wait (`waits`): apart at the start of the step
     /// and without a normal impulse to start from (see `color::bucket`).
-    pub(super) fn warm_start_from_last_step(&mut self, generators: usize) {
+    pub(super) fn warm_start_from_last_step(&mut self, keys: &[u64], generators: usize) {
         self.waits.clear();
         self.waits.resize(self.fresh.len(), false);
         let mark = |(contacts, waits): (&[SoftContact], &mut [bool])| {
@@ -98,7 +100,7 @@ impl SoftStep {
                 mark((contacts, waits));
                 continue;
             };
-            let (old_keys, new_keys) = (&self.warm[old.clone()], &self.fresh_keys[range.clone()]);
+            let (old_keys, new_keys) = (&self.warm[old.clone()], &keys[range.clone()]);
             // Both runs are sorted by key: walk them together, from where the old run
             // reaches a piece's first key (pieces on several threads for long runs).
             let pick_up = |((contacts, new_keys), waits): ((&mut [SoftContact], &[u64]), &mut [bool])| {
