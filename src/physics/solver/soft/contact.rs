@@ -7,8 +7,8 @@
 //! Each lane computes, operation for operation, what the solve of its one contact
 //! computes alone (the formulas below, in glam's order): where a contact would skip a
 //! part (no friction, a sphere that does not roll, a relax pass over a contact not
-//! touching) its lane computes the part anyway and keeps its old values by a bit-exact
-//! select. So the result does not depend on which contacts share a batch, and equals
+//! touching, a contact that stays without impulse) its lane computes the part anyway
+//! and keeps its old values by a bit-exact select. So the result does not depend on which contacts share a batch, and equals
 //! the one-contact-at-a-time solve to the bit (`tests/state_hashes.rs` pins it).
 
 use glam::Vec3;
@@ -300,7 +300,8 @@ fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
 /// Solves a batch of four contacts: the normal impulse with soft feedback, then Coulomb
 /// friction clamped to `μ` times it (a disc, since a particle's tangent plane has two
 /// directions), then rolling resistance. Every velocity and spin is read once and
-/// written once (neither, in a relax pass over a batch whose every contact skips).
+/// written once (neither, in a relax pass over a batch whose every contact skips, and
+/// no spin, in a solve over a batch whose every contact stays without impulse).
 ///
 /// For spheres that roll, friction acts on the velocity of the contact point, `v_a +
 /// ω_a × (-r_a n) - v_b - ω_b × (r_b n)`, and its impulse `P` turns each sphere by
@@ -340,6 +341,14 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     let total = (old_normal + impulse).max(L::ZERO);
     let applied = total - old_normal;
     let normal_impulse = total;
+    // A contact that had no impulse and still gets no push (a speculative one whose
+    // gap this substep's motion does not close) changes nothing: it writes back what
+    // it read (below), and a batch of such contacts is left at that. Most of a pile's
+    // speculative contacts are such.
+    let idle = if context.use_bias { total.eq(L::ZERO).bits() & without_impulse(batch) } else { 0 };
+    if idle & batch.active == batch.active {
+        return;
+    }
     let mut p = n.scale(applied);
 
     let rolls = batch.lever_a.gt(L::ZERO).or(batch.lever_b.gt(L::ZERO));
@@ -397,19 +406,21 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     }
 
     let (mut va_new, mut vb_new) = (va + p.scale(batch.wa), vb - p.scale(batch.wb));
-    if context.use_bias {
+    if context.use_bias && idle == 0 {
         batch.normal_impulse = normal_impulse;
         batch.tangent_impulse = tangent_impulse;
         batch.rolling_impulse = rolling_impulse;
     } else {
-        batch.normal_impulse = skip.select(old_normal, normal_impulse);
-        batch.tangent_impulse = V::select(skip, batch.tangent_impulse, tangent_impulse);
-        batch.rolling_impulse = V::select(skip, batch.rolling_impulse, rolling_impulse);
-        // A skipped lane writes back what it read (the same bits; no other contact of
-        // the colour touches its particles): cheaper than leaving it out, since which
-        // lanes skip changes from batch to batch and each left-out lane is a branch.
-        (va_new, vb_new) = (V::select(skip, va, va_new), V::select(skip, vb, vb_new));
-        (spin_a, spin_b) = (V::select(skip, spin_a_read, spin_a), V::select(skip, spin_b_read, spin_b));
+        // The lanes that change nothing: skipped by the relax pass, idle in the solve.
+        let keep = if context.use_bias { L::Mask::from_bits(idle) } else { skip };
+        batch.normal_impulse = keep.select(old_normal, normal_impulse);
+        batch.tangent_impulse = V::select(keep, batch.tangent_impulse, tangent_impulse);
+        batch.rolling_impulse = V::select(keep, batch.rolling_impulse, rolling_impulse);
+        // Such a lane writes back what it read (the same bits; no other contact of the
+        // colour touches its particles): cheaper than leaving it out, since which
+        // lanes keep changes from batch to batch and each left-out lane is a branch.
+        (va_new, vb_new) = (V::select(keep, va, va_new), V::select(keep, vb, vb_new));
+        (spin_a, spin_b) = (V::select(keep, spin_a_read, spin_a), V::select(keep, spin_b_read, spin_b));
     }
     let active = batch.active;
     scatter::<L>(bodies.velocities, &batch.a, active & positive(batch.wa), va_new);
@@ -475,5 +486,90 @@ mod tests {
         // Lane 2: the normal impulse alone.
         assert_eq!(velocities[4], Vec3::new(0.0, 1.5, 0.0));
         assert_eq!(velocities[5], Vec3::new(0.0, 0.75, 0.0));
+    }
+
+    /// In the solve, a contact that had no impulse and gets none (a gap that this
+    /// substep's motion does not close) writes nothing: its particles keep their
+    /// velocities and spins and it keeps its impulses, bit for bit (zeros of either
+    /// sign included), whether it shares its batch with a contact that pushes or not.
+    #[test]
+    fn a_contact_that_stays_without_impulse_changes_nothing_in_the_solve() {
+        let h = 1.0 / 240.0;
+        let context = Context {
+            h,
+            inv_h: 1.0 / h,
+            max_push: 3.0,
+            soft: crate::physics::solver::settings::Softness::new(30.0, 10.0, h),
+            use_bias: true,
+        };
+        let apart = Vec3::new(-0.0, 0.5, -0.0);
+        let resting = Vec3::new(-0.0, -0.0, -0.0);
+        let spin = Vec3::new(-0.0, 0.0, -0.0);
+        let tangent = Vec3::new(-0.0, 0.0, -0.0);
+        // Lane 0 overlaps and closes (particles 0 and 1); lanes 1 to 3 are 0.5 m apart
+        // and opening (particles 2 to 7).
+        let batch = |first_pushes: bool| ContactBatch {
+            active: 0b1111,
+            has_b: 0b1111,
+            full: true,
+            a: [0, 2, 4, 6],
+            b: [1, 3, 5, 7],
+            normal: V4::new([Vec3::Y; 4]),
+            separation: F4::new([if first_pushes { -0.01 } else { 0.5 }, 0.5, 0.5, 0.5]),
+            friction: F4::splat(0.5),
+            mass: F4::splat(0.5),
+            tangent_mass: F4::splat(0.2),
+            lever_a: F4::splat(0.5),
+            lever_b: F4::splat(0.5),
+            rolling: F4::splat(0.025),
+            rolling_mass: F4::splat(0.05),
+            wa: F4::splat(1.0),
+            wb: F4::splat(1.0),
+            ia: F4::splat(10.0),
+            ib: F4::splat(10.0),
+            tangent_impulse: V4::new([tangent; 4]),
+            rolling_impulse: V4::new([tangent; 4]),
+            ..ContactBatch::default()
+        };
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        for first_pushes in [true, false] {
+            let mut velocities = vec![apart, resting, apart, resting, apart, resting, apart, resting];
+            velocities[0] = Vec3::new(0.0, -1.0, 0.0);
+            let mut spins = vec![spin; 8];
+            let delta = vec![Vec3::ZERO; 8];
+            let mut batches = [batch(first_pushes)];
+            {
+                let bodies = Bodies {
+                    velocities: SharedVelocities::new(&mut velocities),
+                    spins: SharedVelocities::new(&mut spins),
+                    delta: &delta,
+                };
+                solve_batches(&mut batches, true, bodies, context);
+            }
+            let solved = &batches[0];
+            let (normal, tangents) = (solved.normal_impulse.to_array(), solved.tangent_impulse.lanes());
+            let rolling = solved.rolling_impulse.lanes();
+            for lane in 1..4 {
+                let (a, b) = (2 * lane, 2 * lane + 1);
+                assert_eq!(bits(velocities[a]), bits(apart), "lane {lane}: a's velocity");
+                assert_eq!(bits(velocities[b]), bits(resting), "lane {lane}: b's velocity");
+                assert_eq!(bits(spins[a]), bits(spin), "lane {lane}: a's spin");
+                assert_eq!(bits(spins[b]), bits(spin), "lane {lane}: b's spin");
+                assert_eq!(normal[lane].to_bits(), 0.0f32.to_bits(), "lane {lane}: normal impulse");
+                assert_eq!(bits(tangents[lane]), bits(tangent), "lane {lane}: friction impulse");
+                assert_eq!(bits(rolling[lane]), bits(tangent), "lane {lane}: rolling impulse");
+            }
+            if first_pushes {
+                // The overlapping pair is pushed apart: a up, b down.
+                assert!(normal[0] > 0.0, "lane 0 pushes: {}", normal[0]);
+                assert!(velocities[0].y > -1.0 && velocities[1].y < 0.0, "{velocities:?}");
+            } else {
+                assert_eq!(
+                    bits(velocities[0]),
+                    bits(Vec3::new(0.0, -1.0, 0.0)),
+                    "lane 0 closes 0.5 m no faster than 1 m/s"
+                );
+            }
+        }
     }
 }
