@@ -22,6 +22,8 @@ use crate::physics::wide::{F4, Lane, Mask, V, V4};
 pub(super) const LANES: usize = 4;
 /// Contacts of a colour from which its batches are made on several threads.
 const PARALLEL_BATCHING: usize = 8192;
+/// Batches made one after another by one task.
+const BATCH_RUN: usize = 256;
 
 /// Up to four contacts of one colour, lane by lane (`L` = [`F4`]); with AVX, two such
 /// batches of one colour are joined into one of eight lanes ([`ContactBatch::join`]).
@@ -207,24 +209,32 @@ impl SoftStep {
         // The solve reads and writes the lanes' particles without checking each index
         // again (`SharedVelocities::gather`): check them all once here.
         let n = particles.len() as u32;
-        // One pass over every batch of every colour (a batch's colour is the last whose
-        // first batch is at or before it), on several threads for many contacts: a
-        // pile's colours are each too small to share out alone.
-        let make_any = |(g, (batch, origin)): (usize, (&mut ContactBatch, &mut u32))| {
-            let color = batch_starts[1..=COLORS + 1].partition_point(|&start| start <= g);
-            make(color, g - batch_starts[color], (batch, origin));
-            assert!(
-                batch.a.iter().chain(&batch.b).all(|&i| i < n),
-                "a contact names a particle beyond the {n} there are"
-            );
+        // One pass over every batch of every colour, a run of BATCH_RUN batches at a
+        // time (on several threads for many contacts: a pile's colours are each too
+        // small to share out alone). A run's first batch finds its colour (the last
+        // whose first batch is at or before it), the rest step on from there.
+        let make_run = |(k, (batches, origins)): (usize, (&mut [ContactBatch], &mut [u32]))| {
+            let first = k * BATCH_RUN;
+            let mut color = batch_starts[1..=COLORS + 1].partition_point(|&start| start <= first);
+            for (g, (batch, origin)) in (first..).zip(batches.iter_mut().zip(origins)) {
+                while batch_starts[color + 1] <= g {
+                    color += 1;
+                }
+                make(color, g - batch_starts[color], (batch, origin));
+                assert!(
+                    batch.a.iter().chain(&batch.b).all(|&i| i < n),
+                    "a contact names a particle beyond the {n} there are"
+                );
+            }
         };
         self.batch_origins.resize(count, 0);
         let origins = &mut self.batch_origins;
         if self.contacts.len() >= PARALLEL_BATCHING {
-            let batches = self.batches.par_iter_mut().zip(origins.par_iter_mut());
-            batches.enumerate().with_min_len(256).for_each(make_any);
+            let runs = self.batches.par_chunks_mut(BATCH_RUN).zip(origins.par_chunks_mut(BATCH_RUN));
+            runs.enumerate().for_each(make_run);
         } else {
-            self.batches.iter_mut().zip(origins.iter_mut()).enumerate().for_each(make_any);
+            let runs = self.batches.chunks_mut(BATCH_RUN).zip(origins.chunks_mut(BATCH_RUN));
+            runs.enumerate().for_each(make_run);
         }
         // Each thread's share of each colour, for the passes of this step.
         let threads = rayon::current_num_threads();

@@ -29,14 +29,17 @@ impl SoftStep {
         dt: f32,
         profile: &mut Profile,
     ) {
-        // How far each particle can move this step, plus the fixed margin.
+        // How far each particle can move this step, plus the fixed margin; the lengths
+        // of the accelerations are kept for the sphere pairs' slack.
+        self.acceleration.clear();
+        self.acceleration.extend(particles.acceleration.iter().map(|a| a.length()));
         self.margin.clear();
         self.margin.extend(
             particles
                 .velocity
                 .iter()
-                .zip(&particles.acceleration)
-                .map(|(v, a)| settings.speculative_distance + (v.length() + a.length() * dt) * dt),
+                .zip(&self.acceleration)
+                .map(|(v, &a)| settings.speculative_distance + (v.length() + a * dt) * dt),
         );
         self.fresh.clear();
         self.fresh_keys.clear();
@@ -157,7 +160,7 @@ impl SoftStep {
         slack: f32,
         dt: f32,
     ) {
-        let asleep = &self.asleep;
+        let (asleep, acceleration) = (&self.asleep, &self.acceleration);
         if pairs.len() < PARALLEL_PAIRS || rayon::current_num_threads() == 1 {
             // One task: straight onto the fresh lists (the order chunks would give),
             // without copying each contact a second time.
@@ -166,7 +169,7 @@ impl SoftStep {
                 contacts: std::mem::take(&mut self.fresh),
                 wake: std::mem::take(&mut self.to_wake),
             };
-            collide_pairs(spheres, particles, asleep, pairs, slack, dt, &mut out);
+            collide_pairs(spheres, particles, (asleep, acceleration), pairs, slack, dt, &mut out);
             (self.fresh_keys, self.fresh, self.to_wake) = (out.keys, out.contacts, out.wake);
             return;
         }
@@ -177,7 +180,7 @@ impl SoftStep {
         let collide = |(k, out): (usize, &mut PairChunk)| {
             out.clear();
             let pairs = &pairs[k * PAIR_CHUNK..((k + 1) * PAIR_CHUNK).min(pairs.len())];
-            collide_pairs(spheres, particles, asleep, pairs, slack, dt, out);
+            collide_pairs(spheres, particles, (asleep, acceleration), pairs, slack, dt, out);
         };
         self.pair_chunks[..chunks].par_iter_mut().enumerate().for_each(collide);
         let outputs = &self.pair_chunks[..chunks];
@@ -303,18 +306,18 @@ impl PairChunk {
     }
 }
 
-/// The contacts of `pairs` into `out` (see [`SoftStep::collide_spheres`]).
+/// The contacts of `pairs` into `out` (see [`SoftStep::collide_spheres`]), given which
+/// particles sleep and the length of each one's acceleration (m/s²).
 fn collide_pairs(
     spheres: &SphereCollisions,
     particles: &Particles,
-    asleep: &[bool],
+    (asleep, acceleration): (&[bool], &[f32]),
     pairs: &[(u32, u32)],
     slack: f32,
     dt: f32,
     out: &mut PairChunk,
 ) {
-    let (p, w, r) = (&particles.position, &particles.inverse_mass, &particles.radius);
-    let (v, acceleration) = (&particles.velocity, &particles.acceleration);
+    let (p, w, r, v) = (&particles.position, &particles.inverse_mass, &particles.radius, &particles.velocity);
     for &(a, b) in pairs {
         let (i, j) = (a as usize, b as usize);
         let total = w[i] + w[j];
@@ -330,7 +333,7 @@ fn collide_pairs(
         }
         // Gravity moves both alike; any difference in constant acceleration may close
         // the gap by up to |a_i - a_j| dt² / 2 (counted twice, as the margins do).
-        let slack = slack + (acceleration[i].length() + acceleration[j].length()) * dt * dt;
+        let slack = slack + (acceleration[i] + acceleration[j]) * dt * dt;
         let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
         let Some((normal, separation)) = swept else { continue };
         out.keys.push(key(a, b));

@@ -232,6 +232,8 @@ pub struct SoftStep {
     delta: Vec<Vec3>,
     /// Speculative margin of each particle (m).
     margin: Vec<f32>,
+    /// Length of each particle's acceleration at the start of the step (m/s²).
+    acceleration: Vec<f32>,
     /// Contacts and cables with restitution this step, refreshed every substep.
     impacts: Vec<Impact>,
     /// Buffers of the integrators other than semi-implicit Euler.
