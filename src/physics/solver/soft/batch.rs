@@ -29,12 +29,12 @@ const BATCH_RUN: usize = 256;
 /// batches of one colour are joined into one of eight lanes ([`ContactBatch::join`]).
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct ContactBatch<L: Lane = F4> {
-    /// Lanes holding a contact (bit `i`: lane `i`); the rest repeat the last contact
-    /// and are never written back.
+    /// Lanes holding a contact (bit `i`: lane `i`); the rest (inactive) repeat the last
+    /// contact and are never written back.
     pub(super) active: u32,
     /// Lanes whose contact has a second particle (bit `i`: lane `i`).
     pub(super) has_b: u32,
-    /// Every lane (the idle ones repeat the last contact) is a pair of movable spheres
+    /// Every lane (the inactive ones repeat the last contact) is a pair of movable spheres
     /// that both roll, with friction and rolling resistance: the solve can skip the
     /// selects that keep a lane's old values where a part does not apply (most of a
     /// rolling pile's contacts).

@@ -242,18 +242,19 @@ const PAIR_CHUNK: usize = 2048;
 /// Pairs from which the sphere contacts are made on several threads.
 const PARALLEL_PAIRS: usize = 4096;
 
-/// Elements from which [`append`] copies on several threads: an 8,000-sphere pile's
-/// 29,000 contacts (2.6 MB) already copy faster on two (from 32,768 down to this, its
-/// narrow phase took 0.25 instead of 0.26 ms a step on 2 threads in the cores' fast
-/// mode, 0.31–0.33 instead of 0.36–0.41 in their slow one).
-const PARALLEL_APPEND: usize = 8192;
+/// Bytes from which [`append`] copies on several threads: an 8,000-sphere pile's
+/// 29,000 contacts (2.4 MB) already copy faster on two (from 32,768 contacts down to
+/// this, its narrow phase took 0.25 instead of 0.26 ms a step on 2 threads in the
+/// cores' fast mode, 0.31–0.33 instead of 0.36–0.41 in their slow one); their keys
+/// (230 KB) stay on one.
+const PARALLEL_APPEND: usize = 512 * 1024;
 
 /// Appends `part` of every chunk to `to`, chunk after chunk: on several threads for
 /// many (a falling pile of 100,000 spheres makes 33 MB of contacts a step, too much
 /// to copy on one).
 fn append<T: Copy + Send + Sync>(to: &mut Vec<T>, chunks: &[PairChunk], part: fn(&PairChunk) -> &[T]) {
     let total: usize = chunks.iter().map(|chunk| part(chunk).len()).sum();
-    if total < PARALLEL_APPEND {
+    if total * std::mem::size_of::<T>() < PARALLEL_APPEND {
         chunks.iter().for_each(|chunk| to.extend_from_slice(part(chunk)));
         return;
     }
@@ -439,7 +440,7 @@ mod tests {
     /// appending them one after another gives, after what the list held.
     #[test]
     fn appending_on_several_threads_is_appending_in_order() {
-        let sizes = (0..97).map(|k: usize| (k * 7919) % 1200 + if k.is_multiple_of(13) { 0 } else { 100 });
+        let sizes = (0..300).map(|k: usize| (k * 7919) % 1200 + if k.is_multiple_of(13) { 0 } else { 100 });
         let chunks: Vec<PairChunk> = sizes
             .enumerate()
             .map(|(k, size)| PairChunk {
@@ -448,7 +449,7 @@ mod tests {
             })
             .collect();
         let total: usize = chunks.iter().map(|c| c.keys.len()).sum();
-        assert!(total >= 2 * PARALLEL_APPEND, "{total} keys: the parallel path");
+        assert!(total * size_of::<u64>() >= 2 * PARALLEL_APPEND, "{total} keys: the parallel path");
         let mut expected = vec![7, 8, 9];
         chunks.iter().for_each(|c| expected.extend_from_slice(&c.keys));
         let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();

@@ -31,15 +31,15 @@ pub(super) struct SharedVelocities<'a> {
 }
 
 // SAFETY: the tasks that use one `SharedVelocities` at the same time solve the
-// contacts of one colour (`for_each_contact`), and the invariant is: *within one
-// colour, each movable particle belongs to at most one contact* (`SoftStep::color`
+// contacts of one colour (`for_each_batch`), and the invariant is: *within one
+// colour, each movable particle belongs to at most one contact* (`color_greedily`
 // builds it; debug builds check it after every colouring, `colours_are_disjoint`). A
-// task writes only the velocities of its contact's movable particles (`apply`,
-// `solve_contact` skip particles of zero inverse mass), so no element is written by
-// two tasks or written by one while another reads it; immovable particles' velocities
-// are only read. The overflow colour, which may repeat a particle, is solved in order
-// on one thread. Sending the handle to the tasks is then sound for as long as `'a`,
-// the exclusive borrow of the array, lasts.
+// task writes only the velocities of its contacts' movable particles (the warm start
+// and the solve scatter only to lanes whose particle has a positive inverse mass), so
+// no element is written by two tasks or written by one while another reads it;
+// immovable particles' velocities are only read. The overflow colour, which may
+// repeat a particle, is solved in order on one thread. Sending the handle to the
+// tasks is then sound for as long as `'a`, the exclusive borrow of the array, lasts.
 unsafe impl Send for SharedVelocities<'_> {}
 unsafe impl Sync for SharedVelocities<'_> {}
 

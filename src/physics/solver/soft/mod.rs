@@ -206,7 +206,7 @@ pub struct SoftStep {
     /// Colour of each fresh contact.
     colors: Vec<u8>,
     /// The keys `colors` and `color_starts` were made for, and which particles were
-    /// movable then: while both are unchanged, so is the colouring (`SoftStep::color`).
+    /// movable then: while both are unchanged, so is the colouring (`pick_up_and_color`).
     colored_keys: Vec<u64>,
     colored_movable: Vec<bool>,
     /// Where each fresh contact went in `contacts` (by generation order).

@@ -1,5 +1,7 @@
-//! The step's order: collide, colour, then the substeps (kick, impacts, warm start,
-//! solve, drift, relax), store, sleep. Each stage is finished before the next begins.
+//! The step's order: collide, pick up last step's impulses and colour (side by side:
+//! they read the contacts' keys and write different things), batch, then the substeps
+//! (kick, impacts, warm start, solve, drift, relax), store, sleep. Each stage is
+//! finished before the next begins.
 
 use web_time::Instant;
 
