@@ -11,7 +11,7 @@
 
 use rayon::prelude::*;
 
-use super::color::share;
+use super::color::{Disjoint, share};
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 #[cfg(target_arch = "x86_64")]
@@ -22,8 +22,18 @@ use crate::physics::wide::{F4, Lane, Mask, V, V4};
 pub(super) const LANES: usize = 4;
 /// Contacts of a colour from which its batches are made on several threads.
 const PARALLEL_BATCHING: usize = 8192;
-/// Batches made one after another by one task.
+/// Batches made (or copied back) one after another by one task.
 const BATCH_RUN: usize = 256;
+
+/// The colour of batch `g` (the last colour whose first batch is at or before it),
+/// stepping on from `color`, the colour of an earlier batch or 0.
+#[inline]
+fn color_of(batch_starts: &[usize; COLORS + 2], mut color: usize, g: usize) -> usize {
+    while batch_starts[color + 1] <= g {
+        color += 1;
+    }
+    color
+}
 
 /// Up to four contacts of one colour, lane by lane (`L` = [`F4`]); with AVX, two such
 /// batches of one colour are joined into one of eight lanes ([`ContactBatch::join`]).
@@ -211,15 +221,11 @@ impl SoftStep {
         let n = particles.len() as u32;
         // One pass over every batch of every colour, a run of BATCH_RUN batches at a
         // time (on several threads for many contacts: a pile's colours are each too
-        // small to share out alone). A run's first batch finds its colour (the last
-        // whose first batch is at or before it), the rest step on from there.
+        // small to share out alone), each batch's colour stepped on from the last.
         let make_run = |(k, (batches, origins)): (usize, (&mut [ContactBatch], &mut [u32]))| {
-            let first = k * BATCH_RUN;
-            let mut color = batch_starts[1..=COLORS + 1].partition_point(|&start| start <= first);
-            for (g, (batch, origin)) in (first..).zip(batches.iter_mut().zip(origins)) {
-                while batch_starts[color + 1] <= g {
-                    color += 1;
-                }
+            let mut color = 0;
+            for (g, (batch, origin)) in (k * BATCH_RUN..).zip(batches.iter_mut().zip(origins)) {
+                color = color_of(batch_starts, color, g);
                 make(color, g - batch_starts[color], (batch, origin));
                 assert!(
                     batch.a.iter().chain(&batch.b).all(|&i| i < n),
@@ -279,7 +285,9 @@ impl SoftStep {
 
     /// Copies the batches' impulses back into the contacts, for the warm start of the
     /// next step, sleeping and the debug view. Each batch writes its own contacts
-    /// alone, so large lists are copied on several threads.
+    /// alone (a colour's contacts and its batches correspond in order), so large lists
+    /// are copied on several threads, a run of [`BATCH_RUN`] batches per task: one
+    /// fork for all the colours (a fork per colour cost a wake-up of the pool each).
     pub(super) fn unbatch(&mut self) {
         let copy = |contacts: &mut [SoftContact], batch: &ContactBatch| {
             let normal = batch.normal_impulse.to_array();
@@ -291,20 +299,24 @@ impl SoftStep {
             }
         };
         let parallel = self.contacts.len() >= PARALLEL_BATCHING;
-        let (mut contacts, mut batches) = (self.contacts.as_mut_slice(), self.batches.as_slice());
-        for color in 0..=COLORS {
-            let count = self.color_starts[color + 1] - self.color_starts[color];
-            let (run, rest) = contacts.split_at_mut(count);
-            contacts = rest;
-            let (own, later) = batches.split_at(self.batch_starts[color + 1] - self.batch_starts[color]);
-            batches = later;
-            let per_batch = if color == OVERFLOW { 1 } else { LANES };
-            debug_assert_eq!(run.len().div_ceil(per_batch), own.len());
-            if parallel {
-                run.par_chunks_mut(per_batch).zip(own).with_min_len(256).for_each(|(c, b)| copy(c, b));
-            } else {
-                run.chunks_mut(per_batch).zip(own).for_each(|(c, b)| copy(c, b));
+        let (color_starts, batch_starts) = (&self.color_starts, &self.batch_starts);
+        let contacts = Disjoint::new(&mut self.contacts);
+        let unbatch_run = |(k, batches): (usize, &[ContactBatch])| {
+            let mut color = 0;
+            for (g, batch) in (k * BATCH_RUN..).zip(batches) {
+                color = color_of(batch_starts, color, g);
+                let per_batch = if color == OVERFLOW { 1 } else { LANES };
+                let first = color_starts[color] + (g - batch_starts[color]) * per_batch;
+                let last = (first + per_batch).min(color_starts[color + 1]);
+                // SAFETY: batch `g`'s contacts are its own (no other batch's run), and
+                // each batch is taken by one task.
+                copy(unsafe { contacts.run(first..last) }, batch);
             }
+        };
+        if parallel {
+            self.batches.par_chunks(BATCH_RUN).enumerate().for_each(unbatch_run);
+        } else {
+            self.batches.chunks(BATCH_RUN).enumerate().for_each(unbatch_run);
         }
     }
 }

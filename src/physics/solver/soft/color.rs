@@ -350,12 +350,13 @@ pub(super) fn for_each_batch(
 
 /// A slice shared by tasks that each touch their own disjoint runs of it: the batches
 /// of a pass (`run_on_all_threads` hands out each run to exactly one thread: thread `i`
-/// takes its [`share`] of a colour, the overflow colour only thread 0)
+/// takes its [`share`] of a colour, the overflow colour only thread 0), the coloured
+/// contacts as `unbatch` writes them back (each batch its own contacts)
 /// and the coloured contact list of the counting sort (`sort_by_color` gives each
 /// chunk of fresh contacts, in each bucket, its own slots: the prefix sums of the
 /// chunks' counts). It holds the slice's exclusive borrow for as long as it lives, and
 /// nothing reads the slice through it outside the tasks' own runs.
-struct Disjoint<'a, T> {
+pub(super) struct Disjoint<'a, T> {
     ptr: *mut T,
     len: usize,
     _borrow: PhantomData<&'a mut [T]>,
@@ -368,7 +369,7 @@ unsafe impl<T: Send> Send for Disjoint<'_, T> {}
 unsafe impl<T: Send> Sync for Disjoint<'_, T> {}
 
 impl<'a, T> Disjoint<'a, T> {
-    fn new(slice: &'a mut [T]) -> Self {
+    pub(super) fn new(slice: &'a mut [T]) -> Self {
         Self { ptr: slice.as_mut_ptr(), len: slice.len(), _borrow: PhantomData }
     }
 
@@ -377,7 +378,7 @@ impl<'a, T> Disjoint<'a, T> {
     /// # Safety
     /// `range` must be this task's alone while the run is used.
     #[allow(clippy::mut_from_ref)]
-    unsafe fn run(&self, range: std::ops::Range<usize>) -> &mut [T] {
+    pub(super) unsafe fn run(&self, range: std::ops::Range<usize>) -> &mut [T] {
         assert!(range.start <= range.end && range.end <= self.len);
         // SAFETY: in bounds (checked above); exclusive to this task (the caller's
         // promise), within the borrow `'a`.
