@@ -39,10 +39,10 @@
 //! **Kept pairs.** A pile lying still would rebuild the same grid and find the same
 //! pairs step after step. So the search grows every reach by a skin (0.3 of the mean
 //! reach, `SKIN_FRACTION`) and keeps the pairs it finds, with the positions and
-//! reaches it saw. While no sphere has moved by more than the skin (less what its reach grew) since,
-//! every pair that touches now is among the kept ones, and a search only tests those
-//! again, with the grid's own arithmetic and in its order: the same pairs, the same
-//! bits. A few spheres past their skin (one rolling down a pile's flank) have their
+//! reaches it saw. While no sphere has moved by more than the skin (less what its
+//! reach grew) since, every pair that touches now is among the kept ones, and a
+//! search only tests those again, with the grid's own arithmetic and in its order:
+//! the same pairs, the same bits. A few spheres past their skin (one rolling down a pile's flank) have their
 //! own pairs found again, around them in the grid as it was built, and merged into
 //! the kept ones; past one sphere in 32 the grid is built again. When spheres move
 //! too fast for the skin (a falling pile) the kept pairs serve one search only, and
@@ -177,10 +177,10 @@ const REFRESHED: u8 = 2;
 /// builds of the grid; past it the grid is built again.
 const REFRESH_SHARE: usize = 32;
 
-/// The skin, as a fraction of the mean reach: 0.3 (cells 0.6 mean reaches wider and
-/// about twice the candidates when the pairs are kept, but a settling pile keeps them
-/// far more often, and a pile at rest keeps them for good). Measured on the pile (the same pairs, so
-/// the same bits, whatever the skin): the broad phase of a falling 100,000-sphere pile
+/// The skin, as a fraction of the mean reach: 0.3 (cells 0.6 mean reaches wider, so
+/// more candidates when the pairs are kept, but a settling pile keeps them far more
+/// often, and a pile at rest keeps them for good). Measured on the pile (the same
+/// pairs, so the same bits, whatever the skin): the broad phase of a falling 100,000-sphere pile
 /// (mean of its first 150 steps, 2 threads) took 8.9–9.3 ms a step with a tenth, 7.0–7.4
 /// with 0.2, 6.0–6.4 with 0.3 and 5.8 with 0.4; that of a settled 8,000-sphere pile
 /// (1 thread) 0.168–0.170, 0.143–0.146, 0.147–0.151 and 0.164 ms.

@@ -20,7 +20,8 @@ use crate::physics::wide::{F4, Lane, Mask, V, V4};
 
 /// Lanes of a batch.
 pub(super) const LANES: usize = 4;
-/// Contacts of a colour from which its batches are made on several threads.
+/// Contacts in all from which the batches are made, and their impulses copied back,
+/// on several threads.
 const PARALLEL_BATCHING: usize = 8192;
 /// Batches made (or copied back) one after another by one task.
 const BATCH_RUN: usize = 256;

@@ -352,7 +352,7 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     // friction impulse of that order through).
     let idle =
         if context.use_bias { total.eq(L::ZERO).bits() & without_impulse(batch) & batch.active } else { 0 };
-    if idle & batch.active == batch.active {
+    if idle == batch.active {
         return;
     }
     let mut p = n.scale(applied);
