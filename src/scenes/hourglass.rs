@@ -19,6 +19,7 @@
 use std::collections::VecDeque;
 
 use glam::Vec3;
+use serde::Deserialize;
 
 use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{
@@ -306,6 +307,42 @@ impl Scene for Hourglass {
         }
         self.packing = self.packing.max(bed_packing(&self.world, &self.shape));
         Ok(report)
+    }
+
+    fn save_state(&self) -> serde_json::Value {
+        // The gauges: the flow is measured over the last second of samples, and the
+        // packing is the densest the bed has shown, so neither can be read off the
+        // world alone.
+        serde_json::json!({ "samples": self.samples, "packing": self.packing })
+    }
+
+    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Saved {
+            samples: VecDeque<(f64, usize)>,
+            packing: f32,
+        }
+        let saved = Saved::deserialize(state).map_err(|e| e.to_string())?;
+        if !(saved.packing.is_finite() && (0.0..=1.0).contains(&saved.packing)) {
+            return Err(format!("packing = {} is out of range; valid range: 0 to 1", saved.packing));
+        }
+        let (now, grains) = (self.world.time(), self.world.particles.len());
+        let mut last = (f64::NEG_INFINITY, 0);
+        for &(t, through) in &saved.samples {
+            if !(t.is_finite() && t >= 0.0 && t <= now) {
+                return Err(format!("samples: a sample at t = {t} s is outside 0 to the world's {now:.3} s"));
+            }
+            if t <= last.0 || through < last.1 || through > grains {
+                return Err(format!(
+                    "samples: each must be later than the one before and count no fewer grains \
+                     (at most the {grains} there are); ({t} s, {through}) is not"
+                ));
+            }
+            last = (t, through);
+        }
+        (self.samples, self.packing) = (saved.samples, saved.packing);
+        Ok(())
     }
 
     fn outlines(&self, out: &mut Vec<(Vec3, Vec3)>) {

@@ -230,6 +230,15 @@ pub trait Scene: Send {
         None
     }
 
+    /// Whether a snapshot's world must still hold `id`, a particle of the scene as
+    /// built, with the same movability: the scene's rules act on its own particles by
+    /// id (the bob, the bridge's deck). A scene whose particles come and go (the
+    /// projectile's rounds, removed as they land) says `false` for those; its
+    /// [`Scene::restore_state`] checks what it names instead.
+    fn keeps_particle(&self, _id: crate::physics::ParticleId) -> bool {
+        true
+    }
+
     /// What the scene keeps beside its world and parameters (rounds in flight and when
     /// they were fired, ghosts of the exact answer, a stopwatch), as a snapshot saves
     /// it; `null` for a scene that keeps nothing.

@@ -239,6 +239,12 @@ impl Projectile {
 impl Scene for Projectile {
     scene_basics!();
 
+    fn keeps_particle(&self, _id: ParticleId) -> bool {
+        // Every particle is a round, removed when it lands: a later world need not
+        // hold the one fired at the start. The rounds the state names are checked.
+        false
+    }
+
     fn save_state(&self) -> serde_json::Value {
         serde_json::json!({ "rounds": self.rounds, "ghosts": self.ghosts, "flights": self.flights })
     }

@@ -309,6 +309,9 @@ impl Snapshot {
         // scene's rules act on them by id.
         let built = &scene.world().particles;
         for (i, id) in built.ids().iter().enumerate() {
+            if !scene.keeps_particle(*id) {
+                continue;
+            }
             let movable = built.inverse_masses()[i] > 0.0;
             let loaded = world.particles.index(*id).map(|j| world.particles.inverse_masses()[j] > 0.0);
             if loaded != Some(movable) {
