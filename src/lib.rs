@@ -19,3 +19,4 @@ pub mod settings;
 pub mod ui;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
+pub mod writing;

@@ -50,8 +50,9 @@ pub fn bytes(limit: u64) -> String {
     }
 }
 
-/// What kind of thing `path` names (following symlinks), if it is not a regular file.
-fn not_a_file(metadata: &std::fs::Metadata) -> Option<&'static str> {
+/// What kind of thing `metadata` describes, if it is not a regular file (also what
+/// [`crate::writing`] refuses to write over).
+pub(crate) fn not_a_file(metadata: &std::fs::Metadata) -> Option<&'static str> {
     let kind = metadata.file_type();
     if kind.is_file() {
         return None;

@@ -12,10 +12,11 @@
 //! length stays true. A GIF cannot show frames closer than 0.02 s apart (viewers
 //! slow them down), so a faster one is refused with the `--every` that would do.
 //!
-//! Every file is written at a temporary name beside it (`run.gif.part`) and renamed
-//! into place when complete, so a recording stopped part way (Ctrl-C, a full disk)
-//! leaves nothing half-written under the name asked for; on a failure the temporary
-//! file is removed.
+//! Every file is written through [`crate::writing`]: at a temporary name beside it
+//! (`run.gif.part`) and renamed into place when complete, so a recording stopped part
+//! way (Ctrl-C, a full disk) leaves nothing half-written under the name asked for; on a
+//! failure the temporary file is removed. An `--out` that is a link writes the file it
+//! names; a device, FIFO or directory is refused before the first frame is drawn.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -26,6 +27,7 @@ use super::progress::Progress;
 use crate::capture::FrameCapture;
 use crate::messages;
 use crate::ui::Lab;
+use crate::writing::{AtomicFile, Pending};
 
 /// Most frames one recording takes.
 pub const MAX_FRAMES: u32 = 10_000;
@@ -249,51 +251,20 @@ fn cannot(out: &Path, error: &dyn std::fmt::Display) -> String {
     format!("cannot write {}: {}", messages::path(out), messages::quote(reason))
 }
 
-/// A file being written at a temporary name beside `out` (`out.part`): renamed to
-/// `out` by [`Partial::keep`] when complete, removed if dropped before.
-struct Partial {
-    out: PathBuf,
-    temporary: PathBuf,
-    kept: bool,
+/// The temporary file for `out`, beside the file it will replace; a device, FIFO,
+/// socket or directory (or a link to one) is refused, naming `out`.
+fn create(out: &Path) -> Result<AtomicFile, String> {
+    AtomicFile::create(out).map_err(|e| cannot(out, &e))
 }
 
-impl Partial {
-    /// Creates the temporary file (replacing one a stopped run left).
-    fn create(out: &Path) -> Result<(Self, BufWriter<File>), String> {
-        let mut temporary = out.as_os_str().to_owned();
-        temporary.push(".part");
-        let temporary = PathBuf::from(temporary);
-        let file = File::create(&temporary).map_err(|e| cannot(out, &messages::io_reason(&e)))?;
-        Ok((Self { out: out.to_path_buf(), temporary, kept: false }, BufWriter::new(file)))
-    }
-
-    /// Puts the complete file in place.
-    fn keep(mut self) -> Result<(), String> {
-        std::fs::rename(&self.temporary, &self.out)
-            .map_err(|e| cannot(&self.out, &messages::io_reason(&e)))?;
-        self.kept = true;
-        Ok(())
-    }
-}
-
-impl Drop for Partial {
-    fn drop(&mut self) {
-        if !self.kept {
-            let _ = std::fs::remove_file(&self.temporary);
-        }
-    }
+/// Puts the complete file in place of `out`.
+fn keep(out: &Path, pending: Pending) -> Result<(), String> {
+    pending.commit().map_err(|e| cannot(out, &e))
 }
 
 /// Writes one PNG frame to `out`, whole or not at all.
 pub fn write_png(out: &Path, size: [u32; 2], rgba: &[u8]) -> Result<(), String> {
-    let (partial, file) = Partial::create(out)?;
-    let mut encoder = png::Encoder::new(file, size[0], size[1]);
-    encoder.set_color(png::ColorType::Rgba);
-    encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().map_err(|e| cannot(out, &e))?;
-    writer.write_image_data(rgba).map_err(|e| cannot(out, &e))?;
-    writer.finish().map_err(|e| cannot(out, &e))?;
-    partial.keep()
+    crate::render::offscreen::write_png(out, size, rgba)
 }
 
 /// Where frames go as they are drawn.
@@ -304,15 +275,17 @@ enum Sink {
         size: [u32; 2],
     },
     Gif {
-        // Before the partial file: a dropped encoder finishes writing, then the file goes.
-        encoder: gif::Encoder<BufWriter<File>>,
-        partial: Partial,
+        // A dropped encoder finishes writing into the file, then the file is removed.
+        encoder: gif::Encoder<AtomicFile>,
+        out: PathBuf,
         size: [u16; 2],
         delays: GifDelays,
     },
     Apng {
+        // Before the pending rename: dropped first, then the file goes.
         writer: png::Writer<BufWriter<File>>,
-        partial: Partial,
+        pending: Pending,
+        out: PathBuf,
     },
 }
 
@@ -320,24 +293,29 @@ impl Sink {
     fn create(out: &Path, size: [u32; 2], plan: &Plan) -> Result<Self, String> {
         let cannot = |e: &dyn std::fmt::Display| cannot(out, e);
         match plan.container {
-            Container::Png => Ok(Self::Sequence { out: out.to_path_buf(), frames: plan.frames, size }),
+            Container::Png => {
+                // Each frame is its own file, written when drawn: the first is checked now.
+                let first = frame_path(out, 1, plan.frames);
+                crate::writing::target(&first).map_err(|e| self::cannot(&first, &e))?;
+                Ok(Self::Sequence { out: out.to_path_buf(), frames: plan.frames, size })
+            }
             Container::Gif => {
                 let (Ok(width), Ok(height)) = (u16::try_from(size[0]), u16::try_from(size[1])) else {
                     return Err(format!("a GIF is at most {0}x{0} pixels", u16::MAX));
                 };
-                let (partial, file) = Partial::create(out)?;
-                let mut encoder = gif::Encoder::new(file, width, height, &[]).map_err(|e| cannot(&e))?;
+                let mut encoder =
+                    gif::Encoder::new(create(out)?, width, height, &[]).map_err(|e| cannot(&e))?;
                 encoder.set_repeat(gif::Repeat::Infinite).map_err(|e| cannot(&e))?;
                 let (numerator, denominator) = plan.step.times(plan.every);
                 Ok(Self::Gif {
                     encoder,
-                    partial,
+                    out: out.to_path_buf(),
                     size: [width, height],
                     delays: GifDelays { numerator, denominator, frames: 0 },
                 })
             }
             Container::Apng => {
-                let (partial, file) = Partial::create(out)?;
+                let (file, pending) = create(out)?.split();
                 let mut encoder = png::Encoder::new(file, size[0], size[1]);
                 encoder.set_color(png::ColorType::Rgba);
                 encoder.set_depth(png::BitDepth::Eight);
@@ -345,7 +323,7 @@ impl Sink {
                 let (numerator, denominator) = apng_delay(plan.step.times(plan.every));
                 encoder.set_frame_delay(numerator, denominator).map_err(|e| cannot(&e))?;
                 let writer = encoder.write_header().map_err(|e| cannot(&e))?;
-                Ok(Self::Apng { writer, partial })
+                Ok(Self::Apng { writer, pending, out: out.to_path_buf() })
             }
         }
     }
@@ -354,14 +332,12 @@ impl Sink {
     fn push(&mut self, index: u32, mut rgba: Vec<u8>) -> Result<(), String> {
         match self {
             Self::Sequence { out, frames, size } => write_png(&frame_path(out, index, *frames), *size, &rgba),
-            Self::Gif { encoder, partial, size, delays } => {
+            Self::Gif { encoder, out, size, delays } => {
                 let mut frame = gif::Frame::from_rgba_speed(size[0], size[1], &mut rgba, GIF_QUANTIZE_SPEED);
                 frame.delay = delays.next();
-                encoder.write_frame(&frame).map_err(|e| cannot(&partial.out, &e))
+                encoder.write_frame(&frame).map_err(|e| cannot(out, &e))
             }
-            Self::Apng { writer, partial } => {
-                writer.write_image_data(&rgba).map_err(|e| cannot(&partial.out, &e))
-            }
+            Self::Apng { writer, out, .. } => writer.write_image_data(&rgba).map_err(|e| cannot(out, &e)),
         }
     }
 
@@ -373,20 +349,15 @@ impl Sink {
                 messages::path(&frame_path(&out, 1, frames)),
                 messages::path(&frame_path(&out, frames, frames))
             )),
-            Self::Gif { encoder, partial, .. } => {
-                encoder
-                    .into_inner()
-                    .and_then(|file| file.into_inner().map_err(|e| e.into_error().into()))
-                    .map_err(|e| (1, cannot(&partial.out, &e)))?;
-                let shown = messages::path(&partial.out);
-                partial.keep().map_err(|e| (1, e))?;
-                Ok(format!("{shown} (GIF)"))
+            Self::Gif { encoder, out, .. } => {
+                let file = encoder.into_inner().map_err(|e| (1, cannot(&out, &e)))?;
+                file.commit().map_err(|e| (1, cannot(&out, &e)))?;
+                Ok(format!("{} (GIF)", messages::path(&out)))
             }
-            Self::Apng { writer, partial } => {
-                writer.finish().map_err(|e| (1, cannot(&partial.out, &e)))?;
-                let shown = messages::path(&partial.out);
-                partial.keep().map_err(|e| (1, e))?;
-                Ok(format!("{shown} (animated PNG)"))
+            Self::Apng { writer, pending, out } => {
+                writer.finish().map_err(|e| (1, cannot(&out, &e)))?;
+                keep(&out, pending).map_err(|e| (1, e))?;
+                Ok(format!("{} (animated PNG)", messages::path(&out)))
             }
         }
     }
@@ -480,23 +451,29 @@ mod tests {
     }
 
     #[test]
-    fn a_partial_file_is_renamed_when_kept_and_removed_when_dropped() {
-        use std::io::Write;
-        let dir = std::env::temp_dir().join(format!("particle-lab-partial-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let out = dir.join("run.gif");
-        let (partial, mut file) = Partial::create(&out).unwrap();
-        file.write_all(b"half a recording").unwrap();
-        drop(file);
-        assert!(dir.join("run.gif.part").exists() && !out.exists(), "written beside --out");
-        drop(partial);
-        assert!(!dir.join("run.gif.part").exists() && !out.exists(), "a failed recording leaves nothing");
-        let (partial, mut file) = Partial::create(&out).unwrap();
-        file.write_all(b"a whole one").unwrap();
-        drop(file);
-        partial.keep().unwrap();
-        assert_eq!(std::fs::read(&out).unwrap(), b"a whole one");
-        assert!(!dir.join("run.gif.part").exists());
+    fn a_recording_is_refused_before_its_first_frame_where_it_cannot_be_written() {
+        let dir = std::env::temp_dir().join(format!("particle-lab-sink-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("run.gif")).unwrap();
+        std::fs::create_dir_all(dir.join("shot-0001.png")).unwrap();
+        let dt = 1.0 / 240.0;
+        for (name, container) in [("run.gif", Container::Gif), ("shot.png", Container::Png)] {
+            let plan = Plan::new(container, 3, Some(8), 0, dt, 1_000_000).unwrap();
+            let error = Sink::create(&dir.join(name), [8, 8], &plan).err().unwrap();
+            assert!(
+                error.starts_with("cannot write ")
+                    && error.ends_with("it is a directory, not a regular file")
+            );
+        }
+        // A whole APNG, then one stopped part way: the second leaves the first whole.
+        let out = dir.join("run.apng");
+        let plan = Plan::new(Container::Apng, 1, Some(8), 0, dt, 1_000_000).unwrap();
+        let mut sink = Sink::create(&out, [2, 2], &plan).unwrap();
+        sink.push(1, vec![255; 16]).unwrap();
+        sink.finish().unwrap();
+        let whole = std::fs::read(&out).unwrap();
+        drop(Sink::create(&out, [2, 2], &plan).unwrap());
+        assert_eq!(std::fs::read(&out).unwrap(), whole);
+        assert!(!dir.join("run.apng.part").exists(), "a stopped recording leaves nothing");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

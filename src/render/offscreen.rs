@@ -1,7 +1,6 @@
 //! Off-screen targets: render into a texture and read it back as RGBA bytes or a PNG.
 
 use std::fs::File;
-use std::io::BufWriter;
 use std::path::Path;
 
 /// Format of off-screen textures (stored gamma-encoded); the 3D pass draws through an
@@ -105,15 +104,22 @@ impl OffscreenTarget {
     }
 }
 
-/// Writes tightly packed RGBA bytes as a PNG.
+/// Writes tightly packed RGBA bytes as a PNG, whole or not at all, through
+/// [`crate::writing`] (a link writes the file it names; a device or FIFO is refused).
 pub fn write_png(path: &Path, size: [u32; 2], rgba: &[u8]) -> Result<(), String> {
-    let file = File::create(path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    let mut encoder = png::Encoder::new(BufWriter::new(file), size[0], size[1]);
+    let cannot = |e: &dyn std::fmt::Display| {
+        let text = e.to_string();
+        let reason = text.split(" (os error").next().unwrap_or(&text);
+        format!("cannot write {}: {}", crate::messages::path(path), crate::messages::quote(reason))
+    };
+    let mut file = crate::writing::AtomicFile::create(path).map_err(|e| cannot(&e))?;
+    let mut encoder = png::Encoder::new(&mut file, size[0], size[1]);
     encoder.set_color(png::ColorType::Rgba);
     encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    writer.write_image_data(rgba).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    writer.finish().map_err(|e| format!("cannot write {}: {e}", path.display()))
+    let mut writer = encoder.write_header().map_err(|e| cannot(&e))?;
+    writer.write_image_data(rgba).map_err(|e| cannot(&e))?;
+    writer.finish().map_err(|e| cannot(&e))?;
+    file.commit().map_err(|e| cannot(&e))
 }
 
 /// Reads a PNG as RGBA bytes and its size.

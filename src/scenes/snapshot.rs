@@ -222,16 +222,9 @@ impl Snapshot {
     /// Writes the snapshot to `path`, through a temporary file beside it, so a failed
     /// write leaves what was there.
     pub fn save(&self, path: &Path) -> Result<(), String> {
-        let cannot =
-            |e: std::io::Error| format!("cannot write {}: {}", messages::path(path), messages::io_reason(&e));
-        let mut temporary = path.as_os_str().to_owned();
-        temporary.push(".part");
-        let temporary = std::path::PathBuf::from(temporary);
-        std::fs::write(&temporary, self.to_json()).map_err(cannot)?;
-        std::fs::rename(&temporary, path).map_err(|e| {
-            let _ = std::fs::remove_file(&temporary);
-            cannot(e)
-        })
+        // Through a link to the file it names; a device or FIFO is refused untouched.
+        crate::writing::write_atomic(path, self.to_json().as_bytes())
+            .map_err(|e| format!("cannot write {}: {e}", messages::path(path)))
     }
 
     /// Reads a snapshot file, at most [`MAX_FILE_BYTES`] of it; a device, FIFO or

@@ -14,26 +14,36 @@ pub fn read(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
 }
 
 /// Writes `text` to `path`: beside it first and renamed into it, so a crash mid-write
-/// leaves the old one.
+/// leaves the old one. A settings file that is a link (to a dotfile kept elsewhere)
+/// stays a link and the file it names is written; a device or FIFO is refused.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn write(path: &Path, text: &str) -> Result<(), String> {
-    let write = || -> std::io::Result<()> {
-        if let Some(directory) = path.parent() {
-            std::fs::create_dir_all(directory)?;
-        }
-        let mut name = path.file_name().unwrap_or_default().to_os_string();
-        name.push(".tmp");
-        let temporary = path.with_file_name(name);
-        std::fs::write(&temporary, text)?;
-        std::fs::rename(&temporary, path)
-    };
-    write().map_err(|e| crate::messages::io_reason(&e))
+    if let Some(directory) = path.parent() {
+        std::fs::create_dir_all(directory).map_err(|e| crate::messages::io_reason(&e))?;
+    }
+    crate::writing::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())
 }
 
-/// Moves what is at `path` to `aside`, replacing what was there.
+/// Moves what is at `path` to `aside`, replacing what was there. A link to a regular
+/// file (a dotfile kept elsewhere) is not moved: the file's text is copied to `aside`
+/// and the link left in place, so the next [`write`] goes through it to the same file
+/// and nothing becomes a regular file where a link was. Anything else (a regular file,
+/// a FIFO, a directory, a link to a device) is renamed, the node itself untouched.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn set_aside(path: &Path, aside: &Path) -> Result<(), String> {
-    std::fs::rename(path, aside).map_err(|e| crate::messages::io_reason(&e))
+    let reason = |e: std::io::Error| crate::messages::io_reason(&e);
+    let linked = std::fs::symlink_metadata(path).map_err(reason)?.file_type().is_symlink();
+    let kept_file = match crate::writing::target(path) {
+        Ok(target) if linked => std::fs::metadata(&target).is_ok_and(|m| m.is_file()).then_some(target),
+        _ => None,
+    };
+    let Some(target) = kept_file else {
+        return std::fs::rename(path, aside).map_err(reason);
+    };
+    let mut copy = crate::writing::AtomicFile::create(aside).map_err(|e| e.to_string())?;
+    let mut source = std::fs::File::open(&target).map_err(reason)?;
+    std::io::copy(&mut source, &mut copy).map_err(reason)?;
+    copy.commit().map_err(|e| e.to_string())
 }
 
 #[cfg(target_arch = "wasm32")]

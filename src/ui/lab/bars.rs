@@ -84,8 +84,9 @@ impl Lab {
         out
     }
 
-    /// Writes [`Self::energy_csv`] to `path`.
-    pub fn export_energy_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
-        std::fs::write(path, self.energy_csv())
+    /// Writes [`Self::energy_csv`] to `path`, whole or not at all (through a link to the
+    /// file it names; a device or FIFO is refused).
+    pub fn export_energy_csv(&self, path: &std::path::Path) -> Result<(), crate::writing::WriteError> {
+        crate::writing::write_atomic(path, self.energy_csv().as_bytes())
     }
 }
