@@ -156,6 +156,8 @@ fn random_values(entry: &SceneEntry, fractions: &[f64]) -> Vec<(&'static str, f3
             // The pile's count stays small: a proptest case must be quick.
             let max = if p.name == "count" { p.min.max(400.0_f32.min(p.max)) } else { p.max };
             let value = f64::from(p.min) + f * (f64::from(max) - f64::from(p.min));
+            // A whole-number parameter takes whole numbers only (a fraction is refused).
+            let value = if p.integer { value.round() } else { value };
             (p.name, (value as f32).clamp(p.min, max))
         })
         .collect()

@@ -231,10 +231,10 @@ fn run(command: &mut Command) -> Output {
     child.wait_with_output().unwrap()
 }
 
-/// A refusal: exit 1, one line on stderr naming `shown` and saying `what`, no panic.
-fn assert_refused(output: &Output, shown: &str, what: &str) {
+/// A refusal: exit `code`, one line on stderr naming `shown` and saying `what`, no panic.
+fn assert_refused(output: &Output, code: i32, shown: &str, what: &str) {
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(output.status.code(), Some(code), "{stderr}");
     assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr}");
     assert!(stderr.contains("cannot write ") && stderr.contains(shown), "{stderr}");
     assert!(stderr.contains(what), "{stderr}");
@@ -259,7 +259,8 @@ fn simulate_saves_through_a_link_and_refuses_a_fifo() {
 
     let fifo = dir.join("pipe.json");
     mkfifo(&fifo);
-    assert_refused(&simulate_save(&fifo), "pipe.json", "it is a FIFO (named pipe), not a regular file");
+    // Refused before the run, as a usage error, so no run's work is lost at the end.
+    assert_refused(&simulate_save(&fifo), 2, "pipe.json", "it is a FIFO (named pipe), not a regular file");
     assert!(is_fifo(&fifo), "the FIFO is untouched");
     only(&dir, &["kept.json", "run.json", "pipe.json"]);
 }
@@ -269,7 +270,7 @@ fn simulate_refuses_dev_null_and_leaves_it_a_device() {
     // The check first, by looking only: were it to pass, the command below could
     // replace /dev/null (as root), so it is not run.
     assert_eq!(writing::target(Path::new("/dev/null")), Err(WriteError::NotAFile("a device")));
-    assert_refused(&simulate_save(Path::new("/dev/null")), "/dev/null", "it is a device, not a regular file");
+    assert_refused(&simulate_save(Path::new("/dev/null")), 2, "/dev/null", "it is a device, not a regular file");
     assert!(
         std::fs::metadata("/dev/null").unwrap().file_type().is_char_device(),
         "/dev/null is still a device"
@@ -296,7 +297,7 @@ fn render_writes_through_a_link_and_refuses_a_directory() {
 
     let directory = dir.join("shots.png");
     std::fs::create_dir(&directory).unwrap();
-    assert_refused(&render(&directory, &[]), "shots.png", "it is a directory, not a regular file");
+    assert_refused(&render(&directory, &[]), 1, "shots.png", "it is a directory, not a regular file");
     assert!(directory.is_dir() && std::fs::read_dir(&directory).unwrap().next().is_none());
     only(&dir, &["frame.png", "kept.png", "shots.png"]);
 }
@@ -313,7 +314,7 @@ fn a_recording_goes_through_a_link_and_is_refused_over_a_fifo_before_it_runs() {
 
     let fifo = dir.join("run.apng");
     mkfifo(&fifo);
-    assert_refused(&render(&fifo, &["--frames", "2"]), "run.apng", "it is a FIFO (named pipe)");
+    assert_refused(&render(&fifo, &["--frames", "2"]), 1, "run.apng", "it is a FIFO (named pipe)");
     assert!(is_fifo(&fifo));
     only(&dir, &["kept.gif", "run.gif", "run.apng"]);
 }

@@ -95,8 +95,13 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
     };
     let info = scene.info();
     let dt = args.dt.or(saved_dt).unwrap_or(info.dt);
-    if !(dt > 0.0 && dt <= 1.0) {
-        return Err(format!("--dt {dt} is out of range; valid range: greater than 0 up to 1 second"));
+    if !crate::physics::error::time_step_in_range(dt) {
+        return Err(format!(
+            "--dt {} is out of range; valid range: {:e} to {} s",
+            crate::physics::error::Shown::shown(&dt),
+            crate::physics::error::MIN_TIME_STEP,
+            crate::physics::error::MAX_TIME_STEP
+        ));
     }
     let steps = args.steps.unwrap_or(u64::from(info.default_steps));
     if steps > MAX_STEPS {
@@ -106,6 +111,11 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
         return Err("--every 0 is out of range; valid range: 1 or more".into());
     }
     let save = args.save.clone();
+    // Where the snapshot goes is checked before the run, so a long run is not lost to
+    // a path that names a device, a FIFO or a directory.
+    if let Some(path) = &save {
+        crate::writing::target(path).map_err(|e| format!("cannot write {}: {e}", crate::messages::path(path)))?;
+    }
     if args.forces && args.format == StateFormat::Csv {
         return Err("--forces adds fields to the JSON; it cannot be used with --format csv".into());
     }
@@ -169,6 +179,16 @@ pub fn simulate(
             }
         }
         if step == 0 || step == plan.steps || step % plan.every == 0 {
+            // Every figure printed, not only positions and velocities: an energy or a
+            // tension can overflow while they are still finite.
+            if let Some(what) = scene.world().first_non_finite(&mut links) {
+                out.flush()?;
+                return Ok(Err(format!(
+                    "the simulation blew up at step {}: {what} is no longer a finite number; \
+                     try a smaller --dt, or a softer spring",
+                    first + step
+                )));
+            }
             line.clear();
             let t = clock.map_or(clock::to_f32_digits(scene.world().time()), |clock| {
                 clock.time_from(origin, scene.world().steps() - start_steps)
@@ -206,8 +226,13 @@ struct ParticleJson {
     w: Option<[f32; 3]>,
     /// Radius (m).
     r: f32,
-    /// Mass (kg); `null` for an immovable particle.
+    /// Mass (kg); absent for an immovable particle, which has `fixed` instead (its
+    /// mass is unbounded, and no number stands for it).
+    #[serde(skip_serializing_if = "Option::is_none")]
     m: Option<f32>,
+    /// `true` for an immovable particle; absent for a movable one.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    fixed: bool,
     /// With `--forces`: the net force (N), the sum of `forces`.
     #[serde(skip_serializing_if = "Option::is_none")]
     f: Option<[f32; 3]>,
@@ -350,6 +375,7 @@ fn write_state(
                 w: p.rolls(i).then(|| figure(p.angular_velocities()[i]).to_array()),
                 r: p.radius[i],
                 m: (p.inverse_mass[i] > 0.0).then(|| p.mass(i)),
+                fixed: p.inverse_mass[i] == 0.0,
                 f,
                 forces,
             }
@@ -408,7 +434,7 @@ mod tests {
     use crate::physics::ParticleDesc;
 
     #[test]
-    fn particles_carry_radius_and_mass_and_immovable_ones_null() {
+    fn particles_carry_radius_and_mass_and_immovable_ones_fixed() {
         let mut world = World::new();
         let desc = ParticleDesc { mass: 2.5, radius: 0.3, ..ParticleDesc::default() };
         world.add_particle(desc).unwrap();
@@ -419,6 +445,9 @@ mod tests {
         let particles = state["particles"].as_array().unwrap();
         assert_eq!(particles[0]["m"].as_f64(), Some(2.5));
         assert!((particles[0]["r"].as_f64().unwrap() - 0.3).abs() < 1e-6, "{}", particles[0]);
-        assert!(particles[1]["m"].is_null(), "{}", particles[1]);
+        assert_eq!(particles[1].get("m"), None, "{}", particles[1]);
+        assert_eq!(particles[1]["fixed"], serde_json::Value::Bool(true));
+        assert_eq!(particles[0].get("fixed"), None, "a movable particle says nothing of it");
+        assert!(!String::from_utf8(line).unwrap().contains("null"), "no number is printed as null");
     }
 }

@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::error::{POSITIVE, PhysicsError, UNIT, check, positive};
+use super::error::{POINT, PhysicsError, UNIT, check, point, positive};
 use super::ids::ParticleId;
 use super::particles::Particles;
 
@@ -153,7 +153,8 @@ impl Constraint {
     /// Checks the link's settings; the error names the field and its valid range.
     pub fn validate(&self) -> Result<(), PhysicsError> {
         let name = if self.rigid { "rod" } else { "cable" };
-        check(positive(self.length), &format!("{name} length"), self.length, POSITIVE)?;
+        let length = positive(self.length) && self.length <= crate::physics::error::MAX_COORDINATE;
+        check(length, &format!("{name} length"), self.length, "more than 0, at most 1e9 m")?;
         check(
             (0.0..=1.0).contains(&self.restitution),
             &format!("{name} restitution"),
@@ -161,7 +162,7 @@ impl Constraint {
             UNIT,
         )?;
         if let LinkEnd::Anchor(anchor) = self.b {
-            check(anchor.is_finite(), &format!("{name} anchor"), anchor, "a point of finite numbers")?;
+            check(point(anchor), &format!("{name} anchor"), anchor, POINT)?;
         }
         Ok(())
     }

@@ -8,7 +8,9 @@
 
 use glam::{Quat, Vec3};
 
-use super::error::{PhysicsError, Shown};
+use super::error::{
+    MAX_ACCELERATION, MAX_COORDINATE, MAX_RADIUS, MAX_SPEED, MIN_ROLLING_RADIUS, PhysicsError, Shown,
+};
 use super::hash::StateHasher;
 pub use super::ids::ParticleId;
 
@@ -54,6 +56,9 @@ impl ParticleDesc {
                 "position, velocity and acceleration must be finite".into(),
             ));
         }
+        check_position(self.position)?;
+        check_speed(self.velocity)?;
+        check_acceleration(self.acceleration)?;
         let inverse_mass = if self.immovable { 0.0 } else { inverse_mass(self.mass)? };
         if !(0.0..=1.0).contains(&self.damping) {
             return Err(PhysicsError::InvalidParticle(format!(
@@ -61,14 +66,66 @@ impl ParticleDesc {
                 self.damping
             )));
         }
-        if !(self.radius.is_finite() && self.radius >= 0.0) {
+        if !(self.radius.is_finite() && (0.0..=MAX_RADIUS).contains(&self.radius)) {
             return Err(PhysicsError::InvalidParticle(format!(
-                "radius must be finite and >= 0, got {}",
-                self.radius
+                "radius = {} m is out of range; valid range: 0 to {MAX_RADIUS:e} m",
+                self.radius.shown()
             )));
         }
         Ok(inverse_mass)
     }
+}
+
+/// A position within [`MAX_COORDINATE`] of the origin on every axis.
+fn check_position(position: Vec3) -> Result<(), PhysicsError> {
+    if position.abs().max_element() <= MAX_COORDINATE {
+        return Ok(());
+    }
+    Err(PhysicsError::InvalidParticle(format!(
+        "position {} m is out of range; valid range: each coordinate within ±{MAX_COORDINATE:e} m",
+        position.shown()
+    )))
+}
+
+/// A velocity no faster than [`MAX_SPEED`].
+fn check_speed(velocity: Vec3) -> Result<(), PhysicsError> {
+    if velocity.length() <= MAX_SPEED {
+        return Ok(());
+    }
+    Err(PhysicsError::InvalidParticle(format!(
+        "velocity {} m/s is out of range; valid range: a speed of at most {MAX_SPEED:e} m/s",
+        velocity.shown()
+    )))
+}
+
+/// An acceleration no larger than [`MAX_ACCELERATION`].
+pub(crate) fn check_acceleration(acceleration: Vec3) -> Result<(), PhysicsError> {
+    if acceleration.length() <= MAX_ACCELERATION {
+        return Ok(());
+    }
+    Err(PhysicsError::InvalidParticle(format!(
+        "acceleration {} m/s² is out of range; valid range: at most {MAX_ACCELERATION:e} m/s² in size",
+        acceleration.shown()
+    )))
+}
+
+/// Why a particle of radius `radius` (m) cannot roll, if it cannot: it needs a surface
+/// to turn, and an inverse inertia that single precision holds.
+fn cannot_roll(id: ParticleId, radius: f32) -> Option<String> {
+    if radius <= 0.0 {
+        return Some(format!(
+            "particle {} has no radius, so it cannot roll (a point mass has no surface to turn)",
+            id.0
+        ));
+    }
+    (radius < MIN_ROLLING_RADIUS).then(|| {
+        format!(
+            "particle {} has radius {} m; a sphere that rolls needs a radius of at least {} m",
+            id.0,
+            radius.shown(),
+            MIN_ROLLING_RADIUS.shown()
+        )
+    })
 }
 
 /// Lightest mass a particle may have (kg): a microgram. Much lighter and `1/m` times an
@@ -232,8 +289,11 @@ impl Particles {
             if self.damping_per_step[i] != damping_factor(self.damping[i], self.damping_dt) {
                 return fail("its damping per step does not follow from its damping");
             }
-            if !(self.radius[i].is_finite() && self.radius[i] >= 0.0) {
-                return fail("radius must be finite and >= 0");
+            if !(self.radius[i].is_finite() && (0.0..=MAX_RADIUS).contains(&self.radius[i])) {
+                return fail(&format!("radius must be 0 to {MAX_RADIUS:e} m"));
+            }
+            if self.rolling[i] && w > 0.0 && self.radius[i] > 0.0 && self.radius[i] < MIN_ROLLING_RADIUS {
+                return fail(&format!("a sphere that rolls needs a radius of at least {} m", MIN_ROLLING_RADIUS.shown()));
             }
             let rolls = self.inverse_inertia[i] != 0.0;
             if rolls != (self.rolling[i] && w > 0.0 && self.radius[i] > 0.0) {
@@ -477,11 +537,8 @@ impl Particles {
     /// stays still (it has no inertia to turn).
     pub fn set_rolling(&mut self, id: ParticleId, rolls: bool) -> Result<(), PhysicsError> {
         let index = self.index(id).ok_or(PhysicsError::UnknownParticle(id))?;
-        if rolls && self.radius[index] <= 0.0 {
-            return Err(PhysicsError::InvalidParticle(format!(
-                "particle {} has no radius, so it cannot roll (a point mass has no surface to turn)",
-                id.0
-            )));
+        if let Some(reason) = cannot_roll(id, self.radius[index]).filter(|_| rolls) {
+            return Err(PhysicsError::InvalidParticle(reason));
         }
         self.rolling[index] = rolls;
         self.refresh_inertia(index);
@@ -564,6 +621,7 @@ impl Particles {
         if !position.is_finite() {
             return Err(PhysicsError::InvalidParticle(format!("position must be finite, got {position}")));
         }
+        check_position(position)?;
         self.position[index] = position;
         self.disturb(index);
         Ok(())
@@ -576,6 +634,7 @@ impl Particles {
         if !velocity.is_finite() {
             return Err(PhysicsError::InvalidParticle(format!("velocity must be finite, got {velocity}")));
         }
+        check_speed(velocity)?;
         if self.inverse_mass[index] == 0.0 && velocity != Vec3::ZERO {
             return Err(PhysicsError::InvalidParticle(
                 "velocity of an immovable particle must stay 0".into(),

@@ -189,7 +189,7 @@ impl World {
 
     /// Advances the world by `dt` seconds with the chosen solver.
     pub fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
-        if !(dt > 0.0 && dt <= MAX_TIME_STEP) {
+        if !super::error::time_step_in_range(dt) {
             return Err(PhysicsError::InvalidTimeStep(dt));
         }
         self.link_tension.clear();
@@ -494,6 +494,7 @@ impl World {
                 "acceleration must be finite, got {acceleration}"
             )));
         }
+        super::particles::check_acceleration(acceleration)?;
         self.particles.acceleration.fill(acceleration);
         // A pile at rest under the old gravity is not at rest under the new one.
         self.particles.wake_all();
@@ -587,5 +588,50 @@ impl World {
     pub fn is_finite(&self) -> bool {
         let p = &self.particles;
         p.position.iter().chain(&p.velocity).all(|v| v.is_finite())
+    }
+
+    /// The first figure of the world that is no longer a finite number, named for a
+    /// message ("particle 3's velocity", "the kinetic energy", "link 2's tension"), or
+    /// `None` when every one is finite: every number `simulate` prints of a world and a
+    /// snapshot saves. Slower than [`World::is_finite`] (it sums the energy and walks
+    /// the links, into `links`), so it is for the steps that are shown or saved.
+    #[must_use]
+    pub fn first_non_finite(&self, links: &mut Vec<LinkState>) -> Option<String> {
+        let p = &self.particles;
+        let arrays: [(&str, &[Vec3]); 4] = [
+            ("position", &p.position),
+            ("velocity", &p.velocity),
+            ("angular velocity", &p.angular_velocity),
+            ("acceleration", &p.acceleration),
+        ];
+        for (what, values) in arrays {
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Some(format!("particle {}'s {what}", p.ids()[i].0));
+            }
+        }
+        if let Some(i) = p.inverse_inertia.iter().position(|x| !x.is_finite()) {
+            return Some(format!("particle {}'s inverse moment of inertia", p.ids()[i].0));
+        }
+        let e = self.energy();
+        let terms = [
+            ("kinetic energy", e.kinetic),
+            ("rotational energy", e.rotational),
+            ("potential energy", e.potential),
+            ("dissipated energy", e.dissipated),
+            ("work done", e.work),
+            ("energy removed", e.removed),
+            ("integrator's error", e.error),
+        ];
+        if let Some((what, _)) = terms.iter().find(|(_, x)| !x.is_finite()) {
+            return Some(format!("the {what}"));
+        }
+        if !self.last_report().max_penetration.is_finite() {
+            return Some("the deepest overlap".into());
+        }
+        self.links_into(links);
+        links.iter().enumerate().find_map(|(k, link)| {
+            let bad = !(link.tension.is_finite() && link.length.is_finite());
+            bad.then(|| format!("link {k}'s {}", if link.tension.is_finite() { "length" } else { "tension" }))
+        })
     }
 }

@@ -427,6 +427,12 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
                 ),
             ));
         }
+        if p.integer && [min, max, default].iter().any(|x| x.fract() != 0.0) {
+            return Err(Located::at(
+                &p.default.span(),
+                "a whole-number parameter (integer = true) needs a whole default, min and max",
+            ));
+        }
         if p.logarithmic && min <= 0.0 {
             return Err(Located::at(&p.min.span(), "a logarithmic parameter needs min > 0"));
         }
@@ -592,13 +598,13 @@ impl Scene for FileScene {
         serde_json::json!({ "torn": self.torn, "whole": whole })
     }
 
-    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+    fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
         #[derive(serde::Deserialize)]
         struct Saved {
             torn: usize,
             whole: Vec<Handle>,
         }
-        let saved = <Saved as serde::Deserialize>::deserialize(state).map_err(|e| e.to_string())?;
+        let saved: Saved = super::read_state(state)?;
         self.built.links.retain(|link| saved.whole.contains(&link.handle));
         if self.built.links.len() != saved.whole.len() {
             return Err("a link the snapshot keeps is not one this scene file makes".into());

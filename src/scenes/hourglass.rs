@@ -19,7 +19,6 @@
 use std::collections::VecDeque;
 
 use glam::Vec3;
-use serde::Deserialize;
 
 use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{
@@ -316,14 +315,14 @@ impl Scene for Hourglass {
         serde_json::json!({ "samples": self.samples, "packing": self.packing })
     }
 
-    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+    fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
         #[derive(serde::Deserialize)]
         #[serde(deny_unknown_fields)]
         struct Saved {
             samples: VecDeque<(f64, usize)>,
             packing: f32,
         }
-        let saved = Saved::deserialize(state).map_err(|e| e.to_string())?;
+        let saved: Saved = super::read_state(state)?;
         if !(saved.packing.is_finite() && (0.0..=1.0).contains(&saved.packing)) {
             return Err(format!("packing = {} is out of range; valid range: 0 to 1", saved.packing));
         }

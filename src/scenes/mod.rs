@@ -39,6 +39,7 @@ mod spring_forces;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
+pub use serde_json::value::RawValue;
 
 use crate::physics::{PhysicsError, ResolveReport, World};
 
@@ -249,8 +250,12 @@ pub trait Scene: Send {
     /// Takes back what [`Scene::save_state`] gave, after the snapshot's world has
     /// replaced the built one. The error says which part is wrong. A scene that keeps
     /// nothing takes only `null`: anything else was not written by it.
-    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
-        if state.is_null() {
+    ///
+    /// The state comes as its JSON text, unparsed: each scene reads it into its own
+    /// types ([`read_state`]), so a huge array costs what its values do, not a tree of
+    /// JSON values many times the file's size.
+    fn restore_state(&mut self, state: &RawValue) -> Result<(), String> {
+        if state.get() == "null" {
             Ok(())
         } else {
             Err(format!("{} keeps no state beside its world, so it must be null", self.info().name))
@@ -347,3 +352,10 @@ pub fn create_entry(entry: &'static SceneEntry, values: ParamValues) -> Result<B
         None => Ok((entry.create)(values)),
     }
 }
+
+/// A scene's saved state ([`Scene::restore_state`]) read straight from its JSON text
+/// into the scene's own type `T`; the error is serde's, in one line.
+pub(crate) fn read_state<T: serde::de::DeserializeOwned>(state: &RawValue) -> Result<T, String> {
+    serde_json::from_str(state.get()).map_err(|e| crate::messages::one_line(&e.to_string()))
+}
+

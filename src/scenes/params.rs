@@ -68,6 +68,13 @@ pub enum ParamError {
         /// Unit of the range.
         unit: &'static str,
     },
+    /// A whole-number parameter (a count, a 0/1 switch) given a fraction.
+    NotWhole {
+        /// The parameter.
+        key: &'static str,
+        /// The value given.
+        value: f32,
+    },
     /// Not of the form KEY=VALUE.
     Malformed(String),
     /// The value is in range, but the scene cannot be built with it (a scene file
@@ -92,6 +99,9 @@ impl fmt::Display for ParamError {
             Self::OutOfRange { key, value, min, max, unit } => {
                 let unit = if unit.is_empty() { String::new() } else { format!(" {unit}") };
                 write!(f, "'{key}' = {value} is out of range; valid range: {min} to {max}{unit}")
+            }
+            Self::NotWhole { key, value } => {
+                write!(f, "'{key}' = {value} is not a whole number, and '{key}' takes only whole numbers")
             }
             Self::Malformed(text) => {
                 write!(f, "'{}' is not of the form KEY=VALUE (for example g=9.81)", quote(text))
@@ -148,6 +158,9 @@ impl ParamValues {
                 max: param.max,
                 unit: param.unit,
             });
+        }
+        if param.integer && value.fract() != 0.0 {
+            return Err(ParamError::NotWhole { key: param.name, value });
         }
         self.values[index] = value;
         Ok(())

@@ -2,7 +2,6 @@
 //! 200 kg, damping 0.99) with Cyclone's ammo types as presets.
 
 use glam::Vec3;
-use serde::Deserialize;
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::{
@@ -249,14 +248,14 @@ impl Scene for Projectile {
         serde_json::json!({ "rounds": self.rounds, "ghosts": self.ghosts, "flights": self.flights })
     }
 
-    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+    fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
         #[derive(serde::Deserialize)]
         struct Saved {
             rounds: Vec<(ParticleId, f64)>,
             ghosts: Vec<Ghost>,
             flights: Vec<Flight>,
         }
-        let saved = Saved::deserialize(state).map_err(|e| e.to_string())?;
+        let saved: Saved = super::read_state(state)?;
         let particles = &self.world.particles;
         if let Some((id, _)) = saved.rounds.iter().find(|(id, _)| particles.index(*id).is_none()) {
             return Err(format!("round {} is not a particle of the world", id.0));

@@ -25,7 +25,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::{ParamValues, Scene, SceneEntry};
+use super::{ParamValues, RawValue, Scene, SceneEntry};
 use crate::messages;
 use crate::physics::{World, WorldState};
 use crate::reading;
@@ -73,9 +73,34 @@ pub struct Snapshot {
     pub checksum: Option<String>,
     /// The world.
     pub world: WorldState,
-    /// What the scene keeps beside its world ([`Scene::save_state`]).
-    #[serde(default)]
-    pub scene_state: serde_json::Value,
+    /// What the scene keeps beside its world ([`Scene::save_state`]), as its JSON
+    /// text: read into the scene's own types only when it is restored, so a huge
+    /// value is never first built as a tree of JSON values.
+    #[serde(default = "null_state")]
+    pub scene_state: Box<RawValue>,
+}
+
+/// A scene state of `null`, for a file that has none.
+fn null_state() -> Box<RawValue> {
+    RawValue::from_string("null".into()).expect("null is JSON")
+}
+
+/// `json` without the whitespace between its tokens: the compact form, byte for byte,
+/// of a value written by serde_json, pretty or not, whose object keys are in the order
+/// it writes them (as every file this program writes), found without parsing it.
+fn compact(json: &str) -> String {
+    let (mut out, mut in_string, mut escaped) = (String::with_capacity(json.len()), false, false);
+    for c in json.chars() {
+        if in_string {
+            (in_string, escaped) = (escaped || c != '"', !escaped && c == '\\');
+        } else if c == '"' {
+            in_string = true;
+        } else if c.is_ascii_whitespace() {
+            continue;
+        }
+        out.push(c);
+    }
+    out
 }
 
 /// The scene file a snapshot's scene was built from.
@@ -97,12 +122,15 @@ struct Sealed<'a> {
     params: &'a [(String, f32)],
     dt: f32,
     world: &'a WorldState,
-    scene_state: &'a serde_json::Value,
+    scene_state: &'a RawValue,
 }
 
 /// The checksum of a snapshot's fields: a hash of their compact JSON, byte by byte.
 /// For a version 1 file, of its world alone (what that version sealed).
 fn checksum(snapshot: &Snapshot) -> String {
+    // A pretty file's scene state is sealed as the compact text it was sealed as.
+    let scene_state = RawValue::from_string(compact(snapshot.scene_state.get()));
+    let scene_state = scene_state.unwrap_or_else(|_| snapshot.scene_state.clone());
     let bytes = if snapshot.version == 1 {
         serde_json::to_vec(&snapshot.world)
     } else {
@@ -112,7 +140,7 @@ fn checksum(snapshot: &Snapshot) -> String {
             params: &snapshot.params,
             dt: snapshot.dt,
             world: &snapshot.world,
-            scene_state: &snapshot.scene_state,
+            scene_state: &scene_state,
         })
     };
     let bytes = bytes.expect("a snapshot is plain data with string keys");
@@ -137,6 +165,11 @@ impl Snapshot {
     /// force generator of a kind the format does not know.
     pub fn of(scene: &dyn Scene, dt: f32) -> Result<Self, String> {
         let world = scene.world();
+        // A figure that is not finite is written as `null`, which no reader takes back:
+        // refused here, at save time, rather than when the file is opened again.
+        if let Some(what) = world.first_non_finite(&mut Vec::new()) {
+            return Err(format!("cannot save this scene: {what} is not a finite number"));
+        }
         let state = world.state().map_err(|e| format!("cannot save this scene: {e}"))?;
         let mut snapshot = Self {
             format: FORMAT.into(),
@@ -151,7 +184,8 @@ impl Snapshot {
             hash: Some(hash_text(world.state_hash())),
             checksum: None,
             world: state,
-            scene_state: scene.save_state(),
+            scene_state: serde_json::value::to_raw_value(&scene.save_state())
+                .map_err(|e| format!("cannot save this scene's state: {e}"))?,
         };
         snapshot.checksum = Some(checksum(&snapshot));
         Ok(snapshot)
@@ -280,13 +314,18 @@ impl Snapshot {
         for (name, value) in &self.params {
             values.set(name, *value).map_err(|e| format!("params: {e}"))?;
         }
-        if !(self.dt > 0.0 && self.dt <= crate::physics::world::MAX_TIME_STEP) {
+        if !crate::physics::error::time_step_in_range(self.dt) {
             return Err(format!(
-                "dt = {} s is out of range; valid range: more than 0 and at most 1 s",
-                self.dt
+                "dt = {} s is out of range; valid range: {:e} to {} s",
+                crate::physics::error::Shown::shown(&self.dt),
+                crate::physics::error::MIN_TIME_STEP,
+                crate::physics::error::MAX_TIME_STEP
             ));
         }
         let world = World::from_state(self.world.clone()).map_err(|e| format!("world: {e}"))?;
+        if let Some(what) = world.first_non_finite(&mut Vec::new()) {
+            return Err(format!("world: {what} is not a finite number"));
+        }
         if let Some(saved) = &self.hash {
             let hash = hash_text(world.state_hash());
             if *saved != hash {

@@ -3,7 +3,6 @@
 //! water and a closed-form stiff spring.
 
 use glam::{DVec3, Vec2, Vec3};
-use serde::Deserialize;
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::{CameraHint, Marker, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water};
@@ -179,13 +178,13 @@ impl Scene for SpringForces {
         serde_json::json!({ "ghost": self.ghost, "stopwatch": self.stopwatch })
     }
 
-    fn restore_state(&mut self, state: &serde_json::Value) -> Result<(), String> {
+    fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
         #[derive(serde::Deserialize)]
         struct Saved {
             ghost: Option<Ghost>,
             stopwatch: (f32, Option<f64>, Option<f64>),
         }
-        let saved = Saved::deserialize(state).map_err(|e| e.to_string())?;
+        let saved: Saved = super::read_state(state)?;
         (self.ghost, self.stopwatch) = (saved.ghost, saved.stopwatch);
         Ok(())
     }

@@ -4,7 +4,10 @@
 use glam::Vec3;
 
 use super::generator::ForceGenerator;
-use crate::physics::error::{NON_NEGATIVE, PhysicsError, check, non_negative};
+use crate::physics::error::{
+    ACCELERATION, COEFFICIENT, LENGTH, MAX_ACCELERATION, MAX_COORDINATE, PhysicsError, acceleration, check,
+    coefficient, length, non_negative,
+};
 use crate::physics::ids::ParticleId;
 use crate::physics::particles::Particles;
 
@@ -22,7 +25,7 @@ pub struct Gravity {
 
 impl ForceGenerator for Gravity {
     fn validate(&self) -> Result<(), PhysicsError> {
-        check(self.gravity.is_finite(), "gravity", self.gravity, "a vector of finite numbers (m/s²)")
+        check(acceleration(self.gravity), "gravity", self.gravity, ACCELERATION)
     }
 
     fn apply(&mut self, particles: &mut Particles, _dt: f32) {
@@ -124,8 +127,8 @@ impl Drag {
 
 impl ForceGenerator for Drag {
     fn validate(&self) -> Result<(), PhysicsError> {
-        check(non_negative(self.k1), "drag k1", self.k1, NON_NEGATIVE)?;
-        check(non_negative(self.k2), "drag k2", self.k2, NON_NEGATIVE)
+        check(coefficient(self.k1), "drag k1", self.k1, COEFFICIENT)?;
+        check(coefficient(self.k2), "drag k2", self.k2, COEFFICIENT)
     }
 
     fn apply(&mut self, particles: &mut Particles, dt: f32) {
@@ -220,11 +223,13 @@ impl Buoyancy {
 
 impl ForceGenerator for Buoyancy {
     fn validate(&self) -> Result<(), PhysicsError> {
-        check(self.surface.is_finite(), "buoyancy surface", self.surface, "a finite height (m)")?;
-        check(non_negative(self.half_height), "buoyancy half_height", self.half_height, NON_NEGATIVE)?;
-        check(non_negative(self.volume), "buoyancy volume", self.volume, NON_NEGATIVE)?;
-        check(non_negative(self.density), "buoyancy density", self.density, NON_NEGATIVE)?;
-        check(non_negative(self.g), "buoyancy g", self.g, NON_NEGATIVE)
+        let height = self.surface.is_finite() && self.surface.abs() <= MAX_COORDINATE;
+        check(height, "buoyancy surface", self.surface, "a height within ±1e9 m")?;
+        check(length(self.half_height), "buoyancy half_height", self.half_height, LENGTH)?;
+        check(coefficient(self.volume), "buoyancy volume", self.volume, COEFFICIENT)?;
+        check(coefficient(self.density), "buoyancy density", self.density, COEFFICIENT)?;
+        let g = non_negative(self.g) && self.g <= MAX_ACCELERATION;
+        check(g, "buoyancy g", self.g, "0 to 1e6 m/s²")
     }
 
     fn apply(&mut self, particles: &mut Particles, _dt: f32) {
@@ -250,6 +255,10 @@ impl ForceGenerator for Buoyancy {
     /// linearly once fully under. Zero when clear of the liquid.
     fn potential_energy(&self, particles: &Particles) -> f32 {
         let Some(i) = particles.index(self.target) else { return 0.0 };
+        // A fixed particle is held where it is: the liquid does no work on it.
+        if particles.inverse_mass[i] == 0.0 {
+            return 0.0;
+        }
         let weight = self.density * self.volume * self.g;
         let s = self.half_height;
         if s <= 0.0 {

@@ -3,7 +3,7 @@
 use glam::Vec3;
 
 use super::generator::ForceGenerator;
-use crate::physics::error::{NON_NEGATIVE, PhysicsError, check, non_negative};
+use crate::physics::error::{COEFFICIENT, LENGTH, POINT, PhysicsError, check, coefficient, length, point};
 use crate::physics::ids::ParticleId;
 use crate::physics::links::{LinkEnd, LinkKind, LinkSpec, direction_or_zero, end_position};
 use crate::physics::particles::Particles;
@@ -70,15 +70,10 @@ impl Spring {
 impl ForceGenerator for Spring {
     fn validate(&self) -> Result<(), PhysicsError> {
         let name = if self.bungee { "bungee" } else { "spring" };
-        check(non_negative(self.k), &format!("{name} k"), self.k, NON_NEGATIVE)?;
-        check(
-            non_negative(self.rest_length),
-            &format!("{name} rest_length"),
-            self.rest_length,
-            NON_NEGATIVE,
-        )?;
+        check(coefficient(self.k), &format!("{name} k"), self.k, COEFFICIENT)?;
+        check(length(self.rest_length), &format!("{name} rest_length"), self.rest_length, LENGTH)?;
         if let LinkEnd::Anchor(anchor) = self.b {
-            check(anchor.is_finite(), &format!("{name} anchor"), anchor, "a point of finite numbers")?;
+            check(point(anchor), &format!("{name} anchor"), anchor, POINT)?;
         }
         Ok(())
     }

@@ -20,7 +20,7 @@
 use glam::{DVec3, Vec3};
 
 use super::generator::{ClosedStep, ForceGenerator};
-use crate::physics::error::{NON_NEGATIVE, POSITIVE, PhysicsError, check, non_negative, positive};
+use crate::physics::error::{NON_NEGATIVE, POINT, PhysicsError, check, coefficient, non_negative, point, positive};
 use crate::physics::ids::ParticleId;
 use crate::physics::links::{LinkEnd, LinkKind, LinkSpec};
 use crate::physics::particles::Particles;
@@ -75,14 +75,14 @@ pub fn damped_oscillator(y0: DVec3, v0: DVec3, omega: f64, zeta: f64, t: f64) ->
 
 impl ForceGenerator for StiffSpring {
     fn validate(&self) -> Result<(), PhysicsError> {
-        check(positive(self.k), "stiff spring k", self.k, POSITIVE)?;
+        check(positive(self.k) && coefficient(self.k), "stiff spring k", self.k, "more than 0, at most 1e9")?;
         check(
             non_negative(self.damping_ratio),
             "stiff spring damping_ratio",
             self.damping_ratio,
             NON_NEGATIVE,
         )?;
-        check(self.anchor.is_finite(), "stiff spring anchor", self.anchor, "a point of finite numbers")
+        check(point(self.anchor), "stiff spring anchor", self.anchor, POINT)
     }
 
     /// The spring and its damper as forces, `-k x - c v`, for a caller that applies the

@@ -97,6 +97,11 @@ impl ComparePanel {
                         .range(param.min..=param.max)
                         .speed((param.max - param.min) / 200.0);
                     ui.add(if param.integer { drag.fixed_decimals(0) } else { drag });
+                    if param.integer {
+                        // A drag moves by fractions: a whole-number parameter takes the
+                        // nearest whole one (a fraction would be refused).
+                        *value = value.round();
+                    }
                 }
             }
         }

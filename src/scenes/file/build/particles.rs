@@ -28,8 +28,12 @@ impl Builder<'_> {
     ) -> Result<(), Located> {
         let id = self.world.add_particle(desc).map_err(|e| Located::at(span, e.to_string()))?;
         if rolls {
-            self.world.particles.set_rolling(id, true).map_err(|_| {
-                Located::at(span, "rolls = true needs a radius > 0: a point mass has no surface to roll on")
+            self.world.particles.set_rolling(id, true).map_err(|e| {
+                let reason = match e {
+                    crate::physics::PhysicsError::InvalidParticle(reason) => reason,
+                    other => other.to_string(),
+                };
+                Located::at(span, format!("rolls = true cannot be: {reason}"))
             })?;
         }
         self.ids.push(id);
@@ -82,7 +86,7 @@ impl Builder<'_> {
     /// An index into `0..len`, negative counting from the end.
     pub(super) fn index(&mut self, field: &SNum, len: usize, what: &str) -> Result<usize, Located> {
         let value = self.compile(field, &[])?;
-        let x = self.eval(&value, &[], what, ANY)?.round() as i64;
+        let x = super::values::whole(self.eval(&value, &[], what, ANY)?, what, &value)? as i64;
         let len_i = len as i64;
         let index = if x < 0 { x + len_i } else { x };
         if !(0..len_i).contains(&index) {

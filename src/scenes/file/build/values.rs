@@ -139,7 +139,8 @@ impl Builder<'_> {
     /// A count: rounded, at least 1, and within what the scene may still add.
     pub(super) fn count(&mut self, field: &SNum, what: &str) -> Result<usize, Located> {
         let value = self.compile(field, &[])?;
-        let x = self.eval(&value, &[], what, ANY)?.round();
+        let x = self.eval(&value, &[], what, ANY)?;
+        let x = whole(x, what, &value)?;
         let room = MAX_PARTICLES - self.ids.len();
         if x < 1.0 || x > room as f32 {
             return Err(Located::at(
@@ -178,3 +179,21 @@ impl Builder<'_> {
         Ok(Some(name))
     }
 }
+
+/// Most a count or an index may miss a whole number by and still count as it: an
+/// expression such as `"0.3 * 10"` lands a rounding error away from 3.
+const WHOLE_TOLERANCE: f32 = 1e-3;
+
+/// `x`, a count or an index, as the whole number it must be; `count = 2.5` is refused
+/// rather than rounded, since neither 2 nor 3 is what the file said.
+pub(super) fn whole(x: f32, what: &str, value: &Value) -> Result<f32, Located> {
+    let rounded = x.round();
+    if (x - rounded).abs() > WHOLE_TOLERANCE {
+        return Err(Located::at(
+            &value.span,
+            format!("{what} = {} is not a whole number, and {what} must be one", number(f64::from(x))),
+        ));
+    }
+    Ok(rounded)
+}
+
