@@ -20,11 +20,9 @@ use std::collections::VecDeque;
 
 use glam::Vec3;
 
+use super::granular::{self, Material, SplitMix64};
 use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
-use crate::physics::{
-    DEFAULT_ROLLING_RESISTANCE, ParticleDesc, PhysicsError, Plane, Plate, ResolveReport, SphereCollisions,
-    World,
-};
+use crate::physics::{DEFAULT_ROLLING_RESISTANCE, PhysicsError, Plate, ResolveReport, World};
 
 /// Density of a grain: glass (kg/m³).
 pub const GRAIN_DENSITY: f32 = 2500.0;
@@ -130,44 +128,15 @@ fn grain_volume(radius: f32) -> f32 {
 fn build_world(params: &ParamValues, shape: &Shape) -> World {
     let (friction, rolling, g) = (params.get("friction"), params.get("rolling_resistance"), params.get("g"));
     let mut world = World::new();
-    let half = shape.width / 2.0;
-    let walls = [
-        (Vec3::Y, Vec3::new(0.0, -shape.depth, 0.0)),
-        (Vec3::X, Vec3::new(-half, 0.0, 0.0)),
-        (Vec3::NEG_X, Vec3::new(half, 0.0, 0.0)),
-        (Vec3::Z, Vec3::new(0.0, 0.0, -half)),
-        (Vec3::NEG_Z, Vec3::new(0.0, 0.0, half)),
-    ];
-    for (normal, point) in walls {
-        let plane = Plane::new(normal, point, 0.0, friction)
-            .expect("parameter ranges keep planes valid")
-            .with_rolling_resistance(rolling);
-        world.add_contact_generator(plane).expect("a plane from Plane::new is valid");
-    }
+    let material = Material { restitution: 0.0, friction, rolling_resistance: rolling };
+    granular::add_box(&mut world, -shape.depth, shape.width, material);
     let floor = Plate::new(Vec3::Y, Vec3::ZERO, shape.orifice / 2.0, 0.0, friction)
         .expect("parameter ranges keep the floor valid")
         .with_rolling_resistance(rolling);
     world.add_contact_generator(floor).expect("a plate from Plate::new is valid");
-    world
-        .add_contact_generator(SphereCollisions {
-            rolling_resistance: rolling,
-            ..SphereCollisions::new(0.0, friction)
-        })
-        .expect("parameter ranges keep friction valid");
-    let mass = shape.grain_mass();
-    for position in starting_cloud(shape.count, shape.radius, shape.width) {
-        let id = world
-            .add_particle(ParticleDesc {
-                position,
-                acceleration: Vec3::new(0.0, -g, 0.0),
-                mass,
-                radius: shape.radius,
-                damping: 1.0,
-                ..ParticleDesc::default()
-            })
-            .expect("parameter ranges keep every grain valid");
-        world.particles.set_rolling(id, true).expect("every grain has a radius");
-    }
+    granular::add_sphere_collisions(&mut world, material);
+    let cloud = starting_cloud(shape.count, shape.radius, shape.width);
+    granular::add_spheres(&mut world, &cloud, shape.grain_mass(), shape.radius, g, true);
     world
 }
 
@@ -189,16 +158,9 @@ pub fn starting_cloud(count: usize, radius: f32, width: f32) -> Vec<Vec3> {
     let room = width - d - 2.0 * CLOUD_JITTER * d;
     let columns = ((room / spacing).floor() as usize + 1).max(1);
     let span = (columns - 1) as f32 * spacing;
-    let mut seed = CLOUD_SEED;
-    let mut jitter = move || {
-        // SplitMix64, to a uniform offset in ±CLOUD_JITTER diameters.
-        seed = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = seed;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        let unit = ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32;
-        (unit * 2.0 - 1.0) * CLOUD_JITTER * d
-    };
+    let mut random = SplitMix64(CLOUD_SEED);
+    // A uniform offset in ±CLOUD_JITTER diameters.
+    let mut jitter = move || (random.unit() * 2.0 - 1.0) * CLOUD_JITTER * d;
     let mut positions = Vec::with_capacity(count);
     'fill: for layer in 0.. {
         for row in 0..columns {

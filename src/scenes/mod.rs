@@ -27,6 +27,7 @@ macro_rules! scene_basics {
 mod bridge;
 mod cradle;
 pub mod file;
+mod granular;
 pub mod ghost;
 pub mod hourglass;
 mod params;

@@ -7,10 +7,9 @@
 
 use glam::Vec3;
 
+use super::granular::{self, Material, SplitMix64};
 use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
-use crate::physics::{
-    DEFAULT_ROLLING_RESISTANCE, ParticleDesc, PhysicsError, Plane, ResolveReport, SphereCollisions, World,
-};
+use crate::physics::{DEFAULT_ROLLING_RESISTANCE, PhysicsError, ResolveReport, World};
 
 /// Gap between neighbours on the starting grid, as a fraction of the diameter.
 const GRID_GAP: f32 = 0.25;
@@ -61,39 +60,10 @@ fn build_world(params: &ParamValues) -> World {
     let (restitution, friction, g) = (params.get("restitution"), params.get("friction"), params.get("g"));
     let (rolling, rolls) = (params.get("rolling_resistance"), params.get("rolls") >= 0.5);
     let mut world = World::new();
-    let half = width / 2.0;
-    let walls = [
-        (Vec3::Y, Vec3::ZERO),
-        (Vec3::X, Vec3::new(-half, 0.0, 0.0)),
-        (Vec3::NEG_X, Vec3::new(half, 0.0, 0.0)),
-        (Vec3::Z, Vec3::new(0.0, 0.0, -half)),
-        (Vec3::NEG_Z, Vec3::new(0.0, 0.0, half)),
-    ];
-    for (normal, point) in walls {
-        let plane = Plane::new(normal, point, restitution, friction)
-            .expect("parameter ranges keep planes valid")
-            .with_rolling_resistance(rolling);
-        world.add_contact_generator(plane).expect("a plane from Plane::new is valid");
-    }
-    world
-        .add_contact_generator(SphereCollisions {
-            rolling_resistance: rolling,
-            ..SphereCollisions::new(restitution, friction)
-        })
-        .expect("parameter ranges keep restitution and friction valid");
-    for position in starting_grid(count(params), radius, width) {
-        let id = world
-            .add_particle(ParticleDesc {
-                position,
-                acceleration: Vec3::new(0.0, -g, 0.0),
-                mass,
-                radius,
-                damping: 1.0,
-                ..ParticleDesc::default()
-            })
-            .expect("parameter ranges keep every sphere valid");
-        world.particles.set_rolling(id, rolls).expect("every sphere has a radius");
-    }
+    let material = Material { restitution, friction, rolling_resistance: rolling };
+    granular::add_box(&mut world, 0.0, width, material);
+    granular::add_sphere_collisions(&mut world, material);
+    granular::add_spheres(&mut world, &starting_grid(count(params), radius, width), mass, radius, g, rolls);
     world
 }
 
@@ -129,25 +99,6 @@ pub fn starting_grid(count: usize, radius: f32, width: f32) -> Vec<Vec3> {
         layer += 1;
     }
     positions
-}
-
-/// A tiny, well-mixed random number generator (Steele, Lea and Flood's SplitMix64):
-/// the same seed gives the same pile on every machine.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
 }
 
 /// How settled a pile is: what the tests, the benchmark and the panel report.
