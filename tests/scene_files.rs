@@ -573,6 +573,8 @@ fn soak(steps: u32) {
             if step % 50 == 0 {
                 let p = &params[(lcg(&mut seed) * params.len() as f32) as usize % params.len()];
                 let value = p.min + (p.max - p.min) * lcg(&mut seed);
+                // A whole-number parameter's slider moves in whole numbers.
+                let value = if p.integer { value.round() } else { value };
                 scene.set_param(p.name, value).unwrap_or_else(|e| panic!("{}: {e}", entry.info.name));
             }
             scene.step(entry.info.dt).unwrap();
