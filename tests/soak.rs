@@ -37,6 +37,8 @@ fn soak(name: &str, seed: u64) {
             } else {
                 min + u * (max - min)
             };
+            // A whole-number parameter's slider moves in whole numbers.
+            let value = if param.integer { value.round() } else { value };
             lab.set_param(param.name, value);
             changes.push((step, param.name, value));
             if changes.len() > 8 {
