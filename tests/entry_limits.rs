@@ -40,29 +40,45 @@ const ONE: &str = "[scene]\nname = \"one\"\n[[particle]]\nposition = [0, 1, 0]\n
 
 #[test]
 fn whole_number_parameters_refuse_fractions() {
-    refused(&run(&["simulate", "--scene", "pile", "--set", "count=2.5", "--steps", "1"]), &["count", "2.5", "whole"]);
-    refused(&run(&["simulate", "--scene", "pile", "--set", "rolls=0.5", "--steps", "1"]), &["rolls", "0.5", "whole"]);
+    refused(
+        &run(&["simulate", "--scene", "pile", "--set", "count=2.5", "--steps", "1"]),
+        &["count", "2.5", "whole"],
+    );
+    refused(
+        &run(&["simulate", "--scene", "pile", "--set", "rolls=0.5", "--steps", "1"]),
+        &["rolls", "0.5", "whole"],
+    );
     // A whole number is still taken, and exactly.
     let ok = run(&["simulate", "--scene", "pile", "--set", "count=3", "--steps", "1", "--every", "5"]);
     assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
     let dir = scratch("whole");
     let row = "[scene]\nname = \"row\"\n[[row]]\ncount = 2.5\nstart = [0, 1, 0]\nstep = [1, 0, 0]\n";
-    refused(&run(&["simulate", "--scene-file", &write(&dir, "row.toml", row), "--steps", "1"]), &["row.toml:4:9", "count = 2.5", "whole"]);
+    refused(
+        &run(&["simulate", "--scene-file", &write(&dir, "row.toml", row), "--steps", "1"]),
+        &["row.toml:4:9", "count = 2.5", "whole"],
+    );
     // An expression that lands a rounding error from a whole number is that number.
     let near = row.replace("2.5", "\"0.3 * 10\"");
     let out = run(&["simulate", "--scene-file", &write(&dir, "near.toml", &near), "--steps", "0"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let line: serde_json::Value = serde_json::from_slice(out.stdout.split(|&b| b == b'\n').next().unwrap()).unwrap();
+    let line: serde_json::Value =
+        serde_json::from_slice(out.stdout.split(|&b| b == b'\n').next().unwrap()).unwrap();
     assert_eq!(line["particles"].as_array().unwrap().len(), 3);
     let pin = row.replace("count = 2.5", "count = 3\npin = [1.5]");
     let pinned = run(&["simulate", "--scene-file", &write(&dir, "pin.toml", &pin), "--steps", "1"]);
     assert_eq!(pinned.status.code(), Some(2), "{}", String::from_utf8_lossy(&pinned.stderr));
     let param = "[scene]\nname = \"p\"\n[[param]]\nname = \"n\"\ndefault = 2.5\nmin = 1\nmax = 5\ninteger = true\n\
                  [[row]]\ncount = \"n\"\nstart = [0, 1, 0]\nstep = [1, 0, 0]\n";
-    refused(&run(&["simulate", "--scene-file", &write(&dir, "param.toml", param), "--steps", "1"]), &["whole"]);
+    refused(
+        &run(&["simulate", "--scene-file", &write(&dir, "param.toml", param), "--steps", "1"]),
+        &["whole"],
+    );
     // Booleans are booleans.
     let rolls = format!("{ONE}rolls = 0.5\n");
-    refused(&run(&["simulate", "--scene-file", &write(&dir, "rolls.toml", &rolls), "--steps", "1"]), &["boolean"]);
+    refused(
+        &run(&["simulate", "--scene-file", &write(&dir, "rolls.toml", &rolls), "--steps", "1"]),
+        &["boolean"],
+    );
 }
 
 #[test]
@@ -72,10 +88,16 @@ fn figures_that_would_overflow_are_refused_at_the_door() {
         ("tiny-sphere", format!("{ONE}radius = 1e-30\nrolls = true\n"), &["radius", "1e-30", "1e-6"]),
         ("huge-sphere", format!("{ONE}radius = 1e30\nrolls = true\n"), &["radius", "1e30", "1e6"]),
         ("fast", format!("{ONE}velocity = [3e38, 0, 0]\n"), &["velocity", "1e8"]),
-        ("far", "[scene]\nname = \"far\"\n[[particle]]\nposition = [0, 1e20, 0]\n".into(), &["position", "1e9"]),
+        (
+            "far",
+            "[scene]\nname = \"far\"\n[[particle]]\nposition = [0, 1e20, 0]\n".into(),
+            &["position", "1e9"],
+        ),
         (
             "stiff",
-            format!("{ONE}[[link]]\nkind = \"stiff_spring\"\na = 0\nanchor = [0, 3, 0]\nk = 1e30\nlength = 0.1\n"),
+            format!(
+                "{ONE}[[link]]\nkind = \"stiff_spring\"\na = 0\nanchor = [0, 3, 0]\nk = 1e30\nlength = 0.1\n"
+            ),
             &["stiff spring k", "1e30", "1e9"],
         ),
         (
@@ -89,10 +111,14 @@ fn figures_that_would_overflow_are_refused_at_the_door() {
         let file = write(&dir, &format!("{name}.toml"), text);
         refused(&run(&["simulate", "--scene-file", &file, "--steps", "1"]), words);
     }
-    refused(&run(&["simulate", "--scene", "bridge", "--dt", "1e-45", "--steps", "2"]), &["--dt", "1e-45", "1e-6"]);
+    refused(
+        &run(&["simulate", "--scene", "bridge", "--dt", "1e-45", "--steps", "2"]),
+        &["--dt", "1e-45", "1e-6"],
+    );
     // The limits themselves are accepted.
     let edge = format!("{ONE}radius = 1e-6\nrolls = true\nvelocity = [1e8, 0, 0]\n");
-    let out = run(&["simulate", "--scene-file", &write(&dir, "edge.toml", &edge), "--steps", "3", "--dt", "1e-6"]);
+    let out =
+        run(&["simulate", "--scene-file", &write(&dir, "edge.toml", &edge), "--steps", "3", "--dt", "1e-6"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
@@ -146,7 +172,19 @@ fn a_blow_up_is_caught_at_the_first_figure_that_overflows() {
     assert!(stderr.contains(&named), "{named} in {stderr}");
     // Saving it is refused too, rather than writing a file that will not open.
     let saved = dir.join("blow.json");
-    let out = run(&["simulate", "--scene-file", &file, "--steps", "400", "--every", "1000", "--integrator", "explicit-euler", "--save", saved.to_str().unwrap()]);
+    let out = run(&[
+        "simulate",
+        "--scene-file",
+        &file,
+        "--steps",
+        "400",
+        "--every",
+        "1000",
+        "--integrator",
+        "explicit-euler",
+        "--save",
+        saved.to_str().unwrap(),
+    ]);
     assert_ne!(out.status.code(), Some(0));
     assert!(!saved.exists(), "no snapshot of a world that blew up");
 }
@@ -160,7 +198,8 @@ fn a_snapshot_whose_energy_overflows_is_refused_naming_it() {
     let file = file.to_str().unwrap();
     let out = run(&["simulate", "--scene", "springForces", "--steps", "5", "--every", "10", "--save", file]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let mut snapshot: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+    let mut snapshot: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
     let object = snapshot.as_object_mut().unwrap();
     object.remove("hash");
     object.remove("checksum");
@@ -179,14 +218,37 @@ fn a_huge_scene_state_is_refused_within_bounded_memory() {
     let dir = scratch("huge");
     for (scene, inner) in [("projectile", "[0,0,"), ("hourglass", "{\"packing\":0.5,\"samples\":[")] {
         let file = dir.join(format!("{scene}.json"));
-        let out = run(&["simulate", "--scene", scene, "--set", "count=50", "--steps", "2", "--every", "9", "--save", file.to_str().unwrap()]);
+        let out = run(&[
+            "simulate",
+            "--scene",
+            scene,
+            "--set",
+            "count=50",
+            "--steps",
+            "2",
+            "--every",
+            "9",
+            "--save",
+            file.to_str().unwrap(),
+        ]);
         let out = if out.status.success() {
             out
         } else {
-            run(&["simulate", "--scene", scene, "--steps", "2", "--every", "9", "--save", file.to_str().unwrap()])
+            run(&[
+                "simulate",
+                "--scene",
+                scene,
+                "--steps",
+                "2",
+                "--every",
+                "9",
+                "--save",
+                file.to_str().unwrap(),
+            ])
         };
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        let mut snapshot: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+        let mut snapshot: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
         let object = snapshot.as_object_mut().unwrap();
         object.remove("hash");
         object.remove("checksum");

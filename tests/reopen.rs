@@ -176,7 +176,8 @@ fn simulate_continues_a_projectile_saved_after_landing() {
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("p.json");
     let file = file.to_str().unwrap();
-    let saved = run(&["simulate", "--scene", "projectile", "--steps", "2000", "--every", "5000", "--save", file]);
+    let saved =
+        run(&["simulate", "--scene", "projectile", "--steps", "2000", "--every", "5000", "--save", file]);
     assert!(saved.status.success(), "{}", String::from_utf8_lossy(&saved.stderr));
     let on = run(&["simulate", "--from", file, "--steps", "1", "--every", "5000"]);
     assert!(on.status.success(), "reopens: {}", String::from_utf8_lossy(&on.stderr));

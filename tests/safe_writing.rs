@@ -270,7 +270,12 @@ fn simulate_refuses_dev_null_and_leaves_it_a_device() {
     // The check first, by looking only: were it to pass, the command below could
     // replace /dev/null (as root), so it is not run.
     assert_eq!(writing::target(Path::new("/dev/null")), Err(WriteError::NotAFile("a device")));
-    assert_refused(&simulate_save(Path::new("/dev/null")), 2, "/dev/null", "it is a device, not a regular file");
+    assert_refused(
+        &simulate_save(Path::new("/dev/null")),
+        2,
+        "/dev/null",
+        "it is a device, not a regular file",
+    );
     assert!(
         std::fs::metadata("/dev/null").unwrap().file_type().is_char_device(),
         "/dev/null is still a device"

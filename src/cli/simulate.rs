@@ -114,7 +114,8 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
     // Where the snapshot goes is checked before the run, so a long run is not lost to
     // a path that names a device, a FIFO or a directory.
     if let Some(path) = &save {
-        crate::writing::target(path).map_err(|e| format!("cannot write {}: {e}", crate::messages::path(path)))?;
+        crate::writing::target(path)
+            .map_err(|e| format!("cannot write {}: {e}", crate::messages::path(path)))?;
     }
     if args.forces && args.format == StateFormat::Csv {
         return Err("--forces adds fields to the JSON; it cannot be used with --format csv".into());

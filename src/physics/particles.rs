@@ -293,7 +293,10 @@ impl Particles {
                 return fail(&format!("radius must be 0 to {MAX_RADIUS:e} m"));
             }
             if self.rolling[i] && w > 0.0 && self.radius[i] > 0.0 && self.radius[i] < MIN_ROLLING_RADIUS {
-                return fail(&format!("a sphere that rolls needs a radius of at least {} m", MIN_ROLLING_RADIUS.shown()));
+                return fail(&format!(
+                    "a sphere that rolls needs a radius of at least {} m",
+                    MIN_ROLLING_RADIUS.shown()
+                ));
             }
             let rolls = self.inverse_inertia[i] != 0.0;
             if rolls != (self.rolling[i] && w > 0.0 && self.radius[i] > 0.0) {

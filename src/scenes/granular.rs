@@ -47,7 +47,14 @@ pub(super) fn add_sphere_collisions(world: &mut World, material: Material) {
 
 /// Adds a sphere of `mass` (kg) and `radius` (m) at each of `positions`, at rest under
 /// gravity `g` (m/s², downwards), undamped; solid spheres that roll if `rolls`.
-pub(super) fn add_spheres(world: &mut World, positions: &[Vec3], mass: f32, radius: f32, g: f32, rolls: bool) {
+pub(super) fn add_spheres(
+    world: &mut World,
+    positions: &[Vec3],
+    mass: f32,
+    radius: f32,
+    g: f32,
+    rolls: bool,
+) {
     for &position in positions {
         let id = world
             .add_particle(ParticleDesc {

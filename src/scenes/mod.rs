@@ -27,8 +27,8 @@ macro_rules! scene_basics {
 mod bridge;
 mod cradle;
 pub mod file;
-mod granular;
 pub mod ghost;
+mod granular;
 pub mod hourglass;
 mod params;
 mod pendulum;
@@ -359,4 +359,3 @@ pub fn create_entry(entry: &'static SceneEntry, values: ParamValues) -> Result<B
 pub(crate) fn read_state<T: serde::de::DeserializeOwned>(state: &RawValue) -> Result<T, String> {
     serde_json::from_str(state.get()).map_err(|e| crate::messages::one_line(&e.to_string()))
 }
-

@@ -20,7 +20,9 @@
 use glam::{DVec3, Vec3};
 
 use super::generator::{ClosedStep, ForceGenerator};
-use crate::physics::error::{NON_NEGATIVE, POINT, PhysicsError, check, coefficient, non_negative, point, positive};
+use crate::physics::error::{
+    NON_NEGATIVE, POINT, PhysicsError, check, coefficient, non_negative, point, positive,
+};
 use crate::physics::ids::ParticleId;
 use crate::physics::links::{LinkEnd, LinkKind, LinkSpec};
 use crate::physics::particles::Particles;

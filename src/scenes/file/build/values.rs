@@ -196,4 +196,3 @@ pub(super) fn whole(x: f32, what: &str, value: &Value) -> Result<f32, Located> {
     }
     Ok(rounded)
 }
-
