@@ -208,6 +208,92 @@ fn the_ui_draws_a_panel_over_the_scene() {
     assert!(top.count() > 20, "no menu bar across the top");
 }
 
+/// Issue 40, "big renders within the memory they need": a frame larger than a tile is
+/// drawn tile by tile, each with its piece of the view's projection and of the panel.
+/// Drawn in tiles of 97 pixels (so that tiles cut through spheres, links, the grid and
+/// the panel's text, and the last tile of a row overlaps the one before it), the frame
+/// must look as the same frame drawn whole.
+#[test]
+fn a_frame_drawn_in_tiles_looks_as_the_frame_drawn_whole() {
+    let size = [333, 217];
+    for with_ui in [false, true] {
+        let mut whole_capture = capture();
+        let mut tiled_capture = capture();
+        tiled_capture.set_tile_side(97);
+        let plan = tiled_capture.plan(size);
+        assert_eq!(plan.target, [97, 97]);
+        assert_eq!(plan.tiles.len(), 4 * 3, "{plan:?}");
+        assert!(plan.tiles.contains(&[333 - 97, 217 - 97]), "the last tile ends at the corner: {plan:?}");
+        let mut lab = Lab::new("bridge", &[]).unwrap();
+        lab.run_steps_recorded(STEPS);
+        let whole = whole_capture.render(&mut lab, size, with_ui).unwrap();
+        let tiled = tiled_capture.render(&mut lab, size, with_ui).unwrap();
+        assert_eq!(tiled_capture.target_size(), Some([97, 97]), "no target larger than a tile");
+        assert_eq!(whole.len(), tiled.len());
+        let different = whole
+            .chunks_exact(4)
+            .zip(tiled.chunks_exact(4))
+            .filter(|(a, b)| differs([a[0], a[1], a[2], a[3]], [b[0], b[1], b[2], b[3]], CHANNEL_TOLERANCE))
+            .count();
+        let share = different as f64 / f64::from(size[0] * size[1]);
+        if share > PIXEL_TOLERANCE {
+            let dir = std::env::temp_dir();
+            write_png(&dir.join("particle-lab-tiled.png"), size, &tiled).unwrap();
+            write_png(&dir.join("particle-lab-whole.png"), size, &whole).unwrap();
+        }
+        assert!(
+            share <= PIXEL_TOLERANCE,
+            "with_ui {with_ui}: {:.2}% of pixels differ between the tiled and the whole frame (written to \
+             the temp folder)",
+            share * 100.0
+        );
+        // And the frame is not blank: the bridge's spheres are in it.
+        let distinct: std::collections::HashSet<_> =
+            tiled.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
+        assert!(distinct.len() > 100, "only {} colours", distinct.len());
+    }
+}
+
+/// Issue 40: `render --size 8192x8192` (the largest size it takes) peaked at 3 GB. In
+/// tiles it stays under 1.5 GB, as the kernel counts the process's resident memory
+/// (its peak, `ru_maxrss`, read with `wait4`).
+#[test]
+fn the_largest_render_stays_under_one_and_a_half_gigabytes() {
+    let dir = std::env::temp_dir().join(format!("particle-lab-big-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("big.png");
+    let child = binary()
+        .args(["render", "--scene", "bridge", "--steps", "60", "--size", "8192x8192", "--ui", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: a zeroed rusage is a valid value of that plain C struct, and wait4 writes
+    // only into the two places it is given, for our own child, which is not waited on
+    // by anything else (the Child handle is dropped without a wait).
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    drop(child);
+    assert_eq!(waited, pid, "wait4 failed");
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0, "render failed: status {status}");
+    // On Linux ru_maxrss is in kilobytes.
+    let peak_mb = usage.ru_maxrss as f64 / 1024.0;
+    let (pixels, size) = read_png(&out).unwrap();
+    assert_eq!(size, [8192, 8192]);
+    // Not a blank image: the spheres, links, grid and panel give it many colours.
+    let distinct: std::collections::HashSet<_> =
+        pixels.chunks_exact(4).step_by(97).map(|p| [p[0], p[1], p[2]]).collect();
+    assert!(distinct.len() > 100, "only {} colours", distinct.len());
+    drop(pixels);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(peak_mb < 1536.0, "render --size 8192x8192 peaked at {peak_mb:.0} MB");
+    // And it did need the image itself (256 MB): the figure is the whole process's.
+    assert!(peak_mb > 256.0, "a peak of {peak_mb:.0} MB cannot hold the 256 MB image");
+}
+
 fn binary() -> Command {
     Command::new(env!("CARGO_BIN_EXE_particle-lab"))
 }

@@ -29,4 +29,4 @@ pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;
 pub use link::Link;
 pub use model::Lab;
-pub use records::{EnergyBars, EnergySample, Grab, Requests, Stats};
+pub use records::{EnergyBars, EnergySample, Grab, Purpose, Requests, Stats};
