@@ -4,7 +4,7 @@
 
 use egui::epaint::{ClippedPrimitive, PaintCallback, Primitive};
 
-use crate::render::camera::ViewPiece;
+use crate::render::orbit_camera::ViewPiece;
 use crate::render::renderer::fit_viewport;
 use crate::render::{Gpu, OffscreenTarget, SpherePath, offscreen};
 use crate::ui::paint::{Painter, UiFrame};

@@ -3,8 +3,8 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use super::camera::OrbitCamera;
 use super::frame::{FrameData, SegmentInstance, SphereInstance, WaterQuad};
+use super::orbit_camera::OrbitCamera;
 
 /// Samples per pixel of the 3D pass by default (4x MSAA).
 pub const DEFAULT_SAMPLE_COUNT: u32 = 4;
@@ -395,7 +395,7 @@ impl Renderer {
     /// Records the 3D pass: clears `target` (of `size` pixels, in this renderer's colour
     /// format) and draws `frame` as seen by `camera` into `viewport` (x, y, width,
     /// height in pixels, fitted into the target by [`fit_viewport`]). With a
-    /// [`ViewPiece`](super::camera::ViewPiece) on the camera, `viewport` is where that
+    /// [`ViewPiece`](super::orbit_camera::ViewPiece) on the camera, `viewport` is where that
     /// piece of the whole view lands; an empty one (no width or height) draws nothing.
     #[allow(clippy::too_many_arguments)]
     pub fn render(
