@@ -294,6 +294,46 @@ fn the_largest_render_stays_under_one_and_a_half_gigabytes() {
     assert!(peak_mb > 256.0, "a peak of {peak_mb:.0} MB cannot hold the 256 MB image");
 }
 
+/// Issue 38: a scene file's `[[wall]]` was not drawn at all (only a ball's trail showed
+/// the slope). A ramp is drawn: the frame with it differs from the same scene without
+/// it, along a band that runs down the slope, in 3D and in the side view.
+#[test]
+fn a_scene_files_wall_is_drawn_in_3d_and_in_the_side_view() {
+    let dir = std::env::temp_dir().join(format!("particle-lab-wall-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ball = "[scene]\nname = \"ramp\"\n\n[[particle]]\nposition = [0, 2, 0]\nradius = 0.2\n";
+    let ramp = "\n[[wall]]\nnormal = [0.5, 1, 0]\npoint = [0, 0.5, 0]\n";
+    let bare_file = dir.join("bare.toml");
+    let ramp_file = dir.join("ramp.toml");
+    std::fs::write(&bare_file, ball).unwrap();
+    std::fs::write(&ramp_file, format!("{ball}{ramp}")).unwrap();
+    for view in [None, Some("side")] {
+        let frame = |file: &Path, name: &str| {
+            let out = dir.join(name);
+            let mut command = binary();
+            command.args(["render", "--steps", "1", "--size", "320x240", "--scene-file"]).arg(file);
+            if let Some(view) = view {
+                command.args(["--view", view]);
+            }
+            let result = command.arg("--out").arg(&out).output().unwrap();
+            assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+            read_png(&out).unwrap()
+        };
+        let (bare, size) = frame(&bare_file, "bare.png");
+        let (with_wall, _) = frame(&ramp_file, "ramp.png");
+        let differ = |x: u32, y: u32| differs(pixel(&bare, size, x, y), pixel(&with_wall, size, x, y), 8);
+        let different =
+            (0..size[1]).flat_map(|y| (0..size[0]).map(move |x| (x, y))).filter(|&(x, y)| differ(x, y));
+        let different: Vec<(u32, u32)> = different.collect();
+        assert!(different.len() > 200, "{view:?}: the wall changed only {} pixels", different.len());
+        // A line across a slope, not a spot: what it changed spans most of the frame's
+        // width.
+        let (left, right) = different.iter().fold((u32::MAX, 0), |(l, r), &(x, _)| (l.min(x), r.max(x)));
+        assert!(right - left > size[0] / 2, "{view:?}: the wall spans x {left} to {right} only");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn binary() -> Command {
     Command::new(env!("CARGO_BIN_EXE_particle-lab"))
 }
