@@ -61,6 +61,12 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
         lab.frame_scene();
         log::info!("opened snapshot {} at step {}", path.display(), lab.scene.world().steps());
     }
+    // A link's `steps=N`: N steps at once, then paused there, as the page does.
+    if let Some(steps) = launch.steps {
+        lab.run_steps_recorded(steps);
+        lab.paused = true;
+        log::info!("paused at step {}, state hash {}", lab.scene.world().steps(), lab.state_hash());
+    }
     // A scene from a file reloads when the file changes.
     lab.watch_scene_file();
     let event_loop =

@@ -1,5 +1,6 @@
 //! The command line: `scenes` lists the scenes, `simulate` runs one headless and prints
-//! JSON Lines, `render` draws frames off-screen. Bad input gets one line on stderr and
+//! JSON Lines, `render` draws frames off-screen, `link` prints the link that opens a
+//! scene in the web lab and `open` opens such a link in the window. Bad input gets one line on stderr and
 //! exit code 2, never a panic.
 //!
 //! This file holds the flags (clap's derive) and their parsing; each command has its
@@ -10,6 +11,7 @@ use clap::{Parser, Subcommand};
 
 pub mod clock;
 pub mod flags;
+pub mod link;
 pub mod list;
 pub mod progress;
 pub mod record;
@@ -19,6 +21,7 @@ pub mod simulate;
 pub mod usage;
 
 pub use flags::{MAX_STEPS, SolverArgs};
+pub use link::{LinkArgs, OpenArgs};
 pub use list::{Format, list_scenes};
 pub use render::{MAX_IMAGE_SIDE, RenderArgs, render};
 pub use simulate::{CSV_HEADER, RunPlan, SimulateArgs, StateFormat, prepare, simulate};
@@ -69,6 +72,11 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// Step a scene and write one off-screen frame to a PNG (needs no display).
     Render(RenderArgs),
+    /// Print the link that opens a scene in the web lab (a scene file not shipped is
+    /// carried in the link)
+    Link(LinkArgs),
+    /// Open a link to an experiment (from File → Copy link or `link`) in the window
+    Open(OpenArgs),
 }
 
 /// Parses the command line; on bad flags prints clap's error on one line, with its

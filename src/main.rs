@@ -47,14 +47,28 @@ fn main() -> ExitCode {
                 ExitCode::from(code)
             }
         },
-        None => match Launch::from_cli(&args).map_err(AppError::Usage).and_then(|launch| app::run(&launch)) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(AppError::Usage(message)) => usage_error(&message),
-            Err(AppError::Fatal(message)) => {
-                eprintln!("particle-lab: {}", particle_lab::messages::one_line(&message));
-                ExitCode::from(1)
+        Some(Command::Link(link)) => match cli::link::link(&link) {
+            Ok(link) => {
+                println!("{link}");
+                ExitCode::SUCCESS
             }
+            Err(message) => usage_error(&message),
         },
+        Some(Command::Open(open)) => window(cli::link::open(&open)),
+        None => window(Launch::from_cli(&args)),
+    }
+}
+
+/// Opens the window as `launch` asks; a bad command line or link is a usage error.
+#[cfg(not(target_arch = "wasm32"))]
+fn window(launch: Result<Launch, String>) -> ExitCode {
+    match launch.map_err(AppError::Usage).and_then(|launch| app::run(&launch)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(AppError::Usage(message)) => usage_error(&message),
+        Err(AppError::Fatal(message)) => {
+            eprintln!("particle-lab: {}", particle_lab::messages::one_line(&message));
+            ExitCode::from(1)
+        }
     }
 }
 

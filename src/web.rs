@@ -16,16 +16,21 @@ use crate::settings::{self, Launch, Store};
 use crate::ui::lab::Link;
 use crate::ui::page;
 
-/// The page's query string as decoded pairs.
+/// The page's query string and fragment (a scene file carried in the link is there,
+/// out of any server's log) as decoded pairs, the query's first.
 fn query_pairs() -> Vec<(String, String)> {
-    let search = web_sys::window().and_then(|w| w.location().search().ok()).unwrap_or_default();
-    let Ok(params) = web_sys::UrlSearchParams::new_with_str(&search) else { return Vec::new() };
+    let location = web_sys::window().map(|w| w.location());
+    let search = location.as_ref().and_then(|l| l.search().ok()).unwrap_or_default();
+    let hash = location.as_ref().and_then(|l| l.hash().ok()).unwrap_or_default();
     let mut pairs = Vec::new();
-    if let Ok(Some(entries)) = js_sys::try_iter(&params) {
-        for entry in entries.flatten() {
-            let entry: js_sys::Array = entry.unchecked_into();
-            let text = |i| entry.get(i).as_string().unwrap_or_default();
-            pairs.push((text(0), text(1)));
+    for part in [search, hash.trim_start_matches('#').to_string()] {
+        let Ok(params) = web_sys::UrlSearchParams::new_with_str(&part) else { continue };
+        if let Ok(Some(entries)) = js_sys::try_iter(&params) {
+            for entry in entries.flatten() {
+                let entry: js_sys::Array = entry.unchecked_into();
+                let text = |i| entry.get(i).as_string().unwrap_or_default();
+                pairs.push((text(0), text(1)));
+            }
         }
     }
     pairs
@@ -43,15 +48,16 @@ pub fn start() {
     let _ = log::set_logger(&CONSOLE).map(|()| log::set_max_level(log::LevelFilter::Info));
 
     let mut problems = Vec::new();
-    let link = Link::parse(&query_pairs()).unwrap_or_else(|message| {
+    let mut link = Link::parse(&query_pairs()).unwrap_or_else(|message| {
         problems.push(message);
         Link::default()
     });
     page::set_webgl2_only(link.webgl2_only);
-    let launch = Launch::from_args(&link.args).unwrap_or_else(|message| {
+    let mut launch = Launch::from_args(&link.args).unwrap_or_else(|message| {
         problems.push(message);
         Launch::default()
     });
+    launch.scene_text = link.scene_text.take();
     let opened = settings::open(&launch, Store::from_platform()).or_else(|message| {
         problems.push(message);
         settings::open(&Launch { fresh: launch.fresh, ..Launch::default() }, Store::from_platform())

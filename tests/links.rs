@@ -148,7 +148,7 @@ fn the_link_of_what_is_on_screen_opens_it_again() {
     let mut lab = settings::open(&first, Store::in_dir(&scratch("copy-a"))).unwrap().lab;
     lab.scene.set_param("g", 7.123_456_7).unwrap();
     lab.run_steps_recorded(123);
-    let query = Link::of(&lab, true);
+    let query = Link::of(&lab, true).unwrap();
     assert!(query.starts_with("?scene=springForces&"), "{query}");
     let (link, again) = open_link(&query).unwrap();
     let mut copy = settings::open(&again, Store::in_dir(&scratch("copy-b"))).unwrap().lab;
@@ -158,4 +158,120 @@ fn the_link_of_what_is_on_screen_opens_it_again() {
     assert_eq!(copy.solver(), lab.solver(), "{query}");
     link.run_steps(&mut copy);
     assert_eq!(copy.state_hash(), lab.state_hash(), "{query}");
+}
+
+/// Runs the binary with `args`; its stdout, stderr and exit code.
+fn binary(args: &[&str]) -> (String, String, Option<i32>) {
+    let out = Command::new(env!("CARGO_BIN_EXE_particle-lab")).args(args).output().unwrap();
+    let text = |bytes: Vec<u8>| String::from_utf8(bytes).unwrap();
+    (text(out.stdout), text(out.stderr), out.status.code())
+}
+
+/// Issue 38: Copy link on a scene file of one's own gave `?scene=ramp&…`, which the page
+/// answered with "unknown scene 'ramp'". A scene file that is not shipped now travels
+/// in the link, packed, after the `#` (never sent to a server): read back as the page
+/// and `particle-lab open` read it, it is the same file byte for byte, opens the same
+/// experiment, and after the link's steps has `simulate`'s state hash for that file.
+/// The lab's own link of what it opened is the same link again.
+#[test]
+fn a_link_to_a_scene_file_of_ones_own_carries_it_and_opens_the_same_experiment() {
+    let dir = scratch("own-files");
+    for name in ["chain", "cloth", "platform", "blob"] {
+        let shipped =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/scenes/{name}.toml"));
+        let original = std::fs::read_to_string(&shipped).unwrap();
+        // Renamed, so no longer a shipped scene: only the link can carry it.
+        let text = original.replacen(&format!("name = \"{name}\""), &format!("name = \"my-{name}\""), 1);
+        assert_ne!(text, original, "{name}: renamed");
+        let file = dir.join(format!("my-{name}.toml"));
+        std::fs::write(&file, &text).unwrap();
+        let file = file.to_str().unwrap();
+        let base = "https://example.org/lab/";
+        let (stdout, stderr, code) =
+            binary(&["link", "--scene-file", file, "--set", "g=5", "--steps", "90", "--base", base]);
+        assert_eq!(code, Some(0), "{name}: {stderr}");
+        let typed = stdout.trim();
+        assert!(typed.starts_with("https://example.org/lab/#file="), "{name}: {typed}");
+        assert!(!typed.contains('?'), "{name}: nothing of it before the '#', for a server's log");
+
+        let link = Link::parse_text(typed).unwrap();
+        assert_eq!(link.scene_text.as_deref(), Some(text.as_str()), "{name}: carried byte for byte");
+        let mut launch = Launch::from_args(&link.args).unwrap();
+        launch.scene_text = link.scene_text.clone();
+        let mut lab = settings::open(&launch, Store::in_dir(&scratch(&format!("own-{name}")))).unwrap().lab;
+        assert_eq!(lab.entry.info.name, format!("my-{name}"));
+        assert_eq!(lab.scene.params().get("g"), 5.0, "{name}: with its parameters");
+        link.run_steps(&mut lab);
+        assert!(lab.paused);
+        let (stdout, stderr, code) =
+            binary(&["simulate", "--scene-file", file, "--set", "g=5", "--steps", "90"]);
+        assert_eq!(code, Some(0), "{name}: {stderr}");
+        let last: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
+        assert_eq!(last["step"], 90, "{name}");
+        assert_eq!(last["hash"].as_str(), Some(lab.state_hash().as_str()), "{name}: the same experiment");
+        assert_eq!(
+            format!("{base}{}", Link::of(&lab, true).unwrap()),
+            typed,
+            "{name}: Copy link gives it again"
+        );
+
+        // The shipped file itself is named, as the page knows it.
+        let (stdout, _, code) = binary(&["link", "--scene-file", shipped.to_str().unwrap()]);
+        assert_eq!(code, Some(0));
+        assert!(stdout.starts_with(&format!("?scene={name}&")), "{stdout}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A scene file too big for a link says so at once, and what to do instead, rather
+/// than giving a link that some program would cut; a damaged or foreign link is one
+/// line, exit 2.
+#[test]
+fn a_scene_too_big_for_a_link_and_a_damaged_link_are_one_line() {
+    let dir = scratch("too-big");
+    // Particles at positions no compressor can guess: a few thousand distinct numbers.
+    let mut text = String::from("[scene]\nname = \"scatter\"\n");
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    for _ in 0..600 {
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % 1_000_000) as f64 / 1000.0
+        };
+        text.push_str(&format!(
+            "\n[[particle]]\nposition = [{}, {}, {}]\nradius = 0.05\n",
+            next(),
+            next(),
+            next()
+        ));
+    }
+    let file = dir.join("scatter.toml");
+    std::fs::write(&file, &text).unwrap();
+    let (stdout, stderr, code) = binary(&["link", "--scene-file", file.to_str().unwrap()]);
+    assert_eq!((stdout.as_str(), code), ("", Some(2)), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("more than the 8 KB a link can carry") && stderr.contains("save the scene file"),
+        "{stderr}"
+    );
+    // It does run: the file is good, only too big for a link.
+    let (_, stderr, code) = binary(&["simulate", "--scene-file", file.to_str().unwrap(), "--steps", "1"]);
+    assert_eq!(code, Some(0), "{stderr}");
+
+    let both =
+        format!("?scene=bridge#file={}", particle_lab::ui::lab::carried::pack("[scene]\nname = \"x\"\n"));
+    for (link, words) in [
+        ("example.org/lab", "is not a link to an experiment"),
+        ("https://example.org/lab/#file=abc", "damaged"),
+        ("#file=a", "cut short"),
+        ("#file=%zz", "broken escape"),
+        (both.as_str(), "not both"),
+    ] {
+        let (_, stderr, code) = binary(&["open", link]);
+        assert_eq!(code, Some(2), "{link}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{link}: {stderr}");
+        assert!(stderr.contains(words), "{link}: {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

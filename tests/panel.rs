@@ -449,7 +449,7 @@ fn copy_link_in_the_file_menu_gives_the_query_that_opens_this_experiment() {
     let item = frame(&ctx, &mut shell, &mut lab, size, Vec::new()).find("Copy link").expect("Copy link").1;
     click_at(&ctx, &mut shell, &mut lab, size, item.center());
     let query = lab.status.split_once(": ").map(|(_, q)| q.to_string()).expect(&lab.status);
-    assert_eq!(query, Link::of(&lab, false), "{}", lab.status);
+    assert_eq!(query, Link::of(&lab, false).unwrap(), "{}", lab.status);
     assert!(
         query.starts_with("?scene=bridge&")
             && query.contains("set=g=4.5&")

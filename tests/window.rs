@@ -798,3 +798,57 @@ fn where_no_file_dialog_opens_a_path_field_completes_opens_and_saves() {
     assert!(reopened.status.success(), "{}", String::from_utf8_lossy(&reopened.stderr));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 38: a link a teacher sends works on the desktop too. `particle-lab open LINK`
+/// with a scene file of one's own carried in the link (from `particle-lab link`) opens
+/// it in the window, runs the link's steps and pauses with `simulate`'s state hash.
+#[test]
+fn open_opens_a_link_that_carries_a_scene_file_in_the_window() {
+    let display = Display::start();
+    let dir = test_dir("open-link");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/chain.toml"))
+            .unwrap()
+            .replacen("name = \"chain\"\n", "name = \"sent-chain\"\n", 1);
+    let file = dir.join("sent-chain.toml");
+    let again = dir.join("again.toml");
+    std::fs::write(&file, &text).unwrap();
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_particle-lab")).args(args).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let file = file.to_str().unwrap();
+    let link = run(&["link", "--scene-file", file, "--set", "links=9", "--steps", "150"]);
+    let link = link.trim();
+    assert!(link.starts_with("#file="), "{link}");
+    // The file is gone: only the link has it.
+    std::fs::remove_file(file).unwrap();
+
+    let mut app = App::start(&display, &["open", link], "open-link");
+    app.window(&display);
+    app.expect_log("scene sent-chain [damping=0.8 g=9.81 links=9 ");
+    let paused = app.expect_log("paused at step ");
+    let hash = paused.split(", state hash ").nth(1).expect("the hash").trim().to_string();
+    assert!(paused.contains("paused at step 150,"), "{paused}");
+
+    // The same text written again, for simulate.
+    std::fs::write(&again, &text).unwrap();
+    let out = run(&[
+        "simulate",
+        "--scene-file",
+        again.to_str().unwrap(),
+        "--set",
+        "links=9",
+        "--steps",
+        "150",
+        "--every",
+        "150",
+    ]);
+    let last: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+    assert_eq!(last["step"], 150);
+    assert_eq!(last["hash"].as_str(), Some(hash.as_str()), "window: {paused}");
+    let _ = app.child.kill();
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -35,6 +35,11 @@ pub struct Launch {
     pub fresh: bool,
     /// `--from FILE`: open on this snapshot (the saved view and window still apply).
     pub from: Option<std::path::PathBuf>,
+    /// A scene file's text carried by a link (`#file=…`), opened instead of a named
+    /// scene or a file on disk.
+    pub scene_text: Option<String>,
+    /// A link's `steps=N`: run N physics steps at once, then pause.
+    pub steps: Option<u64>,
 }
 
 impl Launch {
@@ -87,6 +92,8 @@ impl Launch {
             integrator: typed[2].then_some(solver.integrator),
             fresh: cli.fresh,
             from: cli.from.clone(),
+            scene_text: None,
+            steps: None,
         })
     }
 
@@ -105,6 +112,7 @@ impl Launch {
         let flags = [
             (self.scene.is_some(), "--scene"),
             (self.scene_file.is_some(), "--scene-file"),
+            (self.scene_text.is_some(), "a link's scene file"),
             (!self.set.is_empty(), "--set"),
             (self.solver.is_some(), "--solver"),
             (self.substeps.is_some(), "--substeps"),
@@ -140,9 +148,15 @@ pub struct Opened {
 pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
     // A mistyped scene (or a bad scene file) is refused before the settings file is
     // touched.
-    let typed_entry = match (launch.scene.as_deref(), launch.scene_file.as_deref()) {
-        (None, None) => None,
-        (scene, file) => Some(scenes::file::choose(scene, file)?),
+    let typed_entry = match (launch.scene.as_deref(), launch.scene_file.as_deref(), &launch.scene_text) {
+        (None, None, None) => None,
+        (None, None, Some(text)) => Some(
+            scenes::file::load_text(text, crate::ui::lab::CARRIED_NAME, None).map_err(|e| e.to_string())?,
+        ),
+        (_, _, Some(_)) => {
+            return Err("a link carries its own scene file: give no --scene or --scene-file".into());
+        }
+        (scene, file, None) => Some(scenes::file::choose(scene, file)?),
     };
     let place =
         store.path().map_or_else(|| "nowhere (no config directory)".to_string(), crate::messages::path);

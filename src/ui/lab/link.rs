@@ -5,12 +5,18 @@
 //! one-line messages, as those flags typed. Besides the command line's keys a link has the page's own: `steps=N`
 //! runs N physics steps at once and pauses there (a link can show a moment, and a
 //! test can compare it with `simulate --steps N`), and `gpu=webgl2` leaves WebGPU out.
-//! [`Link::of`] writes the link of what is on screen.
+//! [`Link::of`] writes the link of what is on screen. A scene file that is not shipped
+//! travels in the link itself (`#file=…`, see [`carried`](super::carried)), so a link to
+//! a teacher's own experiment is never dead.
 
 use super::model::Lab;
 
 /// The keys a link may have: the window's flags, and the page's own.
-const LINK_KEYS: &[&str] = &["scene", "set", "solver", "integrator", "substeps", "fresh", "steps", "gpu"];
+const LINK_KEYS: &[&str] =
+    &["scene", "set", "solver", "integrator", "substeps", "fresh", "steps", "gpu", "file"];
+
+/// How the page names a scene file carried in a link, in its messages.
+pub const CARRIED_NAME: &str = "the link's scene file";
 
 /// What a link asked for, read from the page's query string.
 #[derive(Debug, Default, PartialEq)]
@@ -21,6 +27,9 @@ pub struct Link {
     pub steps: Option<u64>,
     /// `gpu=webgl2`.
     pub webgl2_only: bool,
+    /// `file=PACKED`: a scene file carried in the link (see [`carried`](super::carried)),
+    /// opened instead of a named scene.
+    pub scene_text: Option<String>,
 }
 
 impl Link {
@@ -42,6 +51,7 @@ impl Link {
                     _ => return Err(format!("invalid value '{value}' for 'gpu': webgpu, webgl2 or auto")),
                 },
                 "fresh" => link.args.push("--fresh".into()),
+                "file" => link.scene_text = Some(super::carried::unpack(value)?),
                 key if LINK_KEYS.contains(&key) => link.args.push(format!("--{key}={value}")),
                 _ => {
                     return Err(format!(
@@ -51,8 +61,60 @@ impl Link {
                 }
             }
         }
+        if link.scene_text.is_some() && link.args.iter().any(|arg| arg.starts_with("--scene=")) {
+            return Err("a link names a scene or carries a scene file, not both".into());
+        }
         Ok(link)
     }
+
+    /// Reads a whole link as typed or pasted: `https://…/?scene=…`, `?…`, `#file=…` or
+    /// `…?query#fragment`; the keys and values of its query and its fragment, decoded.
+    pub fn parse_text(text: &str) -> Result<Self, String> {
+        let text = text.trim();
+        let (before, fragment) = text.split_once('#').unwrap_or((text, ""));
+        let query = before.split_once('?').map_or("", |(_, query)| query);
+        if query.is_empty() && fragment.is_empty() {
+            return Err(format!(
+                "'{}' is not a link to an experiment: it has neither '?' nor '#' (copy it with File → Copy \
+                 link, or make it with `particle-lab link`)",
+                crate::messages::clip(text, 60)
+            ));
+        }
+        let mut pairs = Vec::new();
+        for part in query.split('&').chain(fragment.split('&')).filter(|part| !part.is_empty()) {
+            let (key, value) = part.split_once('=').unwrap_or((part, ""));
+            pairs.push((decode(key)?, decode(value)?));
+        }
+        Self::parse(&pairs)
+    }
+}
+
+/// Undoes percent-encoding (and `+` for a space, as a query string may write it).
+fn decode(text: &str) -> Result<String, String> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut k = 0;
+    while k < bytes.len() {
+        match bytes[k] {
+            b'%' => {
+                let hex = bytes.get(k + 1..k + 3).and_then(|h| std::str::from_utf8(h).ok());
+                let byte = hex.and_then(|h| u8::from_str_radix(h, 16).ok()).ok_or_else(|| {
+                    format!("the link has a broken escape near '{}'", crate::messages::clip(&text[k..], 12))
+                })?;
+                out.push(byte);
+                k += 3;
+            }
+            b'+' => {
+                out.push(b' ');
+                k += 1;
+            }
+            byte => {
+                out.push(byte);
+                k += 1;
+            }
+        }
+    }
+    String::from_utf8(out).map_err(|_| "the link's text is not UTF-8".to_string())
 }
 
 /// Percent-encodes `text` for a query string: letters, digits and `-._~` stay, `=` too
@@ -80,13 +142,24 @@ impl Link {
         }
     }
 
-    /// The query string (with its `?`) that opens `lab` as it is: its scene, every
-    /// parameter, the solver, its substeps and the integrator; with `steps`, paused at
-    /// the step it is at.
-    #[must_use]
-    pub fn of(lab: &Lab, with_steps: bool) -> String {
+    /// The link (what follows the page's address) that opens `lab` as it is: its
+    /// scene, every parameter, the solver, its substeps and the integrator; with
+    /// `steps`, paused at the step it is at. A built-in or shipped scene is named
+    /// (`?scene=bridge&…`); any other scene file is carried whole, packed, in the
+    /// fragment (`#file=…&…`), which a browser never sends to a server. A link longer
+    /// than [`MAX_LINK`](super::carried::MAX_LINK) is refused in one line.
+    pub fn of(lab: &Lab, with_steps: bool) -> Result<String, String> {
         let solver = lab.solver();
-        let mut pairs = vec![("scene".to_string(), lab.entry.info.name.to_string())];
+        let name = lab.entry.info.name;
+        let carried = lab.scene.source().map(|(text, _)| text).filter(|&text| {
+            // Named when the name finds this very text (a built-in has no text).
+            let shipped = crate::scenes::find(name).ok().and_then(crate::scenes::file::definition);
+            shipped.is_none_or(|definition| definition.source() != text)
+        });
+        let mut pairs = match carried {
+            Some(text) => vec![("file".to_string(), super::carried::pack(text))],
+            None => vec![("scene".to_string(), name.to_string())],
+        };
         // f32's Display is the shortest text that reads back as the same value.
         for (param, value) in lab.scene.params().iter() {
             pairs.push(("set".into(), format!("{}={value}", param.name)));
@@ -98,6 +171,16 @@ impl Link {
             pairs.push(("steps".into(), lab.scene.world().steps().to_string()));
         }
         let query: Vec<String> = pairs.iter().map(|(k, v)| format!("{k}={}", encode(v))).collect();
-        format!("?{}", query.join("&"))
+        let link = format!("{}{}", if carried.is_some() { "#" } else { "?" }, query.join("&"));
+        let most = super::carried::MAX_LINK;
+        if link.len() > most {
+            return Err(format!(
+                "This scene file makes a link of {:.1} KB, more than the {} KB a link can carry: save the scene \
+                 file and share the file instead",
+                link.len() as f64 / 1024.0,
+                most / 1024
+            ));
+        }
+        Ok(link)
     }
 }

@@ -10,6 +10,7 @@
 //! `records` (plain data). Only this facade re-exports; no room imports it.
 
 mod bars;
+pub mod carried;
 mod clock;
 mod forces;
 mod framing;
@@ -27,6 +28,6 @@ pub use crate::physics::inspect::CONSTRAINT_FORCE;
 pub use forces::{Spin, round_scale};
 pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;
-pub use link::Link;
+pub use link::{CARRIED_NAME, Link};
 pub use model::Lab;
 pub use records::{EnergyBars, EnergySample, Grab, Purpose, Requests, Stats};

@@ -260,7 +260,14 @@ impl FileMenu {
         let hover = "A link that opens this scene with its parameters, solver and integrator in the web \
                      version of the lab";
         if ui.button("Copy link").on_hover_text(hover).clicked() {
-            let query = crate::ui::lab::Link::of(lab, false);
+            let query = match crate::ui::lab::Link::of(lab, false) {
+                Ok(query) => query,
+                Err(message) => {
+                    lab.status = message;
+                    ui.close();
+                    return;
+                }
+            };
             #[cfg(target_arch = "wasm32")]
             {
                 lab.status = format!("Link copied: {}", crate::ui::page::copy_link(&query));

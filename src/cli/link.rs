@@ -1,0 +1,68 @@
+//! `link`: prints the link that opens an experiment in the web lab (what File → Copy
+//! link gives in the window), and `open`: opens such a link in the window.
+
+use std::path::PathBuf;
+
+use super::flags::SolverArgs;
+use crate::ui::Lab;
+use crate::ui::lab::Link;
+
+/// `particle-lab link`.
+#[derive(Debug, clap::Args)]
+pub struct LinkArgs {
+    /// Scene name (see `particle-lab scenes`).
+    #[arg(long, value_name = "SCENE")]
+    pub scene: Option<String>,
+    /// Scene file (TOML), instead of --scene: a shipped one is named in the link, any
+    /// other is carried in it whole (packed, after `#`).
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<PathBuf>,
+    /// Set a scene parameter, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Solver choice.
+    #[command(flatten)]
+    pub solver: SolverArgs,
+    /// Physics steps the page runs at once before it pauses, as `simulate --steps N`.
+    #[arg(long, value_name = "N")]
+    pub steps: Option<u64>,
+    /// The web page's address to put in front (for example
+    /// https://example.org/particle-lab/); without it the link starts at its `?` or
+    /// `#`, to follow the page's address.
+    #[arg(long, value_name = "URL")]
+    pub base: Option<String>,
+}
+
+/// `particle-lab open`.
+#[derive(Debug, clap::Args)]
+pub struct OpenArgs {
+    /// The link, as copied from the window (File → Copy link), the page's address bar
+    /// or `particle-lab link`: `https://…/?scene=…`, `?scene=…` or `#file=…`.
+    #[arg(value_name = "LINK")]
+    pub link: String,
+}
+
+/// The link `args` ask for, or a one-line reason it cannot be made.
+pub fn link(args: &LinkArgs) -> Result<String, String> {
+    let entry = crate::scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
+    let solver = args.solver.settings()?;
+    let mut lab = Lab::from_entry(entry, &args.set, solver)?;
+    if let Some(steps) = args.steps {
+        if steps > super::MAX_STEPS {
+            return Err(format!("--steps {steps} is out of range; valid range: 0 to {}", super::MAX_STEPS));
+        }
+        lab.run_steps_recorded(steps);
+    }
+    let link = Link::of(&lab, args.steps.is_some())?;
+    Ok(format!("{}{link}", args.base.as_deref().unwrap_or_default()))
+}
+
+/// What `open LINK` opens the window with: the link read as the window's command line,
+/// with its carried scene file and the steps to run before pausing.
+pub fn open(args: &OpenArgs) -> Result<crate::settings::Launch, String> {
+    let link = Link::parse_text(&args.link)?;
+    let mut launch = crate::settings::Launch::from_args(&link.args)?;
+    launch.scene_text = link.scene_text;
+    launch.steps = link.steps;
+    Ok(launch)
+}
