@@ -18,7 +18,7 @@ use super::Context;
 use super::batch::ContactBatch;
 #[cfg(target_arch = "x86_64")]
 use super::batch::split;
-use super::color::SharedVelocities;
+use super::shared::SharedVelocities;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::wide::avx::F8;
 #[cfg(target_arch = "x86_64")]

@@ -30,8 +30,9 @@
 //! links; conservative), or one at a time as soft constraints.
 //!
 //! One file per stage, as Box2D v3 keeps them: `step.rs` (the order above, and the
-//! energy the constraints add), `collide.rs` (1), `color.rs` (2, and the velocities the
-//! parallel tasks share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
+//! energy the constraints add), `collide.rs` (1), `color.rs` (2), `batch.rs` (the
+//! coloured contacts four by four, lane by lane), `passes.rs` (a pass over the colours
+//! on every thread) and `shared.rs` (the memory those threads share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
 //! start, contacts and links) and `contact.rs` (one contact's impulse), `links.rs`
 //! (the exact link solve, with `envelope.rs`, its direct solver, and `taut.rs`,
 //! particles a taut path of links holds still), `warm.rs` (4,
@@ -48,6 +49,8 @@ mod contact;
 mod envelope;
 mod impact;
 mod links;
+mod passes;
+mod shared;
 mod sleep;
 mod solve;
 mod step;
@@ -196,11 +199,11 @@ pub struct SoftStep {
     /// pushing): the end of the colour where none waits.
     waiting_contacts: [usize; COLORS + 1],
     waiting_batches: [usize; COLORS + 1],
-    /// Each batch's first contact's place in `fresh` (see `color::share`).
+    /// Each batch's first contact's place in `fresh` (see `passes::share`).
     batch_origins: Vec<u32>,
     /// Each thread's share of each colour, for the pool the step runs on (see
-    /// `color::for_each_batch`).
-    shares: Vec<color::Share>,
+    /// `passes::for_each_batch`).
+    shares: Vec<passes::Share>,
     /// Per fresh contact: it waits (see `color::bucket`).
     waits: Vec<bool>,
     /// Colour of each fresh contact.
