@@ -1081,7 +1081,7 @@ mod nan_as_null {
 fn turn_run(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the processor has AVX (checked just above).
+        // SAFETY: `turn_run_avx` needs AVX, and the processor has it (checked just above).
         unsafe { turn_run_avx(q, w, inverse_inertia, dt) };
         return;
     }
@@ -1129,8 +1129,8 @@ fn turn_run_avx(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
 #[target_feature(enable = "avx")]
 fn half_angle_sin_cos_avx(x: [f64; 4]) -> ([f32; 4], [f32; 4]) {
     use std::arch::x86_64::*;
-    // SAFETY: `x` holds four f64.
-    let x = unsafe { _mm256_loadu_pd(x.as_ptr()) };
+    // Four f64, lane 0 first, are what `__m256d` holds: a plain cast, no pointer.
+    let x: __m256d = bytemuck::cast(x);
     let x2 = _mm256_mul_pd(x, x);
     let one = _mm256_set1_pd(1.0);
     let (mut sin, mut cos) = (one, one);
@@ -1140,12 +1140,8 @@ fn half_angle_sin_cos_avx(x: [f64; 4]) -> ([f32; 4], [f32; 4]) {
         sin = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_div_pd(x2, _mm256_set1_pd(sin_divisor)), sin));
         cos = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_div_pd(x2, _mm256_set1_pd(cos_divisor)), cos));
     }
-    let (mut sin_out, mut cos_out) = ([0.0f64; 4], [0.0f64; 4]);
-    // SAFETY: both arrays hold four f64.
-    unsafe {
-        _mm256_storeu_pd(sin_out.as_mut_ptr(), _mm256_mul_pd(x, sin));
-        _mm256_storeu_pd(cos_out.as_mut_ptr(), cos);
-    }
+    let (sin_out, cos_out): ([f64; 4], [f64; 4]) =
+        (bytemuck::cast(_mm256_mul_pd(x, sin)), bytemuck::cast(cos));
     (sin_out.map(|s| s as f32), cos_out.map(|c| c as f32))
 }
 
