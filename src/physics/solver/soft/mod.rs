@@ -25,7 +25,7 @@
 //! A contact's separation during the substeps is its start separation plus how far its
 //! two particles have moved along the normal since, so contacts are found once a step.
 //! Rods and cables are solved on their exact geometry every substep: by default all
-//! together, to convergence, as a network (`links.rs`: the impulses that bring every
+//! together, to convergence, as a network (`link_network/`: the impulses that bring every
 //! link to its length at the end of the substep, then velocities that agree with the
 //! links; conservative), or one at a time as soft constraints.
 //!
@@ -33,9 +33,10 @@
 //! energy the constraints add), `collide.rs` (1), `color.rs` (2), `batch.rs` (the
 //! coloured contacts four by four, lane by lane), `passes.rs` (a pass over the colours
 //! on every thread) and `shared.rs` (the memory those threads share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
-//! start, contacts and links) and `contact.rs` (one contact's impulse), `links.rs`
-//! (the exact link solve, with `envelope.rs`, its direct solver, and `taut.rs`,
-//! particles a taut path of links holds still), `warm.rs` (4,
+//! start, contacts and links) and `contact.rs` (one contact's impulse),
+//! `link_network/` (the exact link solve: `mod.rs` the network, `shake.rs` its two
+//! solves, `envelope.rs` its direct solver, `taut.rs` particles a taut path of links
+//! holds still), `warm.rs` (4,
 //! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking),
 //! `awake.rs` (the pool's threads kept ready through a step).
 //! This file holds the data every stage shares.
@@ -46,15 +47,13 @@ mod batch;
 mod collide;
 mod color;
 mod contact;
-mod envelope;
 mod impact;
-mod links;
+mod link_network;
 mod passes;
 mod shared;
 mod sleep;
 mod solve;
 mod step;
-mod taut;
 mod warm;
 
 use glam::Vec3;
@@ -257,8 +256,8 @@ pub struct SoftStep {
     /// Union-find parents and each island's shortest rest time, for sleeping.
     parent: Vec<u32>,
     island_timer: Vec<f32>,
-    /// The exact solve of rods and cables (`links.rs`), with its cached network.
-    network: links::LinkNetwork,
+    /// The exact solve of rods and cables (`link_network/`), with its cached network.
+    network: link_network::LinkNetwork,
 }
 
 /// Per-substep constants handed to every contact (Box2D's step context).

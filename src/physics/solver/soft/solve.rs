@@ -1,5 +1,5 @@
 //! The solve of a substep: warm start, then every contact (colour by colour) and every
-//! rod and cable on its exact geometry: all links together as a network (`links.rs`),
+//! rod and cable on its exact geometry: all links together as a network (`link_network/`),
 //! or each as a soft constraint.
 
 use super::contact::{Bodies, contact_terms, solve_batches, warm_start_batches};
