@@ -1,12 +1,13 @@
-//! What a particle is made from, and the checks every value passes on its way in: a
-//! description when the particle is added, a setter's value when it changes.
+//! What a particle is made from, the checks every value passes on its way in (a
+//! description when the particle is added, a setter's value when it changes), and the
+//! stored values that follow from them (inverse mass and inertia, damping per step).
 
 use glam::Vec3;
 
-use super::ParticleId;
 use crate::physics::error::{
     MAX_ACCELERATION, MAX_COORDINATE, MAX_RADIUS, MAX_SPEED, MIN_ROLLING_RADIUS, PhysicsError, Shown,
 };
+use crate::physics::ids::ParticleId;
 
 /// Everything needed to create a particle. Units: metres, seconds, kilograms.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -143,4 +144,19 @@ pub fn inverse_mass(mass: f32) -> Result<f32, PhysicsError> {
             MAX_MASS.shown()
         )))
     }
+}
+
+/// Inverse moment of inertia of a solid sphere of inverse mass `w` and radius `r`:
+/// `1 / (2/5 m r²)` (1/(kg·m²)).
+#[inline]
+#[must_use]
+pub(crate) fn sphere_inverse_inertia(w: f32, r: f32) -> f32 {
+    2.5 * w / (r * r)
+}
+
+/// The factor a velocity is multiplied by over a step of `dt` seconds for `damping`,
+/// the fraction kept per second: `damping^dt` (1 for a zero step).
+#[inline]
+pub(super) fn damping_factor(damping: f32, dt: f32) -> f32 {
+    if dt == 0.0 { 1.0 } else { damping.powf(dt) }
 }

@@ -5,8 +5,9 @@
 
 use glam::Vec3;
 
-use super::Particles;
+use super::desc::damping_factor;
 use super::sleep::{AWAKE, Sleep};
+use super::store::Particles;
 
 impl Particles {
     /// Recomputes `damping^dt` for every particle if `dt` changed since the last step.
@@ -260,15 +261,10 @@ pub(crate) fn tree_sum<const K: usize>(
     std::array::from_fn(|k| a[k] + b[k])
 }
 
-#[inline]
-pub(super) fn damping_factor(damping: f32, dt: f32) -> f32 {
-    if dt == 0.0 { 1.0 } else { damping.powf(dt) }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::particles::ParticleDesc;
+    use crate::physics::particles::desc::ParticleDesc;
 
     /// The kick that keeps copies gives, bit for bit, the velocities of the plain kick
     /// and copies of the velocities before and after it and of the spins, on one thread

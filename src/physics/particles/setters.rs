@@ -4,11 +4,13 @@
 
 use glam::{Quat, Vec3};
 
-use super::desc::{cannot_roll, check_position, check_speed, inverse_mass};
-use super::integrate::damping_factor;
-use super::turning::sphere_inverse_inertia;
-use super::{ParticleId, Particles};
+use super::desc::{
+    cannot_roll, check_position, check_speed, damping_factor, inverse_mass, sphere_inverse_inertia,
+};
+use super::sleep::{AWAKE, Sleep};
+use super::store::Particles;
 use crate::physics::error::PhysicsError;
+use crate::physics::ids::ParticleId;
 
 impl Particles {
     /// Whether the particle at `index` rolls: a movable solid sphere with a radius.
@@ -167,5 +169,20 @@ impl Particles {
     #[must_use]
     pub fn damping_per_step(&self, index: usize) -> f32 {
         self.damping_per_step[index]
+    }
+
+    /// Marks a sleeping particle as disturbed: its island wakes at the next step.
+    fn disturb(&mut self, index: usize) {
+        if self.sleep[index].island != AWAKE {
+            // No position equals NaN, so the next step sees it as moved.
+            self.sleep[index].rest = Vec3::NAN;
+        }
+    }
+
+    /// Wakes every particle.
+    pub fn wake_all(&mut self) {
+        for sleep in &mut self.sleep {
+            *sleep = Sleep::default();
+        }
     }
 }

@@ -1,9 +1,7 @@
-//! Whether a particle sleeps: at rest with its island, not simulated until something
+//! A particle's sleep state: at rest with its island, not simulated until something
 //! touches or moves it (the soft solver's islands put it to sleep and wake it).
 
 use glam::Vec3;
-
-use super::Particles;
 
 /// `Sleep::island` of a particle that is awake.
 pub(crate) const AWAKE: u32 = u32::MAX;
@@ -39,36 +37,5 @@ mod nan_as_null {
 
     pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec3, D::Error> {
         Ok(Option::<Vec3>::deserialize(deserializer)?.unwrap_or(Vec3::NAN))
-    }
-}
-
-impl Particles {
-    /// Whether the particle at `index` is asleep: at rest with its island, not
-    /// simulated until something touches or moves it (soft solver only).
-    #[inline]
-    #[must_use]
-    pub fn is_asleep(&self, index: usize) -> bool {
-        self.sleep[index].island != AWAKE
-    }
-
-    /// How many particles are asleep.
-    #[must_use]
-    pub fn asleep_count(&self) -> usize {
-        self.sleep.iter().filter(|s| s.island != AWAKE).count()
-    }
-
-    /// Marks a sleeping particle as disturbed: its island wakes at the next step.
-    pub(super) fn disturb(&mut self, index: usize) {
-        if self.sleep[index].island != AWAKE {
-            // No position equals NaN, so the next step sees it as moved.
-            self.sleep[index].rest = Vec3::NAN;
-        }
-    }
-
-    /// Wakes every particle.
-    pub fn wake_all(&mut self) {
-        for sleep in &mut self.sleep {
-            *sleep = Sleep::default();
-        }
     }
 }

@@ -4,7 +4,7 @@
 
 use glam::{Quat, Vec3};
 
-use super::Particles;
+use super::store::Particles;
 
 impl Particles {
     /// Gives a store read from an old snapshot (made before spheres could roll) its
@@ -43,14 +43,6 @@ impl Particles {
             turn_run(&mut self.orientation, &self.angular_velocity, &self.inverse_inertia, dt);
         }
     }
-}
-
-/// Inverse moment of inertia of a solid sphere of inverse mass `w` and radius `r`:
-/// `1 / (2/5 m r²)` (1/(kg·m²)).
-#[inline]
-#[must_use]
-pub(crate) fn sphere_inverse_inertia(w: f32, r: f32) -> f32 {
-    2.5 * w / (r * r)
 }
 
 /// Particles from which [`Particles::turn`] runs on several threads.
