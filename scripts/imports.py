@@ -12,6 +12,8 @@ is followed as deep as it names module files, so `crate::physics::Force` (the fa
 re-export) is an edge to `physics/mod.rs`, and `super::Softness` from a file of
 `solver/` is an edge to `solver/mod.rs`. Declaring a child (`mod step;`) is no edge:
 it does not make the parent depend on what the child holds.
+A path written inside an inline module (`mod tests { use super::keep_where; }`) is
+read from that module, so its `super` is the file itself, not the file's parent.
 
 Prints every cycle (one line per strongly connected component of more than one file,
 its files in order, and one cycle through them) and exits 1 if there is any, else 0.
@@ -67,6 +69,22 @@ def strip_comments_and_strings(text):
     return "".join(out)
 
 
+INLINE_MOD = re.compile(r"\bmod\s+([A-Za-z_][A-Za-z0-9_]*)\s*\{")
+
+
+def inline_modules(code):
+    """Each inline module of a file's code (`mod tests { ... }`): its name, and where its
+    body starts and ends. A path inside one is relative to it, not to the file."""
+    out = []
+    for m in INLINE_MOD.finditer(code):
+        depth, j = 1, m.end()
+        while j < len(code) and depth:
+            depth += {"{": 1, "}": -1}.get(code[j], 0)
+            j += 1
+        out.append((m.group(1), m.end(), j))
+    return out
+
+
 def module_of(path, root):
     """The module path of a file: src/physics/solver/soft/mod.rs -> [physics, solver, soft]."""
     parts = list(path.relative_to(root).with_suffix("").parts)
@@ -107,11 +125,19 @@ def build_graph(root):
     graph = {f: set() for f in by_module.values()}
     for module, f in by_module.items():
         code = strip_comments_and_strings(f.read_text())
+        inline = inline_modules(code)
+
+        def base_at(pos):
+            """The module a path at `pos` is written in: the file's, or an inline
+            `mod tests { ... }` inside it, where `super` is the file's own module."""
+            return list(module) + [name for name, start, end in inline if start <= pos < end]
+
         # Paths inside `use a::b::{c::d, e}` groups: prefix each item with the group's base.
-        expanded = [code]
+        # Each text is kept with where it stands in the file.
+        expanded = [(code, None)]
         for m in RELATIVE_USE.finditer(code):
-            if m.group(1) not in ("crate", "super", "self") and tuple(module) + (m.group(1),) in by_module:
-                expanded.append(f" self::{m.group(1)}{m.group(2)} ")
+            if m.group(1) not in ("crate", "super", "self") and tuple(base_at(m.start())) + (m.group(1),) in by_module:
+                expanded.append((f" self::{m.group(1)}{m.group(2)} ", m.start()))
         for m in USE_GROUP.finditer(code):
             start, depth, j = m.end(), 1, m.end()
             while j < len(code) and depth:
@@ -120,18 +146,19 @@ def build_graph(root):
             base = m.group(1) + m.group(2)
             for item in re.split(r"[,\s]+", re.sub(r"[{}]", " ", code[start : j - 1])):
                 if item and item not in ("self", "*") and re.match(r"[A-Za-z_]", item):
-                    expanded.append(f" {base}::{item} ")
+                    expanded.append((f" {base}::{item} ", m.start()))
                 elif item == "self":
-                    expanded.append(f" {base} ")
-        for text in expanded:
+                    expanded.append((f" {base} ", m.start()))
+        for text, at in expanded:
             for m in PATH.finditer(text):
                 head, rest = m.group(1), m.group(2).split("::")[1:]
+                written_in = base_at(m.start() if at is None else at)
                 if head == "crate":
                     base, segments = [], rest
                 elif head == "super":
-                    base, segments = list(module), ["super"] + rest
+                    base, segments = written_in, ["super"] + rest
                 else:
-                    base, segments = list(module), ["self"] + rest
+                    base, segments = written_in, ["self"] + rest
                 target = resolve(base, segments)
                 if target is not None and target != f:
                     graph[f].add(target)

@@ -7,6 +7,11 @@
 //! - [`settings`]: what the window remembers from one launch to the next.
 //! - `web` (in a browser only): the page's entry point, its link, canvas and GPU.
 
+// An `unsafe fn`'s body is not one unsafe block: each unsafe operation in it is marked
+// and says why it holds (`// SAFETY:`), as everywhere else.
+#![deny(unsafe_op_in_unsafe_fn)]
+#![warn(clippy::undocumented_unsafe_blocks)]
+
 pub mod app;
 pub mod capture;
 pub mod cli;

@@ -1,5 +1,5 @@
 //! The exact link solve (`LinkSolver::Exact`, the default): rods and cables solved
-//! together each substep (see `src/physics/solver/soft/links.rs`). What it must keep
+//! together each substep (see `src/physics/solver/soft/link_network/`). What it must keep
 //! besides energy (tests/joint_energy.rs): tensions a tearing cloth can trust, cables
 //! that never push, and rows of rods pulled straight between pins held still.
 

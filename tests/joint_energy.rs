@@ -20,7 +20,7 @@
 //! 21.5% and 94.1% at 60 Hz.)
 //!
 //! **Why.** Rods and cables are now solved as one network each substep
-//! (`src/physics/solver/soft/links.rs`, [`LinkSolver::Exact`]): the impulses, along
+//! (`src/physics/solver/soft/link_network/`, [`LinkSolver::Exact`]): the impulses, along
 //! each link's direction at the *start* of the substep, that bring every link to its
 //! length at the end of it, found together by Newton's method on a direct (envelope
 //! `L D Lᵀ`) factorization; then, at the end of the step, velocities that agree with

@@ -62,7 +62,12 @@ pub unsafe fn private_runtime_dir() {
         // Fails harmlessly when it exists; `private` then says whether it is ours.
         let _ = std::fs::DirBuilder::new().mode(0o700).create(&dir);
         if private(&dir) {
-            // SAFETY: the caller runs this before any other thread exists.
+            debug_assert!(
+                std::fs::read_dir("/proc/self/task").map_or(true, |tasks| tasks.count() == 1),
+                "the environment is changed while other threads run"
+            );
+            // SAFETY: the caller runs this before any other thread exists (debug builds
+            // count the process's threads above).
             unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
         }
     }

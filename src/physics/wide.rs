@@ -10,6 +10,21 @@
 //! what the scalar formula it mirrors computes. [`F4::max`] is defined
 //! as SSE's `maxps` is (`a > b ? a : b`), on both paths, so that the two agree even on
 //! ±0 and NaN.
+//!
+//! The `unsafe` here is of three kinds, each stated once where it is used:
+//! - intrinsics, which need their instruction set: SSE and SSE2 are the x86-64
+//!   baseline (asserted at compile time; `sse!`), AVX and AVX-512 run only in functions
+//!   reached after `is_x86_feature_detected!` said yes (`avx!`, `avx512!`: debug builds
+//!   check the detection at every operation);
+//! - `gather` and `scatter`, which read and write vectors through a pointer: the caller
+//!   passes the array's length, and debug builds check every index against it, and
+//!   that the lanes a scatter writes name distinct vectors;
+//! - the `ZERO` constants, made by `transmute` (intrinsics are not `const`), whose
+//!   sizes the compiler checks.
+//!
+//! The tests at the end run every one of these paths against plain scalar code (the
+//! AVX and AVX-512 ones where the processor has them); `cargo test --lib wide` runs
+//! them with the debug checks on.
 
 /// Four `f32` lanes.
 #[derive(Clone, Copy, Debug)]
@@ -34,80 +49,90 @@ mod imp {
 
     pub type Raw = __m128;
 
-    // SAFETY (every function below): SSE and SSE2 are part of the x86-64 baseline, so
-    // these intrinsics are always available on this target; none of them touches
-    // memory except `loadu`/`storeu`, whose pointers come from arrays of four `f32`.
+    // Every x86-64 processor has SSE and SSE2, and the compiler assumes them for this
+    // target: `sse!` rests on it, checked here when the crate is compiled.
+    const _: () = assert!(cfg!(target_feature = "sse2"), "x86-64 is built with SSE2");
+
+    /// Runs SSE or SSE2 intrinsics that take and give registers only, never a pointer
+    /// (arithmetic, comparisons, shuffles, casts): the one thing that makes them
+    /// `unsafe` is that the processor must have the instructions.
+    macro_rules! sse {
+        ($e:expr) => {{
+            // SAFETY: the intrinsics in `$e` need SSE or SSE2, which the x86-64
+            // baseline has (asserted above at compile time), and touch no memory.
+            unsafe { $e }
+        }};
+    }
 
     #[inline(always)]
     pub fn splat(x: f32) -> Raw {
-        unsafe { _mm_set1_ps(x) }
+        sse!(_mm_set1_ps(x))
     }
     #[inline(always)]
     pub fn from_array(a: [f32; 4]) -> Raw {
-        unsafe { _mm_loadu_ps(a.as_ptr()) }
+        // Four f32, lane 0 first, are what `__m128` holds: a plain cast, no pointer.
+        bytemuck::cast(a)
     }
     #[inline(always)]
     pub fn to_array(x: Raw) -> [f32; 4] {
-        let mut out = [0.0; 4];
-        unsafe { _mm_storeu_ps(out.as_mut_ptr(), x) };
-        out
+        bytemuck::cast(x)
     }
     #[inline(always)]
     pub fn add(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_add_ps(a, b) }
+        sse!(_mm_add_ps(a, b))
     }
     #[inline(always)]
     pub fn sub(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_sub_ps(a, b) }
+        sse!(_mm_sub_ps(a, b))
     }
     #[inline(always)]
     pub fn mul(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_mul_ps(a, b) }
+        sse!(_mm_mul_ps(a, b))
     }
     #[inline(always)]
     pub fn div(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_div_ps(a, b) }
+        sse!(_mm_div_ps(a, b))
     }
     #[inline(always)]
     pub fn neg(a: Raw) -> Raw {
-        unsafe { _mm_xor_ps(a, _mm_set1_ps(-0.0)) }
+        sse!(_mm_xor_ps(a, _mm_set1_ps(-0.0)))
     }
     #[inline(always)]
     pub fn sqrt(a: Raw) -> Raw {
-        unsafe { _mm_sqrt_ps(a) }
+        sse!(_mm_sqrt_ps(a))
     }
     #[inline(always)]
     pub fn max(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_max_ps(a, b) }
+        sse!(_mm_max_ps(a, b))
     }
     #[inline(always)]
     pub fn gt(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_cmpgt_ps(a, b) }
+        sse!(_mm_cmpgt_ps(a, b))
     }
     #[inline(always)]
     pub fn eq(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_cmpeq_ps(a, b) }
+        sse!(_mm_cmpeq_ps(a, b))
     }
     #[inline(always)]
     pub fn and(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_and_ps(a, b) }
+        sse!(_mm_and_ps(a, b))
     }
     #[inline(always)]
     pub fn or(a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_or_ps(a, b) }
+        sse!(_mm_or_ps(a, b))
     }
     #[inline(always)]
     pub fn select(mask: Raw, a: Raw, b: Raw) -> Raw {
-        unsafe { _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)) }
+        sse!(_mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)))
     }
     #[inline(always)]
     pub fn bits(mask: Raw) -> u32 {
-        unsafe { _mm_movemask_ps(mask) as u32 }
+        sse!(_mm_movemask_ps(mask)) as u32
     }
     #[inline(always)]
     pub fn mask_from(bits: [bool; 4]) -> Raw {
         let lane = |on: bool| if on { f32::from_bits(u32::MAX) } else { 0.0 };
-        unsafe { _mm_setr_ps(lane(bits[0]), lane(bits[1]), lane(bits[2]), lane(bits[3])) }
+        sse!(_mm_setr_ps(lane(bits[0]), lane(bits[1]), lane(bits[2]), lane(bits[3])))
     }
 
     /// The x, y and z of the four vectors at `points[i]`: each read as its 8 bytes of x
@@ -117,6 +142,11 @@ mod imp {
     /// Every pointer must point at a readable `[f32; 3]`.
     #[inline(always)]
     pub unsafe fn gather(points: [*const f32; 4]) -> [Raw; 3] {
+        debug_assert!(points.iter().all(|p| p.is_aligned()), "each vector's f32 aligned");
+        // SAFETY: each pointer is a readable `[f32; 3]` (the caller's promise): the
+        // unaligned 8-byte read covers its x and y, `_mm_load_ss` (an aligned f32
+        // read, checked above in debug builds) its z at `add(2)`; the rest is SSE2 on
+        // registers (the x86-64 baseline).
         unsafe {
             let pair = |p: *const f32| _mm_cvtsi64_si128(std::ptr::read_unaligned(p as *const i64));
             let xy01 = _mm_castsi128_ps(_mm_unpacklo_epi64(pair(points[0]), pair(points[1])));
@@ -136,18 +166,23 @@ mod imp {
     /// else reads or writes meanwhile.
     #[inline(always)]
     pub unsafe fn scatter(points: [*mut f32; 4], lanes: u32, [x, y, z]: [Raw; 3]) {
-        unsafe {
-            let xy01 = _mm_castps_si128(_mm_unpacklo_ps(x, y));
-            let xy23 = _mm_castps_si128(_mm_unpackhi_ps(x, y));
-            let pairs = [xy01, _mm_unpackhi_epi64(xy01, xy01), xy23, _mm_unpackhi_epi64(xy23, xy23)];
-            let zs = [
-                _mm_cvtss_f32(z),
-                _mm_cvtss_f32(_mm_shuffle_ps::<0b01_01_01_01>(z, z)),
-                _mm_cvtss_f32(_mm_movehl_ps(z, z)),
-                _mm_cvtss_f32(_mm_shuffle_ps::<0b11_11_11_11>(z, z)),
-            ];
-            for i in 0..4 {
-                if lanes & (1 << i) != 0 {
+        let xy01 = sse!(_mm_castps_si128(_mm_unpacklo_ps(x, y)));
+        let xy23 = sse!(_mm_castps_si128(_mm_unpackhi_ps(x, y)));
+        let pairs = sse!([xy01, _mm_unpackhi_epi64(xy01, xy01), xy23, _mm_unpackhi_epi64(xy23, xy23)]);
+        let zs = sse!([
+            _mm_cvtss_f32(z),
+            _mm_cvtss_f32(_mm_shuffle_ps::<0b01_01_01_01>(z, z)),
+            _mm_cvtss_f32(_mm_movehl_ps(z, z)),
+            _mm_cvtss_f32(_mm_shuffle_ps::<0b11_11_11_11>(z, z)),
+        ]);
+        for i in 0..4 {
+            if lanes & (1 << i) != 0 {
+                debug_assert!(points[i].is_aligned(), "each vector's f32 aligned");
+                // SAFETY: lane `i` is set, so `points[i]` is a writable `[f32; 3]` no one
+                // else touches meanwhile (the caller's promise): 8 bytes of x and y
+                // written unaligned, then its z (aligned, checked above in debug
+                // builds); `_mm_cvtsi128_si64` is SSE2 on a register.
+                unsafe {
                     std::ptr::write_unaligned(points[i] as *mut i64, _mm_cvtsi128_si64(pairs[i]));
                     *points[i].add(2) = zs[i];
                 }
@@ -253,6 +288,9 @@ mod imp {
     /// Every pointer must point at a readable `[f32; 3]`.
     #[inline(always)]
     pub unsafe fn gather(points: [*const f32; 4]) -> [Raw; 3] {
+        debug_assert!(points.iter().all(|p| p.is_aligned()), "each vector's f32 aligned");
+        // SAFETY: each pointer is a readable `[f32; 3]` (the caller's promise), so its
+        // elements 0, 1 and 2 may be read.
         unsafe { [0, 1, 2].map(|k| points.map(|p| *p.add(k))) }
     }
 
@@ -265,6 +303,9 @@ mod imp {
     pub unsafe fn scatter(points: [*mut f32; 4], lanes: u32, [x, y, z]: [Raw; 3]) {
         for i in 0..4 {
             if lanes & (1 << i) != 0 {
+                debug_assert!(points[i].is_aligned(), "each vector's f32 aligned");
+                // SAFETY: lane `i` is set, so `points[i]` is a writable `[f32; 3]` that
+                // no one else touches meanwhile (the caller's promise).
                 unsafe {
                     *points[i] = x[i];
                     *points[i].add(1) = y[i];
@@ -280,8 +321,10 @@ impl F4 {
     pub const ZERO: Self = Self::from_lanes_const(0.0);
 
     const fn from_lanes_const(x: f32) -> Self {
-        // A const splat: `[f32; 4]` and `__m128` have the same size and layout.
-        // SAFETY: both are 16 bytes of four f32 lanes, lane 0 first.
+        // A const splat (the intrinsics are not `const`).
+        // SAFETY: `[f32; 4]` and `__m128` are both 16 bytes of four f32 lanes, lane 0
+        // first (`transmute` checks the sizes when compiling), and every bit pattern is
+        // a valid `__m128` (plain data, as bytemuck's `Pod` says).
         Self(unsafe { std::mem::transmute::<[f32; 4], imp::Raw>([x; 4]) })
     }
 
@@ -424,16 +467,17 @@ pub trait Lane:
     fn gt(self, other: Self) -> Self::Mask;
     /// Per lane `self == other`.
     fn eq(self, other: Self) -> Self::Mask;
-    /// Lane `i` holds `base[indices[i]]`.
+    /// Lane `i` holds `base[indices[i]]`, from an array of `len` vectors.
     ///
     /// # Safety
     /// As [`V4::gather`], for every index.
-    unsafe fn gather(base: *const glam::Vec3, indices: Self::Index) -> V<Self>;
-    /// Writes lane `i` to `base[indices[i]]` for each bit `i` set in `lanes`.
+    unsafe fn gather(base: *const glam::Vec3, len: usize, indices: Self::Index) -> V<Self>;
+    /// Writes lane `i` to `base[indices[i]]`, in an array of `len` vectors, for each bit
+    /// `i` set in `lanes`.
     ///
     /// # Safety
     /// As [`V4::scatter`], for every lane set.
-    unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: Self::Index, lanes: u32);
+    unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, len: usize, indices: Self::Index, lanes: u32);
 }
 
 /// Lanes of true or false for a [`Lane`] type `L`.
@@ -523,12 +567,14 @@ impl Lane for F4 {
         F4::eq(self, other)
     }
     #[inline(always)]
-    unsafe fn gather(base: *const glam::Vec3, indices: [u32; 4]) -> V4 {
-        unsafe { V4::gather(base, indices) }
+    unsafe fn gather(base: *const glam::Vec3, len: usize, indices: [u32; 4]) -> V4 {
+        // SAFETY: the caller's promise is `V4::gather`'s.
+        unsafe { V4::gather(base, len, indices) }
     }
     #[inline(always)]
-    unsafe fn scatter(value: V4, base: *mut glam::Vec3, indices: [u32; 4], lanes: u32) {
-        unsafe { value.scatter(base, indices, lanes) }
+    unsafe fn scatter(value: V4, base: *mut glam::Vec3, len: usize, indices: [u32; 4], lanes: u32) {
+        // SAFETY: the caller's promise is `V4::scatter`'s.
+        unsafe { value.scatter(base, len, indices, lanes) }
     }
 }
 
@@ -617,12 +663,16 @@ impl V4 {
     /// Lane `i` holds `base[indices[i]]`.
     ///
     /// # Safety
-    /// `base` must point at an array of at least `max(indices) + 1` vectors, readable
-    /// for the call.
+    /// `base` must point at an array of `len` vectors, readable for the call, and every
+    /// index must be below `len` (debug builds check the indices).
     #[inline(always)]
     #[must_use]
-    pub unsafe fn gather(base: *const glam::Vec3, indices: [u32; 4]) -> Self {
+    pub unsafe fn gather(base: *const glam::Vec3, len: usize, indices: [u32; 4]) -> Self {
+        debug_assert!(indices.iter().all(|&i| (i as usize) < len), "{indices:?} within {len} vectors");
         // `Vec3` is `#[repr(C)] { x, y, z }`: three f32 in a row.
+        // SAFETY: each index is below `len` (the caller's promise, checked above in
+        // debug builds), so `base.add(i)` stays in the array and is a readable
+        // `[f32; 3]`, which is what `imp::gather` asks.
         let [x, y, z] = unsafe { imp::gather(indices.map(|i| base.add(i as usize) as *const f32)) };
         Self { x: F4(x), y: F4(y), z: F4(z) }
     }
@@ -630,12 +680,22 @@ impl V4 {
     /// Writes lane `i` to `base[indices[i]]` for each bit `i` set in `lanes`.
     ///
     /// # Safety
-    /// For each lane set, `base.add(indices[i])` must be a vector of an array that is
-    /// writable for the call and that nothing else reads or writes at that index
-    /// meanwhile; the lanes set must name distinct indices.
+    /// `base` must point at an array of `len` vectors; for each lane set, `indices[i]`
+    /// must be below `len`, its vector writable for the call and read or written by
+    /// nothing else meanwhile; the lanes set must name distinct indices. Debug builds
+    /// check the indices.
     #[inline(always)]
-    pub unsafe fn scatter(self, base: *mut glam::Vec3, indices: [u32; 4], lanes: u32) {
+    pub unsafe fn scatter(self, base: *mut glam::Vec3, len: usize, indices: [u32; 4], lanes: u32) {
+        debug_assert!(
+            (0..4).filter(|&i| lanes & (1 << i) != 0).all(|i| (indices[i] as usize) < len
+                && (0..i).all(|j| lanes & (1 << j) == 0 || indices[j] != indices[i])),
+            "lanes {lanes:#b} of {indices:?}: distinct and within {len} vectors"
+        );
         let points = indices.map(|i| base.wrapping_add(i as usize) as *mut f32);
+        // SAFETY: each lane set names its own vector of the array (below `len`, distinct:
+        // the caller's promise, checked above in debug builds), writable and untouched
+        // by others meanwhile, which is what `imp::scatter` asks; unset lanes' pointers
+        // are not used.
         unsafe { imp::scatter(points, lanes, [self.x.0, self.y.0, self.z.0]) }
     }
 
@@ -682,9 +742,23 @@ pub(crate) mod avx {
 
     use super::{F4, Joined, Lane, M4, Mask, V, V4};
 
-    // SAFETY (every `unsafe` block below that calls an AVX intrinsic): these values
-    // exist only inside functions compiled for AVX on a processor that has it (see
-    // the module's note), so the instructions are available.
+    /// Whether this processor has AVX: what every `avx!` rests on.
+    #[inline(always)]
+    fn detected() -> bool {
+        std::arch::is_x86_feature_detected!("avx")
+    }
+
+    /// Runs AVX intrinsics that take and give registers only, never a pointer.
+    macro_rules! avx {
+        ($e:expr) => {{
+            debug_assert!(detected(), "an eight-lane value on a processor without AVX");
+            // SAFETY: the intrinsics in `$e` need AVX, and these values exist only
+            // inside functions compiled for AVX that are called after
+            // `is_x86_feature_detected!("avx")` said yes (the module's note; debug
+            // builds check it above); none of them touches memory.
+            unsafe { $e }
+        }};
+    }
 
     /// Eight `f32` lanes.
     #[derive(Clone, Copy, Debug)]
@@ -700,11 +774,11 @@ pub(crate) mod avx {
         type Half = F4;
         #[inline(always)]
         fn join(low: F4, high: F4) -> Self {
-            Self(unsafe { _mm256_set_m128(high.0, low.0) })
+            Self(avx!(_mm256_set_m128(high.0, low.0)))
         }
         #[inline(always)]
         fn halves(self) -> (F4, F4) {
-            unsafe { (F4(_mm256_castps256_ps128(self.0)), F4(_mm256_extractf128_ps::<1>(self.0))) }
+            avx!((F4(_mm256_castps256_ps128(self.0)), F4(_mm256_extractf128_ps::<1>(self.0))))
         }
         #[inline(always)]
         fn join_indices(low: [u32; 4], high: [u32; 4]) -> [u32; 8] {
@@ -735,7 +809,7 @@ pub(crate) mod avx {
         #[inline(always)]
         #[must_use]
         pub fn join(low: M4, high: M4) -> Self {
-            Self(unsafe { _mm256_set_m128(high.0, low.0) })
+            Self(avx!(_mm256_set_m128(high.0, low.0)))
         }
     }
 
@@ -745,7 +819,7 @@ pub(crate) mod avx {
                 type Output = Self;
                 #[inline(always)]
                 fn $method(self, other: Self) -> Self {
-                    Self(unsafe { $f(self.0, other.0) })
+                    Self(avx!($f(self.0, other.0)))
                 }
             }
         };
@@ -760,50 +834,61 @@ pub(crate) mod avx {
         /// Flips each lane's sign bit.
         #[inline(always)]
         fn neg(self) -> Self {
-            Self(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
+            Self(avx!(_mm256_xor_ps(self.0, _mm256_set1_ps(-0.0))))
         }
     }
 
     impl Lane for F8 {
         type Mask = M8;
         type Index = [u32; 8];
-        // SAFETY: `[f32; 8]` and `__m256` are both 32 bytes of eight f32 lanes.
+        // SAFETY: `[f32; 8]` and `__m256` are both 32 bytes of eight f32 lanes (the sizes
+        // checked by `transmute` when compiling), and every bit pattern is a valid
+        // `__m256`; making the constant runs no AVX instruction.
         const ZERO: Self = Self(unsafe { std::mem::transmute::<[f32; 8], __m256>([0.0; 8]) });
         #[inline(always)]
         fn splat(x: f32) -> Self {
-            Self(unsafe { _mm256_set1_ps(x) })
+            Self(avx!(_mm256_set1_ps(x)))
         }
         #[inline(always)]
         fn sqrt(self) -> Self {
-            Self(unsafe { _mm256_sqrt_ps(self.0) })
+            Self(avx!(_mm256_sqrt_ps(self.0)))
         }
         #[inline(always)]
         fn max(self, other: Self) -> Self {
             // `vmaxps` is `maxps` on eight lanes: `a > b ? a : b`.
-            Self(unsafe { _mm256_max_ps(self.0, other.0) })
+            Self(avx!(_mm256_max_ps(self.0, other.0)))
         }
         #[inline(always)]
         fn gt(self, other: Self) -> M8 {
             // Ordered: false where either is NaN, as SSE's `cmpgtps`.
-            M8(unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, other.0) })
+            M8(avx!(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, other.0)))
         }
         #[inline(always)]
         fn eq(self, other: Self) -> M8 {
-            M8(unsafe { _mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, other.0) })
+            M8(avx!(_mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, other.0)))
         }
         #[inline(always)]
-        unsafe fn gather(base: *const glam::Vec3, indices: [u32; 8]) -> V<Self> {
+        unsafe fn gather(base: *const glam::Vec3, len: usize, indices: [u32; 8]) -> V<Self> {
             let (low, high) = Self::split_indices(indices);
-            // SAFETY: the caller's promise, for all eight indices.
-            unsafe { V::<F8>::join(V4::gather(base, low), V4::gather(base, high)) }
+            // SAFETY: the caller's promise (`V4::gather`'s), for all eight indices.
+            unsafe { V::<F8>::join(V4::gather(base, len, low), V4::gather(base, len, high)) }
         }
         #[inline(always)]
-        unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: [u32; 8], lanes: u32) {
+        unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, len: usize, indices: [u32; 8], lanes: u32) {
+            debug_assert!(
+                (0..8)
+                    .filter(|&i| lanes & (1 << i) != 0)
+                    .all(|i| (0..i).all(|j| lanes & (1 << j) == 0 || indices[j] != indices[i])),
+                "lanes {lanes:#b} of {indices:?} name distinct vectors"
+            );
             let ((low, high), (first, last)) = (Self::split_indices(indices), value.halves());
-            // SAFETY: the caller's promise, for every lane set.
+            // SAFETY: the caller's promise (`V4::scatter`'s), for every lane set: each
+            // half's lanes are distinct and within `len` (checked by each half in debug
+            // builds), and no lane of one half names a vector of the other (checked
+            // above).
             unsafe {
-                first.scatter(base, low, lanes & 0xF);
-                last.scatter(base, high, lanes >> 4);
+                first.scatter(base, len, low, lanes & 0xF);
+                last.scatter(base, len, high, lanes >> 4);
             }
         }
     }
@@ -817,19 +902,19 @@ pub(crate) mod avx {
         fn select(self, a: F8, b: F8) -> F8 {
             // The masks are whole lanes of ones or zeros, so the sign bit `blendv`
             // reads decides as the whole lane would.
-            F8(unsafe { _mm256_blendv_ps(b.0, a.0, self.0) })
+            F8(avx!(_mm256_blendv_ps(b.0, a.0, self.0)))
         }
         #[inline(always)]
         fn bits(self) -> u32 {
-            unsafe { _mm256_movemask_ps(self.0) as u32 }
+            avx!(_mm256_movemask_ps(self.0) as u32)
         }
         #[inline(always)]
         fn and(self, other: Self) -> Self {
-            Self(unsafe { _mm256_and_ps(self.0, other.0) })
+            Self(avx!(_mm256_and_ps(self.0, other.0)))
         }
         #[inline(always)]
         fn or(self, other: Self) -> Self {
-            Self(unsafe { _mm256_or_ps(self.0, other.0) })
+            Self(avx!(_mm256_or_ps(self.0, other.0)))
         }
     }
 }
@@ -850,9 +935,25 @@ pub(crate) mod avx512 {
     use super::avx::F8;
     use super::{Joined, Lane, Mask, V};
 
-    // SAFETY (every `unsafe` block below that calls an AVX-512 intrinsic): these
-    // values exist only inside functions compiled for AVX-512F on a processor that has
-    // it (see the module's note), so the instructions are available.
+    /// Whether this processor has AVX-512F and VL (and so AVX): what every `avx512!`
+    /// rests on.
+    #[inline(always)]
+    fn detected() -> bool {
+        std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512vl")
+    }
+
+    /// Runs AVX-512 (and AVX) intrinsics that take and give registers only, never a
+    /// pointer.
+    macro_rules! avx512 {
+        ($e:expr) => {{
+            debug_assert!(detected(), "a sixteen-lane value on a processor without AVX-512");
+            // SAFETY: the intrinsics in `$e` need AVX-512F (or AVX), and these values
+            // exist only inside functions compiled for AVX-512F and VL that are called
+            // after `is_x86_feature_detected!` said yes to both (the module's note;
+            // debug builds check it above); none of them touches memory.
+            unsafe { $e }
+        }};
+    }
 
     /// Sixteen `f32` lanes.
     #[derive(Clone, Copy, Debug)]
@@ -869,20 +970,18 @@ pub(crate) mod avx512 {
         #[inline(always)]
         fn join(low: F8, high: F8) -> Self {
             let (low, high): (__m256, __m256) = (low.raw(), high.raw());
-            Self(unsafe {
-                _mm512_castpd_ps(_mm512_insertf64x4::<1>(
-                    _mm512_castpd256_pd512(_mm256_castps_pd(low)),
-                    _mm256_castps_pd(high),
-                ))
-            })
+            Self(avx512!(_mm512_castpd_ps(_mm512_insertf64x4::<1>(
+                _mm512_castpd256_pd512(_mm256_castps_pd(low)),
+                _mm256_castps_pd(high),
+            ))))
         }
         #[inline(always)]
         fn halves(self) -> (F8, F8) {
-            unsafe {
-                let (low, high) =
-                    (_mm512_castps512_ps256(self.0), _mm512_extractf64x4_pd::<1>(_mm512_castps_pd(self.0)));
-                (F8::from_raw(low), F8::from_raw(_mm256_castpd_ps(high)))
-            }
+            let (low, high) = avx512!((
+                _mm512_castps512_ps256(self.0),
+                _mm512_extractf64x4_pd::<1>(_mm512_castps_pd(self.0))
+            ));
+            (F8::from_raw(low), F8::from_raw(avx512!(_mm256_castpd_ps(high))))
         }
         #[inline(always)]
         fn join_indices(low: [u32; 8], high: [u32; 8]) -> [u32; 16] {
@@ -900,7 +999,7 @@ pub(crate) mod avx512 {
                 type Output = Self;
                 #[inline(always)]
                 fn $method(self, other: Self) -> Self {
-                    Self(unsafe { $f(self.0, other.0) })
+                    Self(avx512!($f(self.0, other.0)))
                 }
             }
         };
@@ -915,55 +1014,64 @@ pub(crate) mod avx512 {
         /// Flips each lane's sign bit.
         #[inline(always)]
         fn neg(self) -> Self {
-            Self(unsafe {
-                _mm512_castsi512_ps(_mm512_xor_si512(
-                    _mm512_castps_si512(self.0),
-                    _mm512_set1_epi32(i32::MIN),
-                ))
-            })
+            Self(avx512!(_mm512_castsi512_ps(_mm512_xor_si512(
+                _mm512_castps_si512(self.0),
+                _mm512_set1_epi32(i32::MIN),
+            ))))
         }
     }
 
     impl Lane for F16 {
         type Mask = M16;
         type Index = [u32; 16];
-        // SAFETY: `[f32; 16]` and `__m512` are both 64 bytes of sixteen f32 lanes.
+        // SAFETY: `[f32; 16]` and `__m512` are both 64 bytes of sixteen f32 lanes (the
+        // sizes checked by `transmute` when compiling), and every bit pattern is a
+        // valid `__m512`; making the constant runs no AVX-512 instruction.
         const ZERO: Self = Self(unsafe { std::mem::transmute::<[f32; 16], __m512>([0.0; 16]) });
         #[inline(always)]
         fn splat(x: f32) -> Self {
-            Self(unsafe { _mm512_set1_ps(x) })
+            Self(avx512!(_mm512_set1_ps(x)))
         }
         #[inline(always)]
         fn sqrt(self) -> Self {
-            Self(unsafe { _mm512_sqrt_ps(self.0) })
+            Self(avx512!(_mm512_sqrt_ps(self.0)))
         }
         #[inline(always)]
         fn max(self, other: Self) -> Self {
             // `vmaxps` on sixteen lanes: `a > b ? a : b`, as SSE's `maxps`.
-            Self(unsafe { _mm512_max_ps(self.0, other.0) })
+            Self(avx512!(_mm512_max_ps(self.0, other.0)))
         }
         #[inline(always)]
         fn gt(self, other: Self) -> M16 {
             // Ordered: false where either is NaN, as SSE's `cmpgtps`.
-            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_GT_OQ>(self.0, other.0) })
+            M16(avx512!(_mm512_cmp_ps_mask::<_CMP_GT_OQ>(self.0, other.0)))
         }
         #[inline(always)]
         fn eq(self, other: Self) -> M16 {
-            M16(unsafe { _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, other.0) })
+            M16(avx512!(_mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, other.0)))
         }
         #[inline(always)]
-        unsafe fn gather(base: *const glam::Vec3, indices: [u32; 16]) -> V<Self> {
+        unsafe fn gather(base: *const glam::Vec3, len: usize, indices: [u32; 16]) -> V<Self> {
             let (low, high) = Self::split_indices(indices);
-            // SAFETY: the caller's promise, for all sixteen indices.
-            unsafe { V::<F16>::join(F8::gather(base, low), F8::gather(base, high)) }
+            // SAFETY: the caller's promise (`V4::gather`'s), for all sixteen indices.
+            unsafe { V::<F16>::join(F8::gather(base, len, low), F8::gather(base, len, high)) }
         }
         #[inline(always)]
-        unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, indices: [u32; 16], lanes: u32) {
+        unsafe fn scatter(value: V<Self>, base: *mut glam::Vec3, len: usize, indices: [u32; 16], lanes: u32) {
+            debug_assert!(
+                (0..16)
+                    .filter(|&i| lanes & (1 << i) != 0)
+                    .all(|i| (0..i).all(|j| lanes & (1 << j) == 0 || indices[j] != indices[i])),
+                "lanes {lanes:#b} of {indices:?} name distinct vectors"
+            );
             let ((low, high), (first, last)) = (Self::split_indices(indices), value.halves());
-            // SAFETY: the caller's promise, for every lane set.
+            // SAFETY: the caller's promise (`V4::scatter`'s), for every lane set: each
+            // half's lanes are distinct and within `len` (checked by each half in debug
+            // builds), and no lane of one half names a vector of the other (checked
+            // above).
             unsafe {
-                F8::scatter(first, base, low, lanes & 0xFF);
-                F8::scatter(last, base, high, lanes >> 8);
+                F8::scatter(first, base, len, low, lanes & 0xFF);
+                F8::scatter(last, base, len, high, lanes >> 8);
             }
         }
     }
@@ -976,7 +1084,7 @@ pub(crate) mod avx512 {
         #[inline(always)]
         fn select(self, a: F16, b: F16) -> F16 {
             // The blend takes its second operand where the mask's bit is set.
-            F16(unsafe { _mm512_mask_blend_ps(self.0, b.0, a.0) })
+            F16(avx512!(_mm512_mask_blend_ps(self.0, b.0, a.0)))
         }
         #[inline(always)]
         fn bits(self) -> u32 {
@@ -1073,14 +1181,16 @@ mod tests {
             (0..7).map(|i| Vec3::new(i as f32, -(i as f32) - 0.5, 100.0 + i as f32)).collect();
         array[2].x = -0.0;
         let indices = [6, 2, 0, 5];
-        let wide = unsafe { V4::gather(array.as_ptr(), indices) };
+        // SAFETY: every index is below the array's 7 vectors.
+        let wide = unsafe { V4::gather(array.as_ptr(), array.len(), indices) };
         let lanes = wide.lanes();
         for (lane, &i) in lanes.iter().zip(&indices) {
             assert_eq!(lane.to_array().map(f32::to_bits), array[i as usize].to_array().map(f32::to_bits));
         }
         let moved = V4::new([Vec3::splat(1.0), Vec3::splat(2.0), Vec3::splat(3.0), Vec3::splat(4.0)]);
         let before = array.clone();
-        unsafe { moved.scatter(array.as_mut_ptr(), indices, 0b1010) };
+        // SAFETY: as above; lanes 1 and 3 only, distinct.
+        unsafe { moved.scatter(array.as_mut_ptr(), array.len(), indices, 0b1010) };
         assert_eq!(array[2], Vec3::splat(2.0));
         assert_eq!(array[5], Vec3::splat(4.0));
         for i in [0, 1, 3, 4, 6] {
@@ -1144,19 +1254,24 @@ mod tests {
             checked += 1;
         }
         assert_eq!(checked, ODD.len());
+        assert_eq!(halves_bits(<F8 as Lane>::ZERO), ([0; 4], [0; 4]));
+        for &a in &ODD {
+            let (low, high) = halves_bits(<F8 as Lane>::splat(a));
+            assert_eq!((low, high), (bits(F4::splat(a)), bits(F4::splat(a))));
+        }
 
         let mut array: Vec<Vec3> =
             (0..11).map(|i| Vec3::new(i as f32, 0.5 - i as f32, 10.0 * i as f32)).collect();
         let indices = [10, 3, 0, 7, 2, 9, 5, 1];
         // SAFETY: every index is below the array's 11 vectors, and they are distinct.
-        let wide = unsafe { F8::gather(array.as_ptr(), indices) };
+        let wide = unsafe { F8::gather(array.as_ptr(), array.len(), indices) };
         let (low, high) = wide.halves();
         let read: Vec<Vec3> = low.lanes().into_iter().chain(high.lanes()).collect();
         assert_eq!(read, indices.map(|i| array[i as usize]).to_vec());
         let before = array.clone();
         let moved = V::<F8>::join(V4::new([Vec3::splat(-1.0); 4]), V4::new([Vec3::splat(-2.0); 4]));
         // SAFETY: as above; lanes 0, 1 and 6 only.
-        unsafe { F8::scatter(moved, array.as_mut_ptr(), indices, 0b0100_0011) };
+        unsafe { F8::scatter(moved, array.as_mut_ptr(), array.len(), indices, 0b0100_0011) };
         for (i, (now, was)) in array.iter().zip(&before).enumerate() {
             let expected = match i {
                 10 | 3 => Vec3::splat(-1.0),
@@ -1237,12 +1352,16 @@ mod tests {
             checked += 1;
         }
         assert_eq!(checked, ODD.len());
+        assert!(bits16(<F16 as Lane>::ZERO).iter().all(|&b| b == 0));
+        for &a in &ODD {
+            assert!(agree(bits16(<F16 as Lane>::splat(a)), bits8x2(F8::splat(a), F8::splat(a))));
+        }
 
         let mut array: Vec<Vec3> =
             (0..19).map(|i| Vec3::new(i as f32, 0.5 - i as f32, 10.0 * i as f32)).collect();
         let indices = [10, 3, 0, 7, 2, 9, 5, 1, 18, 11, 4, 16, 6, 13, 8, 12];
         // SAFETY: every index is below the array's 19 vectors, and they are distinct.
-        let wide = unsafe { F16::gather(array.as_ptr(), indices) };
+        let wide = unsafe { F16::gather(array.as_ptr(), array.len(), indices) };
         let (low, high) = wide.halves();
         let ((l0, l1), (h0, h1)) = (low.halves(), high.halves());
         let read: Vec<Vec3> = [l0, l1, h0, h1].into_iter().flat_map(V4::lanes).collect();
@@ -1251,7 +1370,9 @@ mod tests {
         let fill = |v: f32| V::<F8>::join(V4::new([Vec3::splat(v); 4]), V4::new([Vec3::splat(v - 0.5); 4]));
         let moved = V::<F16>::join(fill(-1.0), fill(-2.0));
         // SAFETY: as above; lanes 0, 6, 9 and 15 only.
-        unsafe { F16::scatter(moved, array.as_mut_ptr(), indices, 1 | 1 << 6 | 1 << 9 | 1 << 15) };
+        unsafe {
+            F16::scatter(moved, array.as_mut_ptr(), array.len(), indices, 1 | 1 << 6 | 1 << 9 | 1 << 15)
+        };
         for (i, (now, was)) in array.iter().zip(&before).enumerate() {
             let expected = match i {
                 10 => Vec3::splat(-1.0),
@@ -1262,6 +1383,21 @@ mod tests {
             };
             assert_eq!(*now, expected, "vector {i}");
         }
+    }
+
+    /// The constant zeros (made by `transmute`) are +0 in every lane, and a splat is
+    /// its value in every lane; arrays go in and out of the register lane 0 first.
+    #[test]
+    fn zeros_splats_and_arrays_fill_every_lane() {
+        assert_eq!(F4::ZERO.to_array().map(f32::to_bits), [0; 4]);
+        assert_eq!(<F4 as Lane>::ZERO.to_array().map(f32::to_bits), [0; 4]);
+        for &a in &ODD {
+            assert!(F4::splat(a).to_array().iter().all(|&x| same(x, a)));
+        }
+        let lanes = [1.0, -0.0, f32::NAN, 3e-39];
+        let back = F4::new(lanes).to_array();
+        assert!((0..4).all(|i| same(back[i], lanes[i])));
+        assert_eq!(V4::ZERO.lanes(), [Vec3::ZERO; 4]);
     }
 
     #[test]

@@ -22,7 +22,7 @@ static PARAMS: &[Param] = &[
     Param { name: "load_x", unit: "", default: 0.0, min: 0.0, max: 5.0, help: "Load position along the bridge, from deck pair 0 to deck pair 5", logarithmic: false, integer: false },
     Param { name: "load_z", unit: "", default: 0.5, min: 0.0, max: 1.0, help: "Load position across the bridge, from one side (0) to the other (1)", logarithmic: false, integer: false },
     Param { name: "load_mass", unit: "kg", default: 10.0, min: 0.0, max: 50.0, help: "Mass of the load, shared among the four nearest particles", logarithmic: false, integer: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
+    super::GRAVITY,
 ];
 
 #[rustfmt::skip]
@@ -129,10 +129,7 @@ impl Scene for Bridge {
     scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
-        self.params.set(name, value)?;
-        if name == "g" {
-            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
-        } else {
+        if super::set_param_or_gravity(&mut self.params, &mut self.world, name, value)? {
             self.distribute_load();
         }
         Ok(())

@@ -24,7 +24,7 @@ static PARAMS: &[Param] = &[
     Param { name: "lifted", unit: "", default: 1.0, min: 1.0, max: 8.0, help: "Balls pulled back and released (rounded; at most balls - 1)", logarithmic: false, integer: true },
     Param { name: "angle", unit: "°", default: 30.0, min: 1.0, max: 80.0, help: "How far the lifted balls are pulled back on their cables", logarithmic: false, integer: false },
     Param { name: "restitution", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between the balls", logarithmic: false, integer: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
+    super::GRAVITY,
 ];
 
 static INFO: SceneInfo = SceneInfo {
@@ -106,13 +106,12 @@ impl Scene for Cradle {
         let mut params = self.params.clone();
         params.set(name, value)?;
         if name == "g" {
-            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
+            super::pull_down(&mut self.world, value);
             self.params = params;
         } else {
             // Anything else changes the row or its release: start again.
-            let solver = *self.world.solver();
-            *self = Self::build(params);
-            self.world.set_solver(solver).expect("the running world's settings were valid");
+            let running = std::mem::replace(self, Self::build(params));
+            super::keep_solver(&running.world, &mut self.world);
         }
         Ok(())
     }

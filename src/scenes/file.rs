@@ -448,16 +448,7 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
         });
     }
     if !table.iter().any(|p| p.name == "g") {
-        table.push(Param {
-            name: "g",
-            unit: "m/s²",
-            default: 9.81,
-            min: 0.0,
-            max: 30.0,
-            help: "Gravitational acceleration, downwards",
-            logarithmic: false,
-            integer: false,
-        });
+        table.push(super::GRAVITY);
     }
     Ok(table)
 }
@@ -607,14 +598,13 @@ impl Scene for FileScene {
             self.params = params;
             return Ok(());
         }
-        let solver = *self.built.world.solver();
         let built = self
             .definition
             .build(&params)
             .map_err(|e| ParamError::Rejected { key: name.to_string(), reason: e.to_string() })?;
         self.walls = wall_outlines(&built);
-        self.built = built;
-        self.built.world.set_solver(solver).expect("the running world's settings were valid");
+        let running = std::mem::replace(&mut self.built, built);
+        super::keep_solver(&running.world, &mut self.built.world);
         self.params = params;
         self.torn = 0;
         Ok(())

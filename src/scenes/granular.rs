@@ -4,7 +4,24 @@
 
 use glam::Vec3;
 
+use super::SceneInfo;
 use crate::physics::{ParticleDesc, Plane, SphereCollisions, World};
+
+/// How a granular scene is shown, the part of its [`SceneInfo`] they share: no presets
+/// or actions, no trails (thousands of grains would smear the view), grains coloured
+/// by speed (what matters is which still move). Name, summary, step, steps and
+/// parameters are blank here: each scene gives its own (`..granular::LOOK`).
+pub(super) const LOOK: SceneInfo = SceneInfo {
+    name: "",
+    summary: "",
+    dt: 0.0,
+    default_steps: 0,
+    params: &[],
+    presets: &[],
+    actions: &[],
+    trails: false,
+    color_by_speed: true,
+};
 
 /// The surfaces' material: restitution, Coulomb friction and rolling resistance, the
 /// same for the walls, the floor and every pair of spheres.

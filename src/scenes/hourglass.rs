@@ -40,7 +40,8 @@ static PARAMS: &[Param] = &[
     Param { name: "count", unit: "", default: 4000.0, min: 1.0, max: 200_000.0, help: "Number of grains (rounded to a whole number)", logarithmic: true, integer: true },
     Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between grains, walls and floor", logarithmic: false, integer: false },
     Param { name: "rolling_resistance", unit: "", default: DEFAULT_ROLLING_RESISTANCE, min: 0.0, max: 1.0, help: "Rolling resistance coefficient of every contact", logarithmic: false, integer: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.1, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
+    // Some gravity: the grains must drain.
+    Param { min: 0.1, ..super::GRAVITY },
 ];
 
 static INFO: SceneInfo = SceneInfo {
@@ -52,10 +53,7 @@ static INFO: SceneInfo = SceneInfo {
     dt: 1.0 / 120.0,
     default_steps: 1200,
     params: PARAMS,
-    presets: &[],
-    actions: &[],
-    trails: false,
-    color_by_speed: true,
+    ..granular::LOOK
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
@@ -239,15 +237,11 @@ impl Scene for Hourglass {
     scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
-        self.params.set(name, value)?;
-        if name == "g" {
-            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
-        } else {
+        if super::set_param_or_gravity(&mut self.params, &mut self.world, name, value)? {
             // Everything else shapes the container or the grains: pour them again.
-            let solver = *self.world.solver();
             self.shape = Shape::of(&self.params);
-            self.world = build_world(&self.params, &self.shape);
-            self.world.set_solver(solver).expect("the running world's settings were valid");
+            let running = std::mem::replace(&mut self.world, build_world(&self.params, &self.shape));
+            super::keep_solver(&running, &mut self.world);
         }
         self.samples.clear();
         self.packing = 0.0;

@@ -50,6 +50,73 @@ pub use params::{Param, ParamError, ParamValues, Preset};
 /// How far one key press moves the bridge's load, in load coordinates (m).
 pub const LOAD_STEP: f32 = 0.1;
 
+/// The `g` parameter most scenes share: gravity pulling straight down (m/s²), from
+/// weightless to three Earths. Its presets are [`GRAVITY_PRESETS`].
+pub(crate) const GRAVITY: Param = Param {
+    name: "g",
+    unit: "m/s²",
+    default: 9.81,
+    min: 0.0,
+    max: 30.0,
+    help: "Gravitational acceleration, downwards",
+    logarithmic: false,
+    integer: false,
+};
+
+/// How a scene of a few bodies whose paths are the point is shown, the part of its
+/// [`SceneInfo`] the pendulum and the springs share: the gravity presets, no actions,
+/// trails on, plain colours. Name, summary, step, steps and parameters are blank here:
+/// each scene gives its own (`..super::TRACED`).
+pub(crate) const TRACED: SceneInfo = SceneInfo {
+    name: "",
+    summary: "",
+    dt: 0.0,
+    default_steps: 0,
+    params: &[],
+    presets: GRAVITY_PRESETS,
+    actions: &[],
+    trails: true,
+    color_by_speed: false,
+};
+
+/// Sets every particle's acceleration to gravity `g` (m/s²) pulling straight down: what
+/// the `g` parameter does to a running scene, whose range keeps it finite.
+pub(crate) fn pull_down(world: &mut World, g: f32) {
+    world.set_acceleration_all(Vec3::new(0.0, -g, 0.0)).expect("g is range-checked");
+}
+
+/// Sets parameter `name` to `value` in `params` (an error if out of range); `g` pulls
+/// every particle of `world` down at once ([`pull_down`]). Returns whether it was any
+/// other parameter, one that shapes the scene: the caller then rebuilds or rearranges it.
+pub(crate) fn set_param_or_gravity(
+    params: &mut ParamValues,
+    world: &mut World,
+    name: &str,
+    value: f32,
+) -> Result<bool, ParamError> {
+    params.set(name, value)?;
+    if name == "g" {
+        pull_down(world, value);
+        return Ok(false);
+    }
+    Ok(true)
+}
+
+/// Sets the damping (fraction of velocity kept per second) of every particle of
+/// `world`: what a scene's `damping` parameter does, whose range keeps it valid.
+pub(crate) fn damp_all(world: &mut World, damping: f32) {
+    for id in world.particles.ids().to_vec() {
+        world.particles.set_damping(id, damping).expect("damping is range-checked");
+    }
+}
+
+/// Gives `restarted`, a scene's world built again for new parameters, the solver
+/// settings of `running`, the world it replaces: the solver the user picked outlives
+/// a restart.
+pub(crate) fn keep_solver(running: &World, restarted: &mut World) {
+    restarted.set_solver(*running.solver()).expect("the running world's settings were valid");
+}
+
 /// Surface gravity of a few worlds (m/s²), as presets that set `g` alone.
 #[rustfmt::skip]
 pub static GRAVITY_PRESETS: &[Preset] = &[

@@ -21,7 +21,7 @@ static PARAMS: &[Param] = &[
     Param { name: "length", unit: "m", default: 1.0, min: 0.2, max: 3.0, help: "Length of each rod", logarithmic: false, integer: false },
     Param { name: "angle", unit: "°", default: 90.0, min: -180.0, max: 180.0, help: "Release angle of the chain from straight down (90 = horizontal)", logarithmic: false, integer: false },
     Param { name: "damping", unit: "", default: 1.0, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false, integer: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
+    super::GRAVITY,
 ];
 
 static INFO: SceneInfo = SceneInfo {
@@ -30,10 +30,7 @@ static INFO: SceneInfo = SceneInfo {
     dt: 1.0 / 240.0,
     default_steps: 2400,
     params: PARAMS,
-    presets: super::GRAVITY_PRESETS,
-    actions: &[],
-    trails: true,
-    color_by_speed: false,
+    ..super::TRACED
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
@@ -105,20 +102,17 @@ impl Scene for Pendulum {
         params.set(name, value)?;
         match name {
             "g" => {
-                self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
+                super::pull_down(&mut self.world, value);
                 self.params = params;
             }
             "damping" => {
-                for id in self.world.particles.ids().to_vec() {
-                    self.world.particles.set_damping(id, value).expect("damping is range-checked");
-                }
+                super::damp_all(&mut self.world, value);
                 self.params = params;
             }
             // The chain's shape and release: start again.
             _ => {
-                let solver = *self.world.solver();
-                *self = Self::build(params);
-                self.world.set_solver(solver).expect("the running world's settings were valid");
+                let running = std::mem::replace(self, Self::build(params));
+                super::keep_solver(&running.world, &mut self.world);
             }
         }
         Ok(())

@@ -28,7 +28,7 @@ static PARAMS: &[Param] = &[
     Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between spheres, walls and ground", logarithmic: false, integer: false },
     Param { name: "rolling_resistance", unit: "", default: DEFAULT_ROLLING_RESISTANCE, min: 0.0, max: 1.0, help: "Rolling resistance coefficient: the torque opposing a sphere's roll is at most this times its radius times the normal force", logarithmic: false, integer: false },
     Param { name: "rolls", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "1: solid spheres that roll (I = 2/5 m r²); 0: the paper's point masses, which slide but never turn", logarithmic: false, integer: true },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
+    super::GRAVITY,
 ];
 
 static INFO: SceneInfo = SceneInfo {
@@ -37,10 +37,7 @@ static INFO: SceneInfo = SceneInfo {
     dt: 1.0 / 60.0,
     default_steps: 600,
     params: PARAMS,
-    presets: &[],
-    actions: &[],
-    trails: false,
-    color_by_speed: true,
+    ..granular::LOOK
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
@@ -198,14 +195,10 @@ impl Scene for Pile {
     scene_basics!();
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
-        self.params.set(name, value)?;
-        if name == "g" {
-            self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
-        } else {
+        if super::set_param_or_gravity(&mut self.params, &mut self.world, name, value)? {
             // Everything else shapes the pile from the start: drop it again.
-            let solver = *self.world.solver();
-            self.world = build_world(&self.params);
-            self.world.set_solver(solver).expect("the running world's settings were valid");
+            let running = std::mem::replace(&mut self.world, build_world(&self.params));
+            super::keep_solver(&running, &mut self.world);
         }
         Ok(())
     }

@@ -35,7 +35,7 @@ static PARAMS: &[Param] = &[
     Param { name: "rest_length", unit: "m", default: 2.0, min: 0.5, max: 4.0, help: "Length at which the springs exert no force", logarithmic: false, integer: false },
     Param { name: "mass", unit: "kg", default: 1.0, min: 0.1, max: 10.0, help: "Mass of every particle in the scene", logarithmic: true, integer: false },
     Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false, integer: false },
-    Param { name: "g", unit: "m/s²", default: 9.81, min: 0.0, max: 30.0, help: "Gravitational acceleration, downwards", logarithmic: false, integer: false },
+    super::GRAVITY,
     Param { name: "stiff_k", unit: "N/m", default: 10_000.0, min: 10.0, max: 1_000_000.0, help: "Stiffness of the closed-form stiff spring (stable at any value)", logarithmic: true, integer: false },
     Param { name: "stiff_zeta", unit: "", default: 0.05, min: 0.0, max: 2.0, help: "Damping ratio of the stiff spring (0 rings forever, 1 critical); apart from `damping`", logarithmic: false, integer: false },
 ];
@@ -46,10 +46,7 @@ static INFO: SceneInfo = SceneInfo {
     dt: 1.0 / 240.0,
     default_steps: 1200,
     params: PARAMS,
-    presets: super::GRAVITY_PRESETS,
-    actions: &[],
-    trails: true,
-    color_by_speed: false,
+    ..super::TRACED
 };
 
 pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
@@ -194,7 +191,7 @@ impl Scene for SpringForces {
         params.set(name, value)?;
         match name {
             "g" => {
-                self.world.set_acceleration_all(Vec3::new(0.0, -value, 0.0)).expect("g is range-checked");
+                super::pull_down(&mut self.world, value);
                 self.world
                     .forces
                     .replace(self.float_force, Box::new(float_buoyancy(self.float, value)))
@@ -211,18 +208,15 @@ impl Scene for SpringForces {
                 self.restart_ghost();
             }
             "damping" => {
-                let ids = self.world.particles.ids().to_vec();
-                for id in ids {
-                    self.world.particles.set_damping(id, value).expect("range checked above");
-                }
+                super::damp_all(&mut self.world, value);
                 self.params = params;
                 self.restart_ghost();
             }
             // Spring constants and lengths shape the whole scene: start it again.
             _ => {
-                let solver = *self.world.solver();
-                *self = Self::build(params).expect("parameter ranges keep every particle valid");
-                self.world.set_solver(solver).expect("the running world's settings were valid");
+                let restarted = Self::build(params).expect("parameter ranges keep every particle valid");
+                let running = std::mem::replace(self, restarted);
+                super::keep_solver(&running.world, &mut self.world);
             }
         }
         Ok(())

@@ -26,65 +26,45 @@ pub enum Force {
     StiffSpring(StiffSpring),
 }
 
+/// For each kind (the variant is named as its generator's type): the generator behind
+/// a [`Force`], and a generator into its [`Force`].
+macro_rules! force_kinds {
+    ($($kind:ident),* $(,)?) => {
+        impl Force {
+            /// The generator's behaviour, whatever its kind.
+            #[must_use]
+            pub fn generator(&self) -> &dyn ForceGenerator {
+                match self {
+                    $(Self::$kind(g) => g,)*
+                }
+            }
+
+            /// The generator's behaviour, whatever its kind, to apply it.
+            pub fn generator_mut(&mut self) -> &mut dyn ForceGenerator {
+                match self {
+                    $(Self::$kind(g) => g,)*
+                }
+            }
+        }
+
+        $(
+            impl From<$kind> for Force {
+                fn from(g: $kind) -> Self {
+                    Self::$kind(g)
+                }
+            }
+        )*
+    };
+}
+
+force_kinds!(Gravity, Drag, Spring, Buoyancy, StiffSpring);
+
 impl Force {
-    /// The generator's behaviour, whatever its kind.
-    #[must_use]
-    pub fn generator(&self) -> &dyn ForceGenerator {
-        match self {
-            Self::Gravity(g) => g,
-            Self::Drag(g) => g,
-            Self::Spring(g) => g,
-            Self::Buoyancy(g) => g,
-            Self::StiffSpring(g) => g,
-        }
-    }
-
-    /// The generator's behaviour, whatever its kind, to apply it.
-    pub fn generator_mut(&mut self) -> &mut dyn ForceGenerator {
-        match self {
-            Self::Gravity(g) => g,
-            Self::Drag(g) => g,
-            Self::Spring(g) => g,
-            Self::Buoyancy(g) => g,
-            Self::StiffSpring(g) => g,
-        }
-    }
-
     /// Whether this is a gravity field, whose stored energy the budget counts as
     /// gravitational rather than elastic.
     #[must_use]
     pub fn is_gravity(&self) -> bool {
         matches!(self, Self::Gravity(_))
-    }
-}
-
-impl From<Gravity> for Force {
-    fn from(g: Gravity) -> Self {
-        Self::Gravity(g)
-    }
-}
-
-impl From<Drag> for Force {
-    fn from(g: Drag) -> Self {
-        Self::Drag(g)
-    }
-}
-
-impl From<Spring> for Force {
-    fn from(g: Spring) -> Self {
-        Self::Spring(g)
-    }
-}
-
-impl From<Buoyancy> for Force {
-    fn from(g: Buoyancy) -> Self {
-        Self::Buoyancy(g)
-    }
-}
-
-impl From<StiffSpring> for Force {
-    fn from(g: StiffSpring) -> Self {
-        Self::StiffSpring(g)
     }
 }
 

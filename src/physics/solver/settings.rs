@@ -57,7 +57,7 @@ pub enum LinkSolver {
     /// taut cable to its length at the end of the substep are solved for together, to
     /// convergence, along the links' directions at its start, and the velocities are
     /// then made to agree with the links (RATTLE, Andersen 1983, on semi-implicit
-    /// Euler; see `solver/soft/links.rs`). Conservative: an undamped chain or cloth keeps
+    /// Euler; see `solver/soft/link_network/`). Conservative: an undamped chain or cloth keeps
     /// its swing energy. A network too large for the direct solve is solved `Soft`.
     #[default]
     Exact,

@@ -79,6 +79,72 @@ impl<'de> Deserialize<'de> for Ref {
     }
 }
 
+/// Declares a table of the file: serde reads it, refusing unknown keys. Its fields are
+/// its own, with the fields of a group written in the place of the group's name: the
+/// particles' (`particle_fields;`: of each particle the table makes), the links'
+/// (`link_fields;`, which [`LinkProps`] borrows) and a plane's surface
+/// (`surface_fields;`). serde's `flatten` would share them too, but it loses the values'
+/// spans and refuses no unknown key.
+macro_rules! table {
+    ($(#[$meta:meta])* pub struct $name:ident { $($body:tt)* }) => {
+        table!(@fields [$(#[$meta])*] $name [] $($body)*);
+    };
+    (@fields $meta:tt $name:ident [$($done:tt)*] particle_fields; $($rest:tt)*) => {
+        table!(@fields $meta $name [$($done)*
+            /// Velocity (m/s), default 0.
+            pub velocity: Option<SVec>,
+            /// Mass (kg) of each, default 1.
+            pub mass: Option<SNum>,
+            /// Radius (m) of each, default 0.1.
+            pub radius: Option<SNum>,
+            /// Fraction of velocity each keeps per second, default 1.
+            pub damping: Option<SNum>,
+            /// Immovable, every one.
+            #[serde(default)]
+            pub fixed: bool,
+            /// Each a solid sphere that rolls (friction turns it; needs a radius),
+            /// default false: the paper's point mass.
+            #[serde(default)]
+            pub rolls: bool,
+        ] $($rest)*);
+    };
+    (@fields $meta:tt $name:ident [$($done:tt)*] link_fields; $($rest:tt)*) => {
+        table!(@fields $meta $name [$($done)*
+            /// Rest length, rod length or cable maximum (m); default the distance at the start.
+            pub length: Option<SNum>,
+            /// Spring constant (N/m).
+            pub k: Option<SNum>,
+            /// Restitution of a cable snapping taut.
+            pub restitution: Option<SNum>,
+            /// Damping ratio of a stiff spring.
+            pub damping_ratio: Option<SNum>,
+            /// Tension above which the link breaks (N).
+            pub tear: Option<SNum>,
+        ] $($rest)*);
+    };
+    (@fields $meta:tt $name:ident [$($done:tt)*] surface_fields; $($rest:tt)*) => {
+        table!(@fields $meta $name [$($done)*
+            /// Restitution, default 0.3.
+            pub restitution: Option<SNum>,
+            /// Friction, default 0.5.
+            pub friction: Option<SNum>,
+            /// Rolling resistance against spheres that roll, default 0.1.
+            pub rolling_resistance: Option<SNum>,
+        ] $($rest)*);
+    };
+    (@fields $meta:tt $name:ident [$($done:tt)*] $(#[$field_meta:meta])* pub $field:ident: $ty:ty, $($rest:tt)*) => {
+        table!(@fields $meta $name [$($done)* $(#[$field_meta])* pub $field: $ty,] $($rest)*);
+    };
+    (@fields [$($meta:tt)*] $name:ident [$($done:tt)*]) => {
+        $($meta)*
+        #[derive(Debug, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            $($done)*
+        }
+    };
+}
+
 /// The whole file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -164,131 +230,71 @@ pub struct ParamTable {
     pub integer: bool,
 }
 
-/// `[[particle]]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ParticleTable {
-    /// Name, for links and labels.
-    pub name: Option<Spanned<String>>,
-    /// Position (m).
-    pub position: SVec,
-    /// Velocity (m/s), default 0.
-    pub velocity: Option<SVec>,
-    /// Mass (kg), default 1.
-    pub mass: Option<SNum>,
-    /// Radius (m), default 0.1.
-    pub radius: Option<SNum>,
-    /// Fraction of velocity kept per second, default 1.
-    pub damping: Option<SNum>,
-    /// Immovable.
-    #[serde(default)]
-    pub fixed: bool,
-    /// A solid sphere that rolls (friction turns it; needs a radius), default false:
-    /// the paper's point mass.
-    #[serde(default)]
-    pub rolls: bool,
+table! {
+    /// `[[particle]]`.
+    pub struct ParticleTable {
+        /// Name, for links and labels.
+        pub name: Option<Spanned<String>>,
+        /// Position (m).
+        pub position: SVec,
+        particle_fields;
+    }
 }
 
-/// `[[row]]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RowTable {
-    /// Name, for links and labels.
-    pub name: Option<Spanned<String>>,
-    /// Number of particles.
-    pub count: SNum,
-    /// Position of particle 0 (m).
-    pub start: Option<SVec>,
-    /// Offset from each particle to the next (m).
-    pub step: Option<SVec>,
-    /// Position of particle `i` (m), instead of start and step.
-    pub position: Option<SVec>,
-    /// Velocity (m/s), default 0.
-    pub velocity: Option<SVec>,
-    /// Mass of each (kg), default 1.
-    pub mass: Option<SNum>,
-    /// Radius of each (m), default 0.1.
-    pub radius: Option<SNum>,
-    /// Damping of each, default 1.
-    pub damping: Option<SNum>,
-    /// Every particle immovable.
-    #[serde(default)]
-    pub fixed: bool,
-    /// Every particle a solid sphere that rolls (friction turns it; needs a radius), default false:
-    /// the paper's point mass.
-    #[serde(default)]
-    pub rolls: bool,
-    /// Indices made immovable (negative counts from the end).
-    #[serde(default)]
-    pub pin: Vec<SNum>,
-    /// Kind of link between neighbours, if any.
-    pub link: Option<Spanned<String>>,
-    /// Also link the last to the first (a ring).
-    #[serde(default)]
-    pub closed: bool,
-    /// Rest length, rod length or cable maximum (m); default the distance at the start.
-    pub length: Option<SNum>,
-    /// Spring constant (N/m).
-    pub k: Option<SNum>,
-    /// Restitution of a cable snapping taut.
-    pub restitution: Option<SNum>,
-    /// Damping ratio of a stiff spring.
-    pub damping_ratio: Option<SNum>,
-    /// Tension above which the link breaks (N).
-    pub tear: Option<SNum>,
+table! {
+    /// `[[row]]`.
+    pub struct RowTable {
+        /// Name, for links and labels.
+        pub name: Option<Spanned<String>>,
+        /// Number of particles.
+        pub count: SNum,
+        /// Position of particle 0 (m).
+        pub start: Option<SVec>,
+        /// Offset from each particle to the next (m).
+        pub step: Option<SVec>,
+        /// Position of particle `i` (m), instead of start and step.
+        pub position: Option<SVec>,
+        particle_fields;
+        /// Indices made immovable (negative counts from the end).
+        #[serde(default)]
+        pub pin: Vec<SNum>,
+        /// Kind of link between neighbours, if any.
+        pub link: Option<Spanned<String>>,
+        /// Also link the last to the first (a ring).
+        #[serde(default)]
+        pub closed: bool,
+        link_fields;
+    }
 }
 
-/// `[[grid]]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GridTable {
-    /// Name, for links and labels.
-    pub name: Option<Spanned<String>>,
-    /// Number of rows (index `i`).
-    pub rows: SNum,
-    /// Number of columns (index `j`).
-    pub cols: SNum,
-    /// Position of particle (0, 0) (m).
-    pub origin: Option<SVec>,
-    /// Offset from one column to the next (m).
-    pub step_col: Option<SVec>,
-    /// Offset from one row to the next (m).
-    pub step_row: Option<SVec>,
-    /// Position of particle (i, j) (m), instead of origin and steps.
-    pub position: Option<SVec>,
-    /// Velocity (m/s), default 0.
-    pub velocity: Option<SVec>,
-    /// Mass of each (kg), default 1.
-    pub mass: Option<SNum>,
-    /// Radius of each (m), default 0.1.
-    pub radius: Option<SNum>,
-    /// Damping of each, default 1.
-    pub damping: Option<SNum>,
-    /// Every particle immovable.
-    #[serde(default)]
-    pub fixed: bool,
-    /// Every particle a solid sphere that rolls (friction turns it; needs a radius), default false:
-    /// the paper's point mass.
-    #[serde(default)]
-    pub rolls: bool,
-    /// `[row, col]` pairs made immovable (negative counts from the end).
-    #[serde(default)]
-    pub pin: Vec<Spanned<Vec<SNum>>>,
-    /// Kind of link between neighbours along rows and columns, if any.
-    pub link: Option<Spanned<String>>,
-    /// Also link diagonal neighbours.
-    #[serde(default)]
-    pub shear: bool,
-    /// Rest length, rod length or cable maximum (m); default the distance at the start.
-    pub length: Option<SNum>,
-    /// Spring constant (N/m).
-    pub k: Option<SNum>,
-    /// Restitution of a cable snapping taut.
-    pub restitution: Option<SNum>,
-    /// Damping ratio of a stiff spring.
-    pub damping_ratio: Option<SNum>,
-    /// Tension above which the link breaks (N).
-    pub tear: Option<SNum>,
+table! {
+    /// `[[grid]]`.
+    pub struct GridTable {
+        /// Name, for links and labels.
+        pub name: Option<Spanned<String>>,
+        /// Number of rows (index `i`).
+        pub rows: SNum,
+        /// Number of columns (index `j`).
+        pub cols: SNum,
+        /// Position of particle (0, 0) (m).
+        pub origin: Option<SVec>,
+        /// Offset from one column to the next (m).
+        pub step_col: Option<SVec>,
+        /// Offset from one row to the next (m).
+        pub step_row: Option<SVec>,
+        /// Position of particle (i, j) (m), instead of origin and steps.
+        pub position: Option<SVec>,
+        particle_fields;
+        /// `[row, col]` pairs made immovable (negative counts from the end).
+        #[serde(default)]
+        pub pin: Vec<Spanned<Vec<SNum>>>,
+        /// Kind of link between neighbours along rows and columns, if any.
+        pub link: Option<Spanned<String>>,
+        /// Also link diagonal neighbours.
+        #[serde(default)]
+        pub shear: bool,
+        link_fields;
+    }
 }
 
 /// What every link of a group shares, borrowed from the table that declares them
@@ -327,28 +333,19 @@ macro_rules! link_props {
 
 link_props!(RowTable, GridTable, LinkTable);
 
-/// `[[link]]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LinkTable {
-    /// rod, cable, spring, bungee or stiff_spring.
-    pub kind: Spanned<String>,
-    /// First end: one particle or a whole array.
-    pub a: Spanned<Ref>,
-    /// Second end, a particle or an array.
-    pub b: Option<Spanned<Ref>>,
-    /// Second end, a fixed point (m).
-    pub anchor: Option<SVec>,
-    /// Rest length, rod length or cable maximum (m); default the distance at the start.
-    pub length: Option<SNum>,
-    /// Spring constant (N/m).
-    pub k: Option<SNum>,
-    /// Restitution of a cable snapping taut.
-    pub restitution: Option<SNum>,
-    /// Damping ratio of a stiff spring.
-    pub damping_ratio: Option<SNum>,
-    /// Tension above which the link breaks (N).
-    pub tear: Option<SNum>,
+table! {
+    /// `[[link]]`.
+    pub struct LinkTable {
+        /// rod, cable, spring, bungee or stiff_spring.
+        pub kind: Spanned<String>,
+        /// First end: one particle or a whole array.
+        pub a: Spanned<Ref>,
+        /// Second end, a particle or an array.
+        pub b: Option<Spanned<Ref>>,
+        /// Second end, a fixed point (m).
+        pub anchor: Option<SVec>,
+        link_fields;
+    }
 }
 
 /// `[[drag]]`.
@@ -379,34 +376,24 @@ pub struct BuoyancyTable {
     pub density: Option<SNum>,
 }
 
-/// `[ground]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SurfaceTable {
-    /// Height (m), default 0.
-    pub height: Option<SNum>,
-    /// Restitution, default 0.3.
-    pub restitution: Option<SNum>,
-    /// Friction, default 0.5.
-    pub friction: Option<SNum>,
-    /// Rolling resistance against spheres that roll, default 0.1.
-    pub rolling_resistance: Option<SNum>,
+table! {
+    /// `[ground]`.
+    pub struct SurfaceTable {
+        /// Height (m), default 0.
+        pub height: Option<SNum>,
+        surface_fields;
+    }
 }
 
-/// `[[wall]]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WallTable {
-    /// Normal, towards the free side.
-    pub normal: SVec,
-    /// A point of the plane (m).
-    pub point: SVec,
-    /// Restitution, default 0.3.
-    pub restitution: Option<SNum>,
-    /// Friction, default 0.5.
-    pub friction: Option<SNum>,
-    /// Rolling resistance against spheres that roll, default 0.1.
-    pub rolling_resistance: Option<SNum>,
+table! {
+    /// `[[wall]]`.
+    pub struct WallTable {
+        /// Normal, towards the free side.
+        pub normal: SVec,
+        /// A point of the plane (m).
+        pub point: SVec,
+        surface_fields;
+    }
 }
 
 /// `[collisions]`.

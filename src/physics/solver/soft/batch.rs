@@ -11,7 +11,7 @@
 
 use rayon::prelude::*;
 
-use super::color::{Disjoint, share};
+use super::shared::Disjoint;
 use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 #[cfg(target_arch = "x86_64")]
@@ -243,45 +243,6 @@ impl SoftStep {
             let runs = self.batches.chunks_mut(BATCH_RUN).zip(origins.chunks_mut(BATCH_RUN));
             runs.enumerate().for_each(make_run);
         }
-        // Each thread's share of each colour, for the passes of this step.
-        let threads = rayon::current_num_threads();
-        self.shares.clear();
-        if threads > 1 {
-            for color in 0..OVERFLOW {
-                let colour = self.batch_starts[color]..self.batch_starts[color + 1];
-                let (wait, origins) = (self.waiting_batches[color], &self.batch_origins);
-                debug_assert!(
-                    [colour.start..wait, wait..colour.end]
-                        .iter()
-                        .all(|part| origins[part.clone()].is_sorted()),
-                    "each part of a colour lists its batches in the order they were made"
-                );
-                self.shares.extend(share(colour, wait, origins, threads));
-            }
-            debug_assert!(self.shares_tile_the_colours(threads), "the threads' shares tile each colour");
-        }
-    }
-
-    /// Whether the threads' shares of each colour are runs, in order, that together
-    /// cover its pushing part and then its waiting part once (what
-    /// `run_on_all_threads` hands out as disjoint). Debug builds check it every step.
-    fn shares_tile_the_colours(&self, threads: usize) -> bool {
-        (0..OVERFLOW).all(|color| {
-            let shares = &self.shares[color * threads..(color + 1) * threads];
-            let wait = self.waiting_batches[color];
-            let mut at = (self.batch_starts[color], wait);
-            for [push, waits] in shares {
-                if push.start != at.0
-                    || waits.start != at.1
-                    || push.end < push.start
-                    || waits.end < waits.start
-                {
-                    return false;
-                }
-                at = (push.end, waits.end);
-            }
-            at == (wait, self.batch_starts[color + 1])
-        })
     }
 
     /// Copies the batches' impulses back into the contacts, for the warm start of the

@@ -99,19 +99,9 @@ impl SoftStep {
         for (i, (((&p, &r), (&w, &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
             let separation = plane.distance(p) - r;
             if w > 0.0 && !asleep && separation < margin {
+                let surface = (plane.restitution, plane.friction, plane.rolling_resistance);
                 self.fresh_keys.push(key(i as u32, NONE));
-                let contact = SoftContact {
-                    a: i as u32,
-                    b: NONE,
-                    normal: plane.normal,
-                    separation,
-                    restitution: plane.restitution,
-                    friction: plane.friction,
-                    mass: 1.0 / w,
-                    tangent_mass: 1.0 / w,
-                    ..SoftContact::default()
-                };
-                self.fresh.push(rolling_terms(contact, particles, plane.rolling_resistance));
+                self.fresh.push(still_contact(particles, i, w, plane.normal, separation, surface));
             }
         }
     }
@@ -128,19 +118,9 @@ impl SoftStep {
             let (normal, distance) = plate.nearest(p);
             let separation = distance - r;
             if separation < margin {
+                let surface = (plate.restitution, plate.friction, plate.rolling_resistance);
                 self.fresh_keys.push(key(i as u32, NONE));
-                let contact = SoftContact {
-                    a: i as u32,
-                    b: NONE,
-                    normal,
-                    separation,
-                    restitution: plate.restitution,
-                    friction: plate.friction,
-                    mass: 1.0 / w,
-                    tangent_mass: 1.0 / w,
-                    ..SoftContact::default()
-                };
-                self.fresh.push(rolling_terms(contact, particles, plate.rolling_resistance));
+                self.fresh.push(still_contact(particles, i, w, normal, separation, surface));
             }
         }
     }
@@ -351,6 +331,32 @@ fn collide_pairs(
         };
         out.contacts.push(rolling_terms(contact, particles, spheres.rolling_resistance));
     }
+}
+
+/// The contact of particle `i` (inverse mass `w`, 1/kg) with something that does not
+/// move (a plane, a plate): its normal and separation (m), and the surface's
+/// restitution, friction and rolling resistance.
+#[inline]
+fn still_contact(
+    particles: &Particles,
+    i: usize,
+    w: f32,
+    normal: Vec3,
+    separation: f32,
+    (restitution, friction, rolling_resistance): (f32, f32, f32),
+) -> SoftContact {
+    let contact = SoftContact {
+        a: i as u32,
+        b: NONE,
+        normal,
+        separation,
+        restitution,
+        friction,
+        mass: 1.0 / w,
+        tangent_mass: 1.0 / w,
+        ..SoftContact::default()
+    };
+    rolling_terms(contact, particles, rolling_resistance)
 }
 
 /// A contact's rolling terms, for spheres that roll (a contact of point masses comes

@@ -18,7 +18,7 @@ use super::Context;
 use super::batch::ContactBatch;
 #[cfg(target_arch = "x86_64")]
 use super::batch::split;
-use super::color::SharedVelocities;
+use super::shared::SharedVelocities;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::wide::avx::F8;
 #[cfg(target_arch = "x86_64")]
@@ -89,7 +89,7 @@ fn scatter<L: Lane>(shared: SharedVelocities<'_>, indices: &L::Index, lanes: u32
 fn motion<L: Lane>(delta: &[Vec3], indices: &L::Index) -> V<L> {
     assert!(indices.as_ref().iter().all(|&i| (i as usize) < delta.len()));
     // SAFETY: every index is in bounds (checked above); `delta` is only read.
-    unsafe { L::gather(delta.as_ptr(), *indices) }
+    unsafe { L::gather(delta.as_ptr(), delta.len(), *indices) }
 }
 
 /// Lanes where `x > 0`, as bits.

@@ -25,16 +25,18 @@
 //! A contact's separation during the substeps is its start separation plus how far its
 //! two particles have moved along the normal since, so contacts are found once a step.
 //! Rods and cables are solved on their exact geometry every substep: by default all
-//! together, to convergence, as a network (`links.rs`: the impulses that bring every
+//! together, to convergence, as a network (`link_network/`: the impulses that bring every
 //! link to its length at the end of the substep, then velocities that agree with the
 //! links; conservative), or one at a time as soft constraints.
 //!
 //! One file per stage, as Box2D v3 keeps them: `step.rs` (the order above, and the
-//! energy the constraints add), `collide.rs` (1), `color.rs` (2, and the velocities the
-//! parallel tasks share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
-//! start, contacts and links) and `contact.rs` (one contact's impulse), `links.rs`
-//! (the exact link solve, with `envelope.rs`, its direct solver, and `taut.rs`,
-//! particles a taut path of links holds still), `warm.rs` (4,
+//! energy the constraints add), `collide.rs` (1), `color.rs` (2), `batch.rs` (the
+//! coloured contacts four by four, lane by lane), `passes.rs` (a pass over the colours
+//! on every thread) and `shared.rs` (the memory those threads share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
+//! start, contacts and links) and `contact.rs` (one contact's impulse),
+//! `link_network/` (the exact link solve: `mod.rs` the network, `shake.rs` its two
+//! solves, `envelope.rs` its direct solver, `taut.rs` particles a taut path of links
+//! holds still), `warm.rs` (4,
 //! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking),
 //! `awake.rs` (the pool's threads kept ready through a step).
 //! This file holds the data every stage shares.
@@ -45,13 +47,13 @@ mod batch;
 mod collide;
 mod color;
 mod contact;
-mod envelope;
 mod impact;
-mod links;
+mod link_network;
+mod passes;
+mod shared;
 mod sleep;
 mod solve;
 mod step;
-mod taut;
 mod warm;
 
 use glam::Vec3;
@@ -196,11 +198,11 @@ pub struct SoftStep {
     /// pushing): the end of the colour where none waits.
     waiting_contacts: [usize; COLORS + 1],
     waiting_batches: [usize; COLORS + 1],
-    /// Each batch's first contact's place in `fresh` (see `color::share`).
+    /// Each batch's first contact's place in `fresh` (see `passes::share`).
     batch_origins: Vec<u32>,
     /// Each thread's share of each colour, for the pool the step runs on (see
-    /// `color::for_each_batch`).
-    shares: Vec<color::Share>,
+    /// `passes::for_each_batch`).
+    shares: Vec<passes::Share>,
     /// Per fresh contact: it waits (see `color::bucket`).
     waits: Vec<bool>,
     /// Colour of each fresh contact.
@@ -254,8 +256,8 @@ pub struct SoftStep {
     /// Union-find parents and each island's shortest rest time, for sleeping.
     parent: Vec<u32>,
     island_timer: Vec<f32>,
-    /// The exact solve of rods and cables (`links.rs`), with its cached network.
-    network: links::LinkNetwork,
+    /// The exact solve of rods and cables (`link_network/`), with its cached network.
+    network: link_network::LinkNetwork,
 }
 
 /// Per-substep constants handed to every contact (Box2D's step context).

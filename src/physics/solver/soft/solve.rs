@@ -1,9 +1,10 @@
 //! The solve of a substep: warm start, then every contact (colour by colour) and every
-//! rod and cable on its exact geometry: all links together as a network (`links.rs`),
+//! rod and cable on its exact geometry: all links together as a network (`link_network/`),
 //! or each as a soft constraint.
 
-use super::color::{SharedVelocities, for_each_batch};
 use super::contact::{Bodies, contact_terms, solve_batches, warm_start_batches};
+use super::passes::for_each_batch;
+use super::shared::SharedVelocities;
 use super::{Context, NONE, SoftLink, SoftStep};
 use crate::physics::links::direction_or_zero;
 use crate::physics::particles::Particles;

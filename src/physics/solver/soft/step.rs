@@ -69,6 +69,7 @@ impl SoftStep {
         let collided = Instant::now();
         self.pick_up_and_color(particles, generators.len());
         self.batch(particles);
+        self.share_out();
         self.network.prepare(&self.links, particles, settings);
 
         let contact_hertz = settings.contact_hertz.min(0.25 / h);

@@ -52,12 +52,15 @@
 //! The solve runs in `f64`, one network at a time in a fixed order, with `+ - * /` and
 //! `sqrt` only: the same bits on every thread count and machine.
 
+mod envelope;
 mod shake;
+mod taut;
 
 use glam::{DVec3, Vec3};
 
-use super::envelope::{Envelope, reverse_cuthill_mckee};
-use super::taut::TautPaths;
+use envelope::{Envelope, reverse_cuthill_mckee};
+use taut::TautPaths;
+
 use super::{NONE, SoftLink};
 use crate::physics::particles::Particles;
 use crate::physics::solver::settings::SolverSettings;

@@ -1,4 +1,4 @@
-//! The two solves of a substep on the network (see `links.rs`): the shake before the
+//! The two solves of a substep on the network (see `mod.rs`): the shake before the
 //! drift, the projection after it, and the backward Euler step the shake falls back
 //! to where its equations have no solution.
 

@@ -29,8 +29,8 @@ use std::collections::BinaryHeap;
 
 use glam::DVec3;
 
-use super::{NONE, SoftLink};
 use crate::physics::particles::Particles;
+use crate::physics::solver::soft::{NONE, SoftLink};
 
 /// Most fixed points (immovable linked particles and anchors) searched from.
 pub(super) const MAX_FIXED: usize = 64;
