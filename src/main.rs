@@ -54,7 +54,7 @@ fn main() -> ExitCode {
             }
             Err(message) => usage_error(&message),
         },
-        Some(Command::Open(open)) => window(cli::link::open(&open)),
+        Some(Command::Open(open)) => window(Launch::from_link(&open.link)),
         None => window(Launch::from_cli(&args)),
     }
 }

@@ -1,9 +1,10 @@
 //! `link`: prints the link that opens an experiment in the web lab (what File → Copy
-//! link gives in the window), and `open`: opens such a link in the window.
+//! link gives in the window); and the flags of `open`, which opens such a link in the
+//! window (read by [`Launch::from_link`](crate::settings::Launch::from_link)).
 
 use std::path::PathBuf;
 
-use super::flags::SolverArgs;
+use super::flags::{MAX_STEPS, SolverArgs};
 use crate::ui::Lab;
 use crate::ui::lab::Link;
 
@@ -48,21 +49,11 @@ pub fn link(args: &LinkArgs) -> Result<String, String> {
     let solver = args.solver.settings()?;
     let mut lab = Lab::from_entry(entry, &args.set, solver)?;
     if let Some(steps) = args.steps {
-        if steps > super::MAX_STEPS {
-            return Err(format!("--steps {steps} is out of range; valid range: 0 to {}", super::MAX_STEPS));
+        if steps > MAX_STEPS {
+            return Err(format!("--steps {steps} is out of range; valid range: 0 to {MAX_STEPS}"));
         }
         lab.run_steps_recorded(steps);
     }
     let link = Link::of(&lab, args.steps.is_some())?;
     Ok(format!("{}{link}", args.base.as_deref().unwrap_or_default()))
-}
-
-/// What `open LINK` opens the window with: the link read as the window's command line,
-/// with its carried scene file and the steps to run before pausing.
-pub fn open(args: &OpenArgs) -> Result<crate::settings::Launch, String> {
-    let link = Link::parse_text(&args.link)?;
-    let mut launch = crate::settings::Launch::from_args(&link.args)?;
-    launch.scene_text = link.scene_text;
-    launch.steps = link.steps;
-    Ok(launch)
 }

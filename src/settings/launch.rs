@@ -54,6 +54,17 @@ impl Launch {
         }
     }
 
+    /// What a link (`particle-lab open LINK`: a whole link as copied, its query and
+    /// fragment) opens the window with: read as the window's command line, with the
+    /// scene file it carries and the steps to run before pausing.
+    pub fn from_link(text: &str) -> Result<Self, String> {
+        let link = crate::ui::lab::Link::parse_text(text)?;
+        let mut launch = Self::from_args(&link.args)?;
+        launch.scene_text = link.scene_text;
+        launch.steps = link.steps;
+        Ok(launch)
+    }
+
     /// The window's flags from `args` (the program's name first) as a command line
     /// would give them: a link's query string in a browser. A bad one is the one line
     /// clap gives it.
