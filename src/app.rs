@@ -1,7 +1,13 @@
 //! The window: winit events in, egui and the 3D view out. A thin shell around
-//! [`Lab`], [`LabUi`] and [`Painter`]. It redraws while the physics runs, and
+//! [`Lab`], [`LabUi`] and [`Painter`]. It redraws while something moves, and
 //! otherwise only when egui asks (input, an animation): a paused, untouched window
-//! burns no CPU.
+//! burns no CPU, and one at rest ([`Lab::at_rest`]) only steps its physics every
+//! [`REST_TICK`](crate::ui::lab::REST_TICK) without drawing, so its clock keeps counting.
+//!
+//! The window is never larger than the GPU can draw: a saved size beyond the screen
+//! opens at the screen's size, the surface stays within the device's largest texture,
+//! and a frame the GPU runs out of memory for makes the window smaller; the status line
+//! says so once.
 
 #[cfg(not(target_arch = "wasm32"))]
 use crate::scenes::snapshot::Snapshot;
@@ -21,6 +27,7 @@ use winit::event_loop::EventLoop;
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::window::{Window, WindowId};
 
+use crate::render::gpu::fit_surface;
 use crate::render::{Gpu, GpuError, OffscreenTarget};
 #[cfg(not(target_arch = "wasm32"))]
 use crate::settings::{self, Launch};
@@ -46,7 +53,7 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
         eprintln!("{warning}");
     }
     log::info!("{}", opened.summary);
-    let settings::Opened { mut lab, layout, window: window_size, store, .. } = opened;
+    let settings::Opened { mut lab, layout, window: window_size, store, kept, .. } = opened;
     if let Some(path) = &launch.from {
         // Read before any window opens: a bad file is a usage error, said in one line.
         let snapshot = Snapshot::load(path).map_err(AppError::Usage)?;
@@ -59,6 +66,7 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
     let event_loop =
         EventLoop::new().map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
     let mut app = App::new(lab, layout, store, window_size);
+    app.kept = kept;
     event_loop.run_app(&mut app).map_err(|e| {
         AppError::Fatal(format!("the window's event loop failed: {}", crate::messages::plain(&e.to_string())))
     })?;
@@ -81,6 +89,14 @@ pub struct App {
     store: Store,
     /// The window's inner size as last seen, not minimised (logical pixels).
     window_size: [u32; 2],
+    /// The settings as read, while they name a scene file that could not be opened:
+    /// saved back as they were until another scene is opened ([`Settings::keeping`]).
+    kept: Option<Settings>,
+    /// When a still window last looked for a change of its scene file.
+    scene_file_polled: Instant,
+    /// The lab was at rest when the loop last went to wait (for the log's one line
+    /// each time it comes to rest and wakes).
+    resting: bool,
     /// In a browser: the window waiting for its GPU, which comes asynchronously.
     #[cfg(target_arch = "wasm32")]
     pending: std::rc::Rc<std::cell::RefCell<Option<Result<WindowState, String>>>>,
@@ -95,6 +111,10 @@ const TIMING_LOG_INTERVAL: Duration = Duration::from_secs(2);
 
 /// How often a still window wakes to look for a change of the watched scene file.
 const SCENE_FILE_POLL: Duration = Duration::from_millis(250);
+
+/// The smallest side the window's surface is cut to after the GPU ran out of memory
+/// drawing a frame (physical pixels): below this the lab gives up with a message.
+const SMALLEST_SURFACE_SIDE: u32 = 320;
 
 /// Everything that exists once the window does.
 struct WindowState {
@@ -116,6 +136,14 @@ struct WindowState {
     /// False while minimised (size 0) or hidden: no frames are drawn or requested then,
     /// so the loop waits for events instead of spinning.
     visible: bool,
+    /// The largest side the surface is configured with (physical pixels): the device's
+    /// largest texture, lowered when the GPU ran out of memory drawing a frame.
+    max_side: u32,
+    /// The surface was last cut to `max_side` and the status line said so (said once).
+    said_limit: bool,
+    /// What the status line should say at the first frame (a saved size that did not
+    /// fit the screen).
+    note: Option<String>,
 }
 
 impl App {
@@ -136,6 +164,9 @@ impl App {
             timing_logged: Instant::now(),
             store,
             window_size,
+            scene_file_polled: Instant::now(),
+            resting: false,
+            kept: None,
             #[cfg(target_arch = "wasm32")]
             pending: Default::default(),
             #[cfg(target_arch = "wasm32")]
@@ -152,7 +183,8 @@ impl App {
 
     /// Writes the settings now, as the window closes.
     fn save_settings(&mut self) {
-        if self.store.save_reporting(&Settings::of(&self.lab, &self.ui.layout, self.window_size))
+        let settings = Settings::keeping(&mut self.kept, &self.lab, &self.ui.layout, self.window_size);
+        if self.store.save_reporting(&settings)
             && let Some(path) = self.store.path()
         {
             log::info!("settings saved to {}", path.display());
@@ -167,8 +199,10 @@ impl ApplicationHandler for App {
         }
         #[cfg(not(target_arch = "wasm32"))]
         match WindowState::open(event_loop, self.window_size) {
-            Ok(state) => {
+            Ok((state, opened_at)) => {
                 log::info!("window open: scene {}", self.lab.entry.info.name);
+                // A size cut to fit is what the settings keep from now on.
+                self.window_size = opened_at;
                 self.window = Some(state);
             }
             Err(message) => self.fail(event_loop, message),
@@ -270,7 +304,9 @@ impl ApplicationHandler for App {
                 #[cfg(target_arch = "wasm32")]
                 self.store.save_reporting(&Settings::of(&self.lab, &self.ui.layout, self.window_size));
                 #[cfg(not(target_arch = "wasm32"))]
-                self.store.autosave(|| Settings::of(&self.lab, &self.ui.layout, self.window_size));
+                self.store.autosave(|| {
+                    Settings::keeping(&mut self.kept, &self.lab, &self.ui.layout, self.window_size)
+                });
             }
             _ => {}
         }
@@ -282,23 +318,51 @@ impl ApplicationHandler for App {
             event_loop.set_control_flow(ControlFlow::Wait);
             return;
         }
-        let mut wake = state.next_repaint;
-        if self.lab.scene_file.is_some() {
-            // A watched scene file is polled for changes even while nothing moves.
-            let poll = Instant::now() + SCENE_FILE_POLL;
-            wake = Some(wake.map_or(poll, |at| at.min(poll)));
+        let now = Instant::now();
+        // At rest the physics steps on without a frame; a world that woke by itself is
+        // drawn from the next frame on (needs_animation below).
+        if self.lab.next_rest_tick().is_some_and(|at| at <= now) {
+            self.lab.advance_at_rest();
         }
-        match wake {
-            _ if self.lab.needs_animation() => {
-                event_loop.set_control_flow(ControlFlow::Poll);
-                state.window.request_redraw();
+        let earliest = |wake: Option<Instant>, at: Instant| Some(wake.map_or(at, |w| w.min(at)));
+        let mut wake = state.next_repaint;
+        if self.lab.scene_file.is_some() && !self.lab.needs_animation() {
+            // A still window looks for a change of its scene file without drawing; a
+            // reload, or a bad edit's message, is drawn at once.
+            if now >= self.scene_file_polled + SCENE_FILE_POLL {
+                self.scene_file_polled = now;
+                let (entry, status) = (self.lab.entry, self.lab.status.clone());
+                self.lab.poll_scene_file();
+                if !std::ptr::eq(entry, self.lab.entry) || status != self.lab.status {
+                    state.window.request_redraw();
+                }
             }
-            Some(at) if at <= Instant::now() => {
-                event_loop.set_control_flow(ControlFlow::Poll);
-                state.window.request_redraw();
+            wake = earliest(wake, self.scene_file_polled + SCENE_FILE_POLL);
+        }
+        if let Some(tick) = self.lab.next_rest_tick() {
+            wake = earliest(wake, tick);
+        }
+        let resting = self.lab.at_rest();
+        if resting != self.resting {
+            self.resting = resting;
+            let world = self.lab.scene.world();
+            let (t, steps) = (world.time(), world.steps());
+            if resting {
+                log::info!("at rest at t = {t:.3} s (step {steps}): drawing on input only");
+            } else if !self.lab.paused {
+                log::info!("awake at t = {t:.3} s (step {steps}): drawing every frame");
             }
-            Some(at) => event_loop.set_control_flow(ControlFlow::WaitUntil(at)),
-            None => event_loop.set_control_flow(ControlFlow::Wait),
+        }
+        let repaint_due = state.next_repaint.is_some_and(|at| at <= now);
+        if self.lab.needs_animation() || repaint_due {
+            event_loop.set_control_flow(ControlFlow::Poll);
+            state.window.request_redraw();
+        } else {
+            match wake {
+                Some(at) if at <= now => event_loop.set_control_flow(ControlFlow::Poll),
+                Some(at) => event_loop.set_control_flow(ControlFlow::WaitUntil(at)),
+                None => event_loop.set_control_flow(ControlFlow::Wait),
+            }
         }
     }
 }
@@ -333,9 +397,11 @@ impl Present {
 }
 
 impl WindowState {
-    /// Opens a window of `size` logical pixels, with its GPU.
+    /// Opens a window of `size` logical pixels, or the screen's size where that is
+    /// smaller, with its GPU; returns it and the size it was opened at.
     #[cfg(not(target_arch = "wasm32"))]
-    fn open(event_loop: &ActiveEventLoop, size: [u32; 2]) -> Result<Self, String> {
+    fn open(event_loop: &ActiveEventLoop, size: [u32; 2]) -> Result<(Self, [u32; 2]), String> {
+        let (size, note) = fit_screen(event_loop, size);
         let [min_width, min_height] = settings::MIN_WINDOW;
         let attributes = Window::default_attributes()
             .with_title("particle-lab")
@@ -352,7 +418,19 @@ impl WindowState {
             .create_surface(window.clone())
             .map_err(|e| crate::render::gpu::surface_error(&instance, &e.to_string()).to_string())?;
         let gpu = Gpu::with_instance(instance, Some(&surface)).map_err(|e| e.to_string())?;
-        Self::new(window, surface, gpu)
+        let mut state = Self::new(window, surface, gpu)?;
+        // No window larger than the device's largest texture: the window manager keeps
+        // a resize within it, and one already larger is asked to shrink.
+        let side = state.max_side;
+        state.window.set_max_inner_size(Some(winit::dpi::PhysicalSize::new(side, side)));
+        let inner = state.window.inner_size();
+        if state.surface_size(inner) != [inner.width, inner.height] {
+            state.resize(inner.width, inner.height);
+        }
+        if note.is_some() {
+            state.note = note;
+        }
+        Ok((state, size))
     }
 
     /// Opens the page's canvas as the window; its GPU comes asynchronously, and the
@@ -423,6 +501,8 @@ impl WindowState {
             capabilities.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto)
         };
         let size = window.inner_size();
+        let max_side = gpu.device.limits().max_texture_dimension_2d;
+        let [width, height] = fit_surface([size.width, size.height], max_side);
         let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
         if matches!(present, Present::Copy(_)) {
             usage |= wgpu::TextureUsages::COPY_DST;
@@ -431,8 +511,8 @@ impl WindowState {
             usage,
             format,
             color_space: wgpu::SurfaceColorSpace::Auto,
-            width: size.width.max(1),
-            height: size.height.max(1),
+            width,
+            height,
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
             alpha_mode,
@@ -447,7 +527,7 @@ impl WindowState {
         let painter =
             Painter::new(&gpu.device, painted, crate::render::SpherePath::for_adapter(&gpu.adapter));
         let egui = egui::Context::default();
-        let max_texture_side = gpu.device.limits().max_texture_dimension_2d as usize;
+        let max_texture_side = max_side as usize;
         let egui_winit = egui_winit::State::new(
             egui.clone(),
             egui::ViewportId::ROOT,
@@ -469,33 +549,127 @@ impl WindowState {
             next_repaint: Some(Instant::now()),
             frames: 0,
             visible: true,
+            max_side,
+            said_limit: false,
+            note: None,
         })
     }
 
-    /// Reconfigures the surface for a new size; a minimised window (size 0) waits.
+    /// The surface's size for a window of `size` physical pixels: within `max_side`.
+    fn surface_size(&self, size: winit::dpi::PhysicalSize<u32>) -> [u32; 2] {
+        fit_surface([size.width, size.height], self.max_side)
+    }
+
+    /// Reconfigures the surface for a new size; a minimised window (size 0) waits. A
+    /// window larger than [`Self::max_side`] is asked to shrink, and drawn at the
+    /// largest size meanwhile; the status line says so once.
     fn resize(&mut self, width: u32, height: u32) {
         if width == 0 || height == 0 {
             return;
         }
         log::info!("resized to {width}x{height}");
-        self.config.width = width;
-        self.config.height = height;
+        let [fit_width, fit_height] = self.surface_size(winit::dpi::PhysicalSize::new(width, height));
+        if [fit_width, fit_height] != [width, height] {
+            #[cfg(not(target_arch = "wasm32"))]
+            let _ = self.window.request_inner_size(winit::dpi::PhysicalSize::new(fit_width, fit_height));
+            if !self.said_limit {
+                self.said_limit = true;
+                let side = self.max_side;
+                self.note = Some(format!(
+                    "The window can be at most {side}x{side} pixels on this GPU: {width}x{height} is drawn \
+                     at {fit_width}x{fit_height}"
+                ));
+            }
+        }
+        self.config.width = fit_width;
+        self.config.height = fit_height;
         self.surface.configure(&self.gpu.device, &self.config);
     }
 
+    /// Draws a frame. On the desktop the GPU's errors are caught here: running out of
+    /// memory (a window too large for it) makes the window smaller instead of ending the
+    /// lab; any other is said in one line, and the window closes.
     fn frame(&mut self, lab: &mut Lab, shell: &mut LabUi) -> Result<(), String> {
+        #[cfg(not(target_arch = "wasm32"))]
+        let scopes = (
+            self.gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory),
+            self.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation),
+        );
+        let drawn = self.draw(lab, shell);
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let (out_of_memory, invalid) = scopes;
+            let invalid = pollster::block_on(invalid.pop());
+            if pollster::block_on(out_of_memory.pop()).is_some() {
+                // What failed after the allocation did only because of it.
+                return self.shrink(lab);
+            }
+            if let Some(error) = invalid {
+                // wgpu's report runs over several lines ("Caused by:" ...): one line.
+                let text = error.to_string();
+                let lines: Vec<&str> = text.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+                return Err(format!(
+                    "the GPU refused to draw a frame: {}",
+                    crate::messages::plain(&lines.join(" "))
+                ));
+            }
+        }
+        if let Some(note) = self.note.take() {
+            log::warn!("{note}");
+            lab.status = note;
+        }
+        drawn
+    }
+
+    /// After the GPU ran out of memory drawing a frame: the surface (and the window)
+    /// three quarters as large, down to [`SMALLEST_SURFACE_SIDE`].
+    #[cfg(not(target_arch = "wasm32"))]
+    fn shrink(&mut self, lab: &mut Lab) -> Result<(), String> {
+        let (width, height) = (self.config.width, self.config.height);
+        let largest = width.max(height);
+        if largest <= SMALLEST_SURFACE_SIDE {
+            return Err(format!("the GPU ran out of memory drawing even a {width}x{height} frame"));
+        }
+        self.max_side = (largest / 4 * 3).max(SMALLEST_SURFACE_SIDE);
+        let side = self.max_side;
+        self.window.set_max_inner_size(Some(winit::dpi::PhysicalSize::new(side, side)));
+        lab.status = format!(
+            "The GPU ran out of memory drawing a {width}x{height} frame: the window is limited to \
+             {side}x{side} pixels"
+        );
+        log::warn!("{}", lab.status);
+        // Said already: the resize need not say it again, nor an earlier limit.
+        self.said_limit = true;
+        self.note = None;
+        let size = self.window.inner_size();
+        self.resize(size.width, size.height);
+        self.window.request_redraw();
+        Ok(())
+    }
+
+    fn draw(&mut self, lab: &mut Lab, shell: &mut LabUi) -> Result<(), String> {
         let size = self.window.inner_size();
         if size.width == 0 || size.height == 0 {
             return Ok(()); // minimised
         }
-        if size.width != self.config.width || size.height != self.config.height {
+        if self.surface_size(size) != [self.config.width, self.config.height] {
             self.resize(size.width, size.height);
         }
         // Step first, then lay out the panel and the labels, then draw: the labels
         // (and the follow camera) then show the positions the frame draws, not the
         // ones a step before.
         lab.advance();
-        let input = self.egui_winit.take_egui_input(&self.window);
+        let mut input = self.egui_winit.take_egui_input(&self.window);
+        // A window larger than its surface: the panel lays out on what is drawn.
+        if let Some(screen) = &mut input.screen_rect
+            && [self.config.width, self.config.height] != [size.width, size.height]
+        {
+            let scale = egui::vec2(
+                self.config.width as f32 / size.width as f32,
+                self.config.height as f32 / size.height as f32,
+            );
+            *screen = egui::Rect::from_min_size(screen.min, screen.size() * scale);
+        }
         let mut rect = egui::Rect::NOTHING;
         let output = self.egui.run_ui(input, |ui| rect = shell.show(ui, lab));
         // When egui wants the next frame (at once for an animation, later for a
@@ -652,4 +826,31 @@ impl WindowState {
         crate::render::offscreen::write_png(&path, size, &pixels)?;
         Ok(path)
     }
+}
+
+/// `size` (logical pixels) cut to the screen the window opens on, if the platform says
+/// which (a window larger than its screen is never seen whole, and its frames can be
+/// more than a GPU can hold), with the line saying so when it was cut.
+#[cfg(not(target_arch = "wasm32"))]
+fn fit_screen(event_loop: &ActiveEventLoop, size: [u32; 2]) -> ([u32; 2], Option<String>) {
+    let Some(monitor) = event_loop.primary_monitor().or_else(|| event_loop.available_monitors().next())
+    else {
+        return (size, None);
+    };
+    let screen = monitor.size().to_logical::<f64>(monitor.scale_factor());
+    let screen = [screen.width.floor() as u32, screen.height.floor() as u32];
+    if screen.contains(&0) {
+        return (size, None);
+    }
+    let fit = [
+        size[0].min(screen[0].max(settings::MIN_WINDOW[0])),
+        size[1].min(screen[1].max(settings::MIN_WINDOW[1])),
+    ];
+    let note = (fit != size).then(|| {
+        format!(
+            "A window of {}x{} does not fit the screen ({}x{}): opened at {}x{}",
+            size[0], size[1], screen[0], screen[1], fit[0], fit[1]
+        )
+    });
+    (fit, note)
 }

@@ -208,6 +208,132 @@ fn the_ui_draws_a_panel_over_the_scene() {
     assert!(top.count() > 20, "no menu bar across the top");
 }
 
+/// Issue 40, "big renders within the memory they need": a frame larger than a tile is
+/// drawn tile by tile, each with its piece of the view's projection and of the panel.
+/// Drawn in tiles of 97 pixels (so that tiles cut through spheres, links, the grid and
+/// the panel's text, and the last tile of a row overlaps the one before it), the frame
+/// must look as the same frame drawn whole.
+#[test]
+fn a_frame_drawn_in_tiles_looks_as_the_frame_drawn_whole() {
+    let size = [333, 217];
+    for with_ui in [false, true] {
+        let mut whole_capture = capture();
+        let mut tiled_capture = capture();
+        tiled_capture.set_tile_side(97);
+        let plan = tiled_capture.plan(size);
+        assert_eq!(plan.target, [97, 97]);
+        assert_eq!(plan.tiles.len(), 4 * 3, "{plan:?}");
+        assert!(plan.tiles.contains(&[333 - 97, 217 - 97]), "the last tile ends at the corner: {plan:?}");
+        let mut lab = Lab::new("bridge", &[]).unwrap();
+        lab.run_steps_recorded(STEPS);
+        let whole = whole_capture.render(&mut lab, size, with_ui).unwrap();
+        let tiled = tiled_capture.render(&mut lab, size, with_ui).unwrap();
+        assert_eq!(tiled_capture.target_size(), Some([97, 97]), "no target larger than a tile");
+        assert_eq!(whole.len(), tiled.len());
+        let different = whole
+            .chunks_exact(4)
+            .zip(tiled.chunks_exact(4))
+            .filter(|(a, b)| differs([a[0], a[1], a[2], a[3]], [b[0], b[1], b[2], b[3]], CHANNEL_TOLERANCE))
+            .count();
+        let share = different as f64 / f64::from(size[0] * size[1]);
+        if share > PIXEL_TOLERANCE {
+            let dir = std::env::temp_dir();
+            write_png(&dir.join("particle-lab-tiled.png"), size, &tiled).unwrap();
+            write_png(&dir.join("particle-lab-whole.png"), size, &whole).unwrap();
+        }
+        assert!(
+            share <= PIXEL_TOLERANCE,
+            "with_ui {with_ui}: {:.2}% of pixels differ between the tiled and the whole frame (written to \
+             the temp folder)",
+            share * 100.0
+        );
+        // And the frame is not blank: the bridge's spheres are in it.
+        let distinct: std::collections::HashSet<_> =
+            tiled.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
+        assert!(distinct.len() > 100, "only {} colours", distinct.len());
+    }
+}
+
+/// Issue 40: `render --size 8192x8192` (the largest size it takes) peaked at 3 GB. In
+/// tiles it stays under 1.5 GB, as the kernel counts the process's resident memory
+/// (its peak, `ru_maxrss`, read with `wait4`).
+#[test]
+fn the_largest_render_stays_under_one_and_a_half_gigabytes() {
+    let dir = std::env::temp_dir().join(format!("particle-lab-big-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("big.png");
+    let child = binary()
+        .args(["render", "--scene", "bridge", "--steps", "60", "--size", "8192x8192", "--ui", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: a zeroed rusage is a valid value of that plain C struct, and wait4 writes
+    // only into the two places it is given, for our own child, which is not waited on
+    // by anything else (the Child handle is dropped without a wait).
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    drop(child);
+    assert_eq!(waited, pid, "wait4 failed");
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0, "render failed: status {status}");
+    // On Linux ru_maxrss is in kilobytes.
+    let peak_mb = usage.ru_maxrss as f64 / 1024.0;
+    let (pixels, size) = read_png(&out).unwrap();
+    assert_eq!(size, [8192, 8192]);
+    // Not a blank image: the spheres, links, grid and panel give it many colours.
+    let distinct: std::collections::HashSet<_> =
+        pixels.chunks_exact(4).step_by(97).map(|p| [p[0], p[1], p[2]]).collect();
+    assert!(distinct.len() > 100, "only {} colours", distinct.len());
+    drop(pixels);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(peak_mb < 1536.0, "render --size 8192x8192 peaked at {peak_mb:.0} MB");
+    // And it did need the image itself (256 MB): the figure is the whole process's.
+    assert!(peak_mb > 256.0, "a peak of {peak_mb:.0} MB cannot hold the 256 MB image");
+}
+
+/// Issue 38: a scene file's `[[wall]]` was not drawn at all (only a ball's trail showed
+/// the slope). A ramp is drawn: the frame with it differs from the same scene without
+/// it, along a band that runs down the slope, in 3D and in the side view.
+#[test]
+fn a_scene_files_wall_is_drawn_in_3d_and_in_the_side_view() {
+    let dir = std::env::temp_dir().join(format!("particle-lab-wall-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ball = "[scene]\nname = \"ramp\"\n\n[[particle]]\nposition = [0, 2, 0]\nradius = 0.2\n";
+    let ramp = "\n[[wall]]\nnormal = [0.5, 1, 0]\npoint = [0, 0.5, 0]\n";
+    let bare_file = dir.join("bare.toml");
+    let ramp_file = dir.join("ramp.toml");
+    std::fs::write(&bare_file, ball).unwrap();
+    std::fs::write(&ramp_file, format!("{ball}{ramp}")).unwrap();
+    for view in [None, Some("side")] {
+        let frame = |file: &Path, name: &str| {
+            let out = dir.join(name);
+            let mut command = binary();
+            command.args(["render", "--steps", "1", "--size", "320x240", "--scene-file"]).arg(file);
+            if let Some(view) = view {
+                command.args(["--view", view]);
+            }
+            let result = command.arg("--out").arg(&out).output().unwrap();
+            assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+            read_png(&out).unwrap()
+        };
+        let (bare, size) = frame(&bare_file, "bare.png");
+        let (with_wall, _) = frame(&ramp_file, "ramp.png");
+        let differ = |x: u32, y: u32| differs(pixel(&bare, size, x, y), pixel(&with_wall, size, x, y), 8);
+        let different =
+            (0..size[1]).flat_map(|y| (0..size[0]).map(move |x| (x, y))).filter(|&(x, y)| differ(x, y));
+        let different: Vec<(u32, u32)> = different.collect();
+        assert!(different.len() > 200, "{view:?}: the wall changed only {} pixels", different.len());
+        // A line across a slope, not a spot: what it changed spans most of the frame's
+        // width.
+        let (left, right) = different.iter().fold((u32::MAX, 0), |(l, r), &(x, _)| (l.min(x), r.max(x)));
+        assert!(right - left > size[0] / 2, "{view:?}: the wall spans x {left} to {right} only");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn binary() -> Command {
     Command::new(env!("CARGO_BIN_EXE_particle-lab"))
 }

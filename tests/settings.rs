@@ -656,12 +656,14 @@ fn assert_starts_on_the_default_scene(tag: &str, break_it: impl Fn(&Path), reaso
         Some(
             format!(
                 "particle-lab: the scene file {} saved in the settings cannot be opened ({reason}); starting on \
-                 projectile",
+                 projectile, and the settings keep it for the next start",
                 scene_file.display()
             )
             .as_str()
         )
     );
+    let status = opened.warning.as_deref().unwrap().replacen("particle-lab: the", "The", 1);
+    assert_eq!(opened.lab.status, status, "the status line says it too");
     let lab = &opened.lab;
     assert_eq!(lab.entry.info.name, "projectile");
     assert_eq!(lab.scene.params(), Lab::new("projectile", &[]).unwrap().scene.params());
@@ -688,6 +690,118 @@ fn a_saved_scene_file_that_is_gone_or_broken_starts_on_the_default_scene_keeping
         |file| std::fs::write(file, "[scene]\nname = 3\n").unwrap(),
         "line 2, column 8: invalid type: integer `3`, expected a string",
     );
+}
+
+/// Replaces the user's scene file with something that cannot be read as one.
+fn unreadable(file: &Path, how: &str) {
+    let _ = std::fs::remove_file(file);
+    match how {
+        "gone" => {}
+        "fifo" => assert!(Command::new("mkfifo").arg(file).status().unwrap().success()),
+        "device" => std::os::unix::fs::symlink("/dev/zero", file).unwrap(),
+        _ => unreachable!("{how}"),
+    }
+}
+
+/// Issue 40, "Nothing lost": a saved scene file that cannot be read at start (gone, a
+/// FIFO, a device) is reported once, in the status line and the log, and stays in the
+/// settings through the window's autosave with its values, camera and physics rate,
+/// beside whatever else the user changed; the next start tries it again and, once it
+/// is back, opens it as it was.
+#[test]
+fn an_unreadable_saved_scene_file_is_kept_through_an_autosave_and_opens_once_it_is_back() {
+    for (how, reason) in [
+        ("gone", "cannot read it: no such file"),
+        ("fifo", "cannot read it: it is a FIFO (named pipe), not a regular file"),
+        ("device", "cannot read it: it is a device, not a regular file"),
+    ] {
+        let scenes = temp_dir(&format!("kept-{how}-scenes"));
+        let dir = temp_dir(&format!("kept-{how}"));
+        let scene_file = user_scene_file(&scenes);
+        let saved = save_on_scene_file(&dir, &scene_file);
+        unreadable(&scene_file, how);
+
+        let mut opened = open(&Launch::default(), &dir);
+        let warning = opened.warning.clone().unwrap_or_default();
+        assert!(
+            warning.contains(reason) && warning.ends_with("the settings keep it for the next start"),
+            "{warning}"
+        );
+        assert!(opened.lab.status.starts_with("The scene file ") && opened.lab.status.contains(reason));
+        assert_eq!(opened.lab.entry.info.name, "projectile");
+        assert!(opened.kept.is_some());
+        // The user changes things on the scene the window opened on; the window autosaves.
+        opened.lab.time_scale = 2.0;
+        opened.lab.set_param("angle", 30.0);
+        opened.lab.camera_moved = true;
+        let layout = PanelLayout { open: true, ..opened.layout };
+        std::thread::sleep(settings::AUTOSAVE_INTERVAL);
+        let (mut store, mut kept) = (opened.store, opened.kept);
+        store.autosave(|| Settings::keeping(&mut kept, &opened.lab, &layout, [1000, 700]));
+        let after = Settings::parse(&std::fs::read_to_string(dir.join(FILE_NAME)).unwrap()).unwrap();
+        assert_eq!(after.scene_file, saved.scene_file, "{how}: the file is still named");
+        assert_eq!(after.scene, "hanging");
+        assert_eq!(after.params, saved.params, "{how}: with its values");
+        assert_eq!(after.params["links"], 8.0);
+        assert_eq!((after.camera, after.physics_rate), (saved.camera, saved.physics_rate));
+        assert_eq!(
+            (after.view.trails, after.view.color_by_speed),
+            (saved.view.trails, saved.view.color_by_speed)
+        );
+        assert!(after.time_scale == 2.0 && after.panel.open, "{how}: what the user changed is saved too");
+        assert_eq!([after.window.width, after.window.height], [1000, 700]);
+
+        // Still unreadable: the next start says so again and keeps it again.
+        let again = open(&Launch::default(), &dir);
+        assert_eq!(again.warning.as_deref(), Some(warning.as_str()));
+        assert_eq!(again.kept.as_ref().map(|k| &k.scene_file), Some(&saved.scene_file));
+
+        // Back: the next start opens it as it was, and says nothing. (What stood in its
+        // place goes first; a gone file has nothing in its place.)
+        if how != "gone" {
+            std::fs::remove_file(&scene_file).unwrap();
+        }
+        assert_eq!(user_scene_file(&scenes), scene_file);
+        let back = open(&Launch::default(), &dir);
+        assert_eq!(
+            (back.warning.as_deref(), back.lab.status.as_str(), back.kept.is_none()),
+            (None, "", true)
+        );
+        assert_eq!(back.lab.entry.info.name, "hanging");
+        assert_eq!(back.lab.scene.params().get("links"), 8.0);
+        assert_eq!(back.lab.camera.distance, 6.5, "with its camera");
+        assert_eq!(back.lab.time_scale, 2.0);
+    }
+}
+
+/// ... until the user opens another scene: that is the new choice, and it replaces
+/// the kept file for good (going back to the scene the window opened on included).
+#[test]
+fn opening_another_scene_replaces_a_kept_scene_file() {
+    let scenes = temp_dir("replaced-scenes");
+    let dir = temp_dir("replaced");
+    let scene_file = user_scene_file(&scenes);
+    save_on_scene_file(&dir, &scene_file);
+    unreadable(&scene_file, "gone");
+    let mut opened = open(&Launch::default(), &dir);
+    let layout = opened.layout;
+    let kept = &mut opened.kept;
+    assert_eq!(Settings::keeping(kept, &opened.lab, &layout, [900, 600]).scene, "hanging");
+    opened.lab.switch_scene(particle_lab::scenes::find("chain").unwrap());
+    let now = Settings::keeping(kept, &opened.lab, &layout, [900, 600]);
+    assert_eq!((now.scene.as_str(), &now.scene_file), ("chain", &None));
+    assert!(kept.is_none(), "dropped");
+    opened.lab.switch_scene(particle_lab::scenes::find(settings::DEFAULT_SCENE).unwrap());
+    let now = Settings::keeping(kept, &opened.lab, &layout, [900, 600]);
+    assert_eq!((now.scene.as_str(), &now.scene_file), ("projectile", &None), "for good");
+
+    // A scene file opened is the choice as well.
+    let mut opened = open(&Launch::default(), &dir);
+    let other = user_scene_file(&temp_dir("replaced-other"));
+    assert!(opened.lab.open_scene_file(&other));
+    let now = Settings::keeping(&mut opened.kept, &opened.lab, &opened.layout, [900, 600]);
+    assert_eq!(now.scene_file, Some(other.display().to_string()));
+    assert!(opened.kept.is_none());
 }
 
 #[test]
@@ -747,7 +861,7 @@ fn the_binary_warns_once_about_a_saved_scene_file_that_is_gone_and_keeps_the_set
         warnings,
         [format!(
             "particle-lab: the scene file {} saved in the settings cannot be opened (cannot read it: no such \
-             file); starting on projectile",
+             file); starting on projectile, and the settings keep it for the next start",
             particle_lab::messages::path(&scene_file)
         )],
         "{stderr}"

@@ -602,3 +602,199 @@ fn the_window_runs_spring_forces_at_g_zero_and_opens_again_on_the_saved_value() 
     }
     std::fs::remove_dir_all(test_dir("g-zero")).ok();
 }
+
+/// Issue 40: a scene where nothing moves, left running, came to redraw at 34 fps on
+/// 168% CPU. A small pile settles; then the window draws nothing until something
+/// changes, while its physics steps on: paused later, the step it shows is the one the
+/// wall clock asks for, with `simulate`'s state hash; a slider wakes it at once.
+#[test]
+fn a_window_at_rest_draws_nothing_keeps_its_clock_and_a_slider_wakes_it() {
+    let display = Display::start();
+    let mut app = App::start(&display, &["--scene", "pile", "--set", "count=20"], "rest");
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    let line = app.expect_log("at rest at t = ");
+    let rested = Instant::now();
+    // "... at rest at t = 14.100 s (step 846): drawing on input only"
+    let step_of = |line: &str, after: &str| -> u64 {
+        let rest = line.split(after).nth(1).expect("a step");
+        rest.split(|c: char| !c.is_ascii_digit()).next().unwrap().parse().expect("a step number")
+    };
+    let rest_step = step_of(&line, "(step ");
+    let pid = app.child.id();
+    let before = cpu_ticks(pid);
+    std::thread::sleep(Duration::from_secs(3));
+    let resting = cpu_ticks(pid) - before;
+    // Drawing this window takes well over half a core on a software GPU; at rest it
+    // only steps a sleeping pile twenty times a second. 100 ticks a second is one core.
+    assert!(resting < 30, "at rest it used {resting} ticks in 3 s");
+
+    // The clock kept counting: pausing shows the step the wall clock asks for (60 Hz),
+    // and its state is the one `simulate` reaches in as many steps.
+    display.xdotool(&["key", "space"]);
+    let paused = app.expect_log("paused at step");
+    let elapsed = rested.elapsed().as_secs_f64();
+    let step = step_of(&paused, "paused at step ");
+    let counted = (step - rest_step) as f64 / 60.0;
+    assert!(
+        counted > elapsed - 1.0 && counted < elapsed + 0.5,
+        "{counted:.2} s counted at rest in {elapsed:.2} s: {line} / {paused}"
+    );
+    let hash = paused.split(", state hash ").nth(1).expect("the hash").trim();
+    let output = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["simulate", "--scene", "pile", "--set", "count=20", "--steps", &step.to_string()])
+        .args(["--every", &step.to_string()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let last: serde_json::Value = serde_json::from_str(stdout.lines().last().expect("a line")).unwrap();
+    assert_eq!(last["step"], step);
+    assert_eq!(last["hash"].as_str(), Some(hash), "window: {paused}");
+
+    // Running again, it is still at rest; a slider wakes it at once.
+    display.xdotool(&["key", "space"]);
+    wait_until("at rest again", || app.log().matches("at rest at t = ").count() == 2);
+    drag_right(&display, &window, slider_grip("pile", "count"));
+    app.expect_log("set pile.count = ");
+    app.expect_log("awake at t = ");
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    assert!(!app.log().contains("panicked"), "{}", app.log());
+    std::fs::remove_dir_all(&app.dir).ok();
+}
+
+/// Issue 40: a settings file with a window of 16384 x 16384 (in range) panicked at every
+/// start on a GPU that cannot draw so large a frame. It opens at the screen's size, says
+/// so once, and saves that size; a resize past what the GPU can draw is held to it.
+#[test]
+fn a_saved_window_too_large_for_the_screen_opens_at_its_size_and_a_huge_resize_is_held() {
+    let display = Display::start();
+    let config = test_dir("huge-config");
+    let _ = std::fs::remove_dir_all(&config);
+    // A settings file as the window writes it, then made huge.
+    let mut app = App::start_with_config(&display, &["--scene", "pendulum"], "huge-1", &config);
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    let file = config.join("particle-lab").join("settings.json");
+    let mut saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    saved["window"]["width"] = 16_384.into();
+    saved["window"]["height"] = 16_384.into();
+    std::fs::write(&file, saved.to_string()).unwrap();
+
+    let mut app = App::start_with_config(&display, &[], "huge-2", &config);
+    let window = app.window(&display);
+    app.expect_log("window 16384x16384");
+    app.expect_log("A window of 16384x16384 does not fit the screen (1280x800): opened at 1280x800");
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    std::thread::sleep(Duration::from_millis(1500));
+    assert!(app.child.try_wait().unwrap().is_none(), "died:\n{}", app.log());
+    let geometry = display.xdotool(&["getwindowgeometry", &window]);
+    assert!(geometry.contains("Geometry: 1280x800"), "{geometry}");
+    // Paused, so that only the resizes draw (each frame that large is slow).
+    display.xdotool(&["key", "space"]);
+    app.expect_log("paused: true");
+
+    // Far past the largest texture: held to what the GPU draws (on a software GPU,
+    // the memory runs out before the texture limit, and the window is made smaller).
+    display.xdotool(&["windowsize", &window, "20000", "20000"]);
+    wait_until("the limit said", || {
+        let log = app.log();
+        log.contains("The window can be at most") || log.contains("The GPU ran out of memory drawing a")
+    });
+    std::thread::sleep(Duration::from_secs(2));
+    assert!(app.child.try_wait().unwrap().is_none(), "died when resized:\n{}", app.log());
+    // It is usable again at a size that fits.
+    display.xdotool(&["windowsize", &window, "1000", "700"]);
+    app.expect_log("resized to 1000x700");
+    display.xdotool(&["key", "ctrl+q"]);
+    let status = app.wait_exit();
+    let log = app.log();
+    assert!(status.success(), "exit status {status}:\n{log}");
+    assert!(!log.contains("panicked"), "{log}");
+    assert_eq!(log.matches("does not fit the screen").count(), 1, "said once:\n{log}");
+    let saved: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(saved["window"]["width"], 1000, "{saved}");
+    for tag in ["huge-1", "huge-2", "huge-config"] {
+        std::fs::remove_dir_all(test_dir(tag)).ok();
+    }
+}
+
+/// The lab rests only once the energy plot and the trails have nothing left to show
+/// of the motion: `REST_DELAY` covers both.
+#[test]
+fn the_rest_delay_outlasts_the_energy_plot_and_the_trails() {
+    use particle_lab::ui::lab::{MAX_FRAME_TIME, REST_DELAY, REST_TICK};
+    assert!(REST_DELAY >= particle_lab::ui::views::energy::PLOT_SECONDS);
+    assert!(REST_DELAY >= particle_lab::render::Trails::LIFETIME);
+    assert!(REST_TICK.as_secs_f64() < MAX_FRAME_TIME);
+}
+
+/// Issue 40, "File → Open works everywhere": where no file dialog can open (no desktop
+/// portal, no zenity: this test's display has neither), Ctrl+O opens the lab's own path
+/// field and the status line says why; Tab completes from the folder's scene files and
+/// folders, Enter opens. Ctrl+S does the same for a snapshot, which opens again.
+#[test]
+fn where_no_file_dialog_opens_a_path_field_completes_opens_and_saves() {
+    let display = Display::start();
+    let dir = test_dir("no-dialog");
+    let folder = dir.join("my-scenes");
+    std::fs::create_dir_all(&folder).unwrap();
+    let chain =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/chain.toml"))
+            .unwrap()
+            .replacen("name = \"chain\"\n", "name = \"hanging\"\n", 1);
+    std::fs::write(folder.join("hanging-chain.toml"), chain).unwrap();
+    std::fs::write(folder.join("notes.txt"), "not a scene").unwrap();
+    let mut app = App::start(&display, &["--scene", "projectile"], "no-dialog");
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+
+    display.xdotool(&["key", "ctrl+o"]);
+    // Known before trying (no zenity, no session bus), or found by trying (it gave
+    // nothing sooner than a person could cancel).
+    wait_until("the fallback said", || {
+        let log = app.log();
+        log.contains("no file dialog can open (") || log.contains("too soon for a cancel: it could not open")
+    });
+    pause();
+    // The field has the keyboard: a folder completes, then the one scene file in it.
+    // (A pause between keys, as a person leaves: each is drawn before the next.)
+    display.xdotool(&["type", "--delay", "80", "my-sc"]);
+    pause();
+    display.xdotool(&["key", "Tab"]);
+    pause();
+    display.xdotool(&["type", "--delay", "80", "h"]);
+    pause();
+    display.xdotool(&["key", "Tab"]);
+    pause();
+    display.xdotool(&["key", "Return"]);
+    let opened = app.expect_log("scene file opened: ");
+    assert!(opened.ends_with("my-scenes/hanging-chain.toml"), "{opened}");
+    app.expect_log("scene: hanging");
+
+    // Ctrl+S: a snapshot saved through the same field, which opens again.
+    display.xdotool(&["key", "ctrl+s"]);
+    pause();
+    display.xdotool(&["type", "--delay", "80", "kept.json"]);
+    pause();
+    display.xdotool(&["key", "Return"]);
+    let snapshot = dir.join("kept.json");
+    wait_until("the snapshot written", || snapshot.is_file());
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    let log = app.log();
+    assert!(!log.contains("panicked"), "{log}");
+    let reopened = Command::new(env!("CARGO_BIN_EXE_particle-lab"))
+        .args(["simulate", "--steps", "1", "--from"])
+        .arg(&snapshot)
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(reopened.status.success(), "{}", String::from_utf8_lossy(&reopened.stderr));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::collision::{BroadPhase, ContactGenerator, Scratch};
+use super::collision::{BroadPhase, ContactGenerator, Plane, Scratch};
 use super::contact::Contact;
 use super::energy::{self, Energy, Ledger};
 pub use super::error::MAX_TIME_STEP;
@@ -127,6 +127,15 @@ impl World {
         self.contact_generators.push((id, generator));
         self.link_tension.clear();
         Ok(id)
+    }
+
+    /// The planes particles rest on or bounce off (the ground and walls), in the order
+    /// they were added: what a view draws of them.
+    pub fn planes(&self) -> impl Iterator<Item = &Plane> + '_ {
+        self.contact_generators.iter().filter_map(|(_, generator)| match generator {
+            ContactGenerator::Plane(plane) => Some(plane),
+            _ => None,
+        })
     }
 
     /// Unregisters a contact generator; false if it was not registered.

@@ -126,6 +126,15 @@ impl Gpu {
     }
 }
 
+/// The size a window's surface is configured with for a window of `size` physical
+/// pixels: each side within 1 (a surface is never empty) and `max_side`, the device's
+/// largest texture (`max_texture_dimension_2d`, which is what a surface is checked
+/// against: larger is a panic), or less after the GPU ran out of memory.
+#[must_use]
+pub fn fit_surface(size: [u32; 2], max_side: u32) -> [u32; 2] {
+    size.map(|side| side.clamp(1, max_side.max(1)))
+}
+
 /// The least a device is asked for: the downlevel defaults, or WebGL2's (no storage
 /// buffers, the spheres drawn as instances) for an adapter without vertex storage.
 fn base_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
@@ -166,4 +175,18 @@ pub fn instance_descriptor(
         descriptor = descriptor.with_display_handle(display);
     }
     descriptor.with_env()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fit_surface;
+
+    #[test]
+    fn a_surface_fits_the_largest_texture_and_is_never_empty() {
+        assert_eq!(fit_surface([1280, 720], 16_384), [1280, 720]);
+        assert_eq!(fit_surface([20_000, 700], 16_384), [16_384, 700]);
+        assert_eq!(fit_surface([16_384, 16_384], 8_192), [8_192, 8_192]);
+        assert_eq!(fit_surface([0, 0], 8_192), [1, 1]);
+        assert_eq!(fit_surface([500, 500], 0), [1, 1]);
+    }
 }

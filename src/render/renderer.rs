@@ -3,8 +3,8 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use super::camera::OrbitCamera;
 use super::frame::{FrameData, SegmentInstance, SphereInstance, WaterQuad};
+use super::orbit_camera::OrbitCamera;
 
 /// Samples per pixel of the 3D pass by default (4x MSAA).
 pub const DEFAULT_SAMPLE_COUNT: u32 = 4;
@@ -394,7 +394,9 @@ impl Renderer {
 
     /// Records the 3D pass: clears `target` (of `size` pixels, in this renderer's colour
     /// format) and draws `frame` as seen by `camera` into `viewport` (x, y, width,
-    /// height in pixels).
+    /// height in pixels, fitted into the target by [`fit_viewport`]). With a
+    /// [`ViewPiece`](super::orbit_camera::ViewPiece) on the camera, `viewport` is where that
+    /// piece of the whole view lands; an empty one (no width or height) draws nothing.
     #[allow(clippy::too_many_arguments)]
     pub fn render(
         &mut self,
@@ -408,14 +410,17 @@ impl Renderer {
         frame: &FrameData,
     ) {
         let size = [size[0].max(1), size[1].max(1)];
-        let [x, y] =
-            [viewport[0].clamp(0.0, size[0] as f32 - 1.0), viewport[1].clamp(0.0, size[1] as f32 - 1.0)];
-        let width = viewport[2].clamp(1.0, size[0] as f32 - x);
-        let height = viewport[3].clamp(1.0, size[1] as f32 - y);
-        let aspect = width / height;
+        // A piece of a view (a tile of a big frame) may have none of the view in it:
+        // the target is then only cleared.
+        let empty = camera.piece.is_some() && (viewport[2] <= 0.0 || viewport[3] <= 0.0);
+        let [x, y, width, height] = fit_viewport(viewport, size);
+        let view_proj = match camera.piece {
+            Some(piece) => camera.piece_projection(piece, [width, height]),
+            None => camera.view_projection(width / height),
+        };
         let light = Vec3::new(0.4, 0.8, 0.45).normalize();
         let globals = Globals {
-            view_proj: camera.view_projection(aspect).to_cols_array_2d(),
+            view_proj: view_proj.to_cols_array_2d(),
             eye: camera.eye().extend(camera.ground).to_array(),
             viewport: [width, height, if frame.grid { 1.0 } else { 0.0 }, camera.near()],
             light: light.extend(camera.distance).to_array(),
@@ -467,6 +472,9 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if empty {
+            return;
+        }
         pass.set_viewport(x, y, width, height, 0.0, 1.0);
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_pipeline(&self.ground);
@@ -506,4 +514,15 @@ impl Renderer {
             pass.draw(0..6, 0..frame.trails.len() as u32);
         }
     }
+}
+
+/// `viewport` (x, y, width, height in pixels) fitted into a target `size` pixels large:
+/// its corner inside the target, at least a pixel wide and high, and no further out
+/// than the target's edge.
+#[must_use]
+pub fn fit_viewport(viewport: [f32; 4], size: [u32; 2]) -> [f32; 4] {
+    let [width, height] = [size[0].max(1) as f32, size[1].max(1) as f32];
+    let x = viewport[0].clamp(0.0, width - 1.0);
+    let y = viewport[1].clamp(0.0, height - 1.0);
+    [x, y, viewport[2].clamp(1.0, width - x), viewport[3].clamp(1.0, height - y)]
 }

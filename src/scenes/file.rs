@@ -499,12 +499,46 @@ struct FileScene {
     torn: usize,
     /// Reused buffer of link states, for tearing.
     states: Vec<LinkState>,
+    /// The walls' patches as drawn (see [`wall_outlines`]), made when the world is built.
+    walls: Vec<(Vec3, Vec3)>,
+}
+
+/// The lines that draw `built`'s walls: every plane but the ground the view draws (at
+/// y = 0), each a patch around the box its particles (by their radii) and link
+/// anchors fill as built.
+fn wall_outlines(built: &Built) -> Vec<(Vec3, Vec3)> {
+    let world = &built.world;
+    let (mut lo, mut hi) = particle_box(world);
+    let mut links = Vec::new();
+    world.links_into(&mut links);
+    for link in &links {
+        if let crate::physics::LinkEnd::Anchor(anchor) = link.spec.b {
+            (lo, hi) = (lo.min(anchor), hi.max(anchor));
+        }
+    }
+    let mut out = Vec::new();
+    for plane in world.planes().filter(|plane| !(plane.normal == Vec3::Y && plane.offset == 0.0)) {
+        super::walls::plane_patch(plane, lo, hi, &mut out);
+    }
+    out
+}
+
+/// The box `world`'s particles fill, by their radii (m): lowest and highest corner;
+/// with no particles, `lo` is above `hi`.
+fn particle_box(world: &World) -> (Vec3, Vec3) {
+    let p = &world.particles;
+    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    for (&x, &r) in p.positions().iter().zip(p.radii()) {
+        (lo, hi) = (lo.min(x - r), hi.max(x + r));
+    }
+    (lo, hi)
 }
 
 impl FileScene {
     fn new(definition: &'static Definition, params: ParamValues) -> Result<Self, FileError> {
         let built = definition.build(&params)?;
-        Ok(Self { definition, params, built, torn: 0, states: Vec::new() })
+        let walls = wall_outlines(&built);
+        Ok(Self { definition, params, built, torn: 0, states: Vec::new(), walls })
     }
 
     /// Breaks every link pulled harder than its `tear` tension in the last step.
@@ -579,6 +613,7 @@ impl Scene for FileScene {
             .definition
             .build(&params)
             .map_err(|e| ParamError::Rejected { key: name.to_string(), reason: e.to_string() })?;
+        self.walls = wall_outlines(&built);
         self.built = built;
         self.built.world.set_solver(solver).expect("the running world's settings were valid");
         self.params = params;
@@ -616,6 +651,31 @@ impl Scene for FileScene {
 
     fn water(&self) -> Option<Water> {
         self.built.water
+    }
+
+    fn outlines(&self, out: &mut Vec<(Vec3, Vec3)>) {
+        out.extend_from_slice(&self.walls);
+    }
+
+    /// With walls: their patches' corners and the corners of the box the particles
+    /// fill now, so that framing shows the walls and what is on them.
+    fn framing_points(&self, out: &mut Vec<Vec3>) {
+        if self.walls.is_empty() {
+            return;
+        }
+        for &(a, b) in &self.walls {
+            out.extend([a, b]);
+        }
+        let (lo, hi) = particle_box(&self.built.world);
+        if lo.cmple(hi).all() {
+            for k in 0..8 {
+                out.push(Vec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                ));
+            }
+        }
     }
 
     fn camera(&self) -> CameraHint {

@@ -36,6 +36,7 @@ pub mod pile;
 mod projectile;
 pub mod snapshot;
 mod spring_forces;
+pub mod walls;
 
 use std::path::Path;
 

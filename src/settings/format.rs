@@ -234,6 +234,33 @@ impl Settings {
         }
     }
 
+    /// What the window saves: [`Self::of`], except that while the lab is still on the
+    /// scene it opened on instead of a saved scene file that could not be opened
+    /// (`kept`, the settings as read; see [`open`](super::open)), the saved scene file
+    /// and what belongs to it (its name, path and parameter values, physics rate,
+    /// camera, trails and colour by speed) are written back as they were read, so the
+    /// next start tries the file again. Once the lab is on another scene (the user
+    /// opened one, or loaded a snapshot of one) that is the choice, and `kept` is
+    /// dropped for good.
+    #[must_use]
+    pub fn keeping(kept: &mut Option<Settings>, lab: &Lab, panel: &PanelLayout, window: [u32; 2]) -> Self {
+        let mut now = Self::of(lab, panel, window);
+        let Some(saved) = kept.as_ref() else { return now };
+        let still_instead = scenes::find(DEFAULT_SCENE).is_ok_and(|instead| std::ptr::eq(instead, lab.entry));
+        if !still_instead {
+            *kept = None;
+            return now;
+        }
+        now.scene.clone_from(&saved.scene);
+        now.scene_file.clone_from(&saved.scene_file);
+        now.params.clone_from(&saved.params);
+        now.physics_rate = saved.physics_rate;
+        now.camera = saved.camera;
+        now.view.trails = saved.view.trails;
+        now.view.color_by_speed = saved.view.color_by_speed;
+        now
+    }
+
     /// Reads settings from the text of a file, checking every value; the error is one
     /// line saying what is wrong and where.
     pub fn parse(text: &str) -> Result<Self, String> {

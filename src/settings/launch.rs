@@ -128,6 +128,10 @@ pub struct Opened {
     pub warning: Option<String>,
     /// One line for the log saying where the settings came from and what they are.
     pub summary: String,
+    /// The settings as read, when they name a scene file that could not be opened:
+    /// what [`Settings::keeping`] writes back while the lab is on the scene it opened
+    /// on instead, so the next start tries the file again.
+    pub kept: Option<Settings>,
 }
 
 /// Builds the window's lab from the command line and the settings in `store`: the
@@ -154,6 +158,9 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         }
     };
     let resolved = saved.as_ref().map(Settings::resolve).transpose()?;
+    // A saved scene file that cannot be opened: the settings as read, kept (see
+    // `Settings::keeping`) so that saving does not drop the file the user chose.
+    let mut kept = None;
     // The saved scene: found by name, or its file opened again (unless the command line
     // chose another scene or a snapshot, when the file is not read at all).
     let saved_entry = match (&saved, &resolved) {
@@ -166,10 +173,11 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
                     .map_err(|error| {
                         warning = Some(format!(
                             "particle-lab: the scene file {} saved in the settings cannot be opened ({}); \
-                             starting on {DEFAULT_SCENE}",
+                             starting on {DEFAULT_SCENE}, and the settings keep it for the next start",
                             crate::messages::path(Path::new(path)),
                             file_reason(&error)
                         ));
+                        kept = Some(saved.clone());
                     })
                     .ok(),
             },
@@ -220,7 +228,19 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         format!("; from the command line: {}", typed.join(" "))
     };
     let summary = format!("settings {origin}{overrides}: {}", Settings::of(&lab, &layout, window).describe());
-    Ok(Opened { lab, layout, window, store, warning, summary })
+    // What went wrong with the saved scene file is in the status line too, once.
+    if let Some(line) = warning.as_deref().filter(|_| saved.as_ref().is_some_and(|s| s.scene_file.is_some()))
+    {
+        lab.status = status_line(line);
+    }
+    Ok(Opened { lab, layout, window, store, warning, summary, kept })
+}
+
+/// A warning as the status line shows it: without the program's name, capitalised.
+fn status_line(warning: &str) -> String {
+    let text = warning.strip_prefix("particle-lab: ").unwrap_or(warning);
+    let mut chars = text.chars();
+    chars.next().map_or_else(String::new, |first| first.to_uppercase().chain(chars).collect())
 }
 
 /// Applies what the lab was built without: the view and time scale always (the panel

@@ -173,6 +173,13 @@ impl Compare {
                 self.stopped = Some("the copy blew up (a value stopped being finite)".into());
             }
         }
+        // Every other figure it shows (its energies), once a frame.
+        if self.stopped.is_none() {
+            let mut links = Vec::new();
+            if let Some(what) = self.scene.world().first_non_finite(&mut links) {
+                self.stopped = Some(format!("the copy blew up ({what} stopped being finite)"));
+            }
+        }
         self.record();
     }
 

@@ -3,7 +3,7 @@
 
 use egui::{Key, Modifiers};
 
-use super::lab::Lab;
+use super::lab::{Lab, Purpose};
 use super::layout::PanelLayout;
 use crate::scenes::{LOAD_STEP, SceneAction};
 
@@ -36,6 +36,9 @@ pub enum Command {
     Help,
     /// Close the window.
     Quit,
+    /// Open a file or save one, as the File menu's item does: the platform's dialog,
+    /// or the lab's path field where none opens.
+    Ask(Purpose),
     /// Move the bridge's load by (dx, dz) deck pairs.
     MoveLoad(f32, f32),
 }
@@ -89,6 +92,18 @@ pub const SHORTCUTS: &[Shortcut] = &[
         meaning: "quit",
         binding: Binding::Keys(Modifiers::COMMAND, &[Key::Q]),
         command: Some(Command::Quit),
+    },
+    Shortcut {
+        keys: "Ctrl+O",
+        meaning: "open a scene file",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::O]),
+        command: Some(Command::Ask(Purpose::OpenScene)),
+    },
+    Shortcut {
+        keys: "Ctrl+S",
+        meaning: "save a snapshot",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::S]),
+        command: Some(Command::Ask(Purpose::SaveSnapshot)),
     },
     key(
         "Left / A",
@@ -169,6 +184,7 @@ pub fn run(command: Command, lab: &mut Lab, layout: &mut PanelLayout) {
         Command::Screenshot => lab.requests.screenshot = true,
         Command::Help => layout.help = !layout.help,
         Command::Quit => lab.requests.quit = true,
+        Command::Ask(purpose) => lab.requests.file = Some(purpose),
         Command::MoveLoad(dx, dz) => lab.act(SceneAction::MoveLoad { dx, dz }),
     }
 }

@@ -10,6 +10,7 @@
 //! - `page` (in a browser only) the web page around the canvas: its GPU, files,
 //!   downloads, link and state element;
 //! - `paint` the 3D frame and the labels over it;
+//! - `path_completion` what a typed path completes to (a folder's entries, no egui);
 //! - `compare` the Compare copy; `lab/` the model: scene, world, clocks, history.
 //!
 //! This file only re-exports; nothing in `ui/` imports it.
@@ -21,6 +22,8 @@ pub mod layout;
 #[cfg(target_arch = "wasm32")]
 pub mod page;
 pub mod paint;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod path_completion;
 pub mod plot;
 pub mod shell;
 pub mod style;

@@ -95,6 +95,12 @@ impl LabUi {
             self.energy.plot = None;
         }
         self.help.show(ui.ctx(), &mut self.layout);
+        // A file asked for by its key (Ctrl+O, Ctrl+S), as the File menu's item does.
+        if let Some(purpose) = lab.requests.file.take() {
+            self.menu.file.asked(purpose, lab);
+        }
+        // The path field standing in for a file dialog that cannot open.
+        self.menu.file.prompt_ui(ui.ctx(), lab);
         egui::CentralPanel::no_frame().show(ui, |ui| self.view.ui(ui, lab)).inner
     }
 

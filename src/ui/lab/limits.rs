@@ -24,6 +24,16 @@ pub const MSAA_LIMIT: usize = 20_000;
 /// every particle (the pile's takes milliseconds at 100,000 spheres): too slow for
 /// every frame, and nobody reads numbers that change 60 times a second.
 pub const READOUT_INTERVAL: Duration = Duration::from_millis(250);
+/// Simulated seconds the lab must have been still (every movable particle asleep, its
+/// Compare copy's too) before it is at rest and stops drawing: the span of the energy
+/// plot (`views::energy::PLOT_SECONDS`), longer than a trail lasts
+/// (`Trails::LIFETIME`), so that neither is still changing on screen when the drawing
+/// stops. `tests/window.rs` checks it against both.
+pub const REST_DELAY: f64 = 10.0;
+/// How often a window at rest steps its physics, without drawing (real time): the
+/// clock keeps counting at the physics' own fixed steps, well within [`MAX_FRAME_TIME`]
+/// so no time is dropped, and a world that wakes by itself is drawn within this.
+pub const REST_TICK: Duration = Duration::from_millis(50);
 /// Physics rates the panel offers (Hz).
 pub const PHYSICS_RATE_RANGE: std::ops::RangeInclusive<f32> = 30.0..=1000.0;
 /// Time scales the panel offers.

@@ -3,16 +3,16 @@
 //!
 //! Its rooms: `model` (the `Lab` and its scene), `clock` (stepping in real time),
 //! `grab` (dragging and picking), `forces` (the inspector's forces and the arrows'
-//! scale), `camera` (framing, side view, follow), `bars` (energy bars), `tape`,
+//! scale), `framing` (the camera: framing, side view, follow), `bars` (energy bars), `tape`,
 //! `snapshots`, `scene_file` (open and hot-reload a scene file, with `watch`), `link`
 //! (a web page's query string as the window's command line, and the link of what is on
 //! screen); and two leaves every room may read, `limits` (the constants) and
 //! `records` (plain data). Only this facade re-exports; no room imports it.
 
 mod bars;
-mod camera;
 mod clock;
 mod forces;
+mod framing;
 mod grab;
 pub mod limits;
 mod link;
@@ -29,4 +29,4 @@ pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;
 pub use link::Link;
 pub use model::Lab;
-pub use records::{EnergyBars, EnergySample, Grab, Requests, Stats};
+pub use records::{EnergyBars, EnergySample, Grab, Purpose, Requests, Stats};

@@ -12,7 +12,7 @@ use super::limits::{FRAMING_ASPECT, HISTORY, MSAA_LIMIT, READOUT_INTERVAL};
 use super::records::{EnergySample, Grab, Joined, Requests, Stats};
 use super::watch::Watch;
 use crate::physics::inspect::ConstraintMeter;
-use crate::physics::{ParticleId, SolverKind, SolverSettings};
+use crate::physics::{LinkState, ParticleId, SolverKind, SolverSettings};
 use crate::render::{OrbitCamera, Trails, ViewOptions};
 use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{self, Scene, SceneAction, SceneEntry};
@@ -98,6 +98,12 @@ pub struct Lab {
     pub snapshot_path: String,
     /// The state F5 saved, which F9 goes back to.
     pub(super) quick_save: Option<Snapshot>,
+    /// The simulated time since which every movable particle (and the Compare copy's)
+    /// has been asleep, as last recorded; none while something moves (see `Lab::at_rest`).
+    pub(super) still_since: Option<f64>,
+    /// The links' states, reused by the once-a-frame check that every figure shown is
+    /// finite (`World::first_non_finite`).
+    pub(super) finite_scratch: Vec<LinkState>,
 }
 
 impl Lab {
@@ -159,6 +165,8 @@ impl Lab {
             rate_origin: (1.0 / entry.info.dt, entry.info.dt),
             snapshot_path: "snapshot.json".into(),
             quick_save: None,
+            still_since: None,
+            finite_scratch: Vec::new(),
         };
         lab.apply_scene_view();
         lab.frame_scene();
@@ -296,6 +304,8 @@ impl Lab {
             self.scene.world_mut().set_solver(self.solver).expect("the lab's solver settings were validated");
         }
         self.accumulator = 0.0;
+        // A new world (or the old one put back) is still only once seen so.
+        self.still_since = None;
         self.status.clear();
         self.trails.clear();
         self.energy.clear();

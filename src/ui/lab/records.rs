@@ -123,6 +123,59 @@ pub struct Requests {
     pub screenshot: bool,
     /// Close the window.
     pub quit: bool,
+    /// Ask for a file (Ctrl+O, Ctrl+S): the File menu's dialog, or the path field
+    /// standing in for it.
+    pub file: Option<Purpose>,
+}
+
+/// What a file dialog, or the path field standing in for it, is asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Purpose {
+    /// File → Open scene file…
+    OpenScene,
+    /// File → Open snapshot…
+    OpenSnapshot,
+    /// File → Save snapshot as…
+    SaveSnapshot,
+}
+
+impl Purpose {
+    /// The window's title, as the menu item says it.
+    #[must_use]
+    pub fn title(self) -> &'static str {
+        match self {
+            Self::OpenScene => "Open scene file",
+            Self::OpenSnapshot => "Open snapshot",
+            Self::SaveSnapshot => "Save snapshot as",
+        }
+    }
+
+    /// The files it takes, by extension (without the dot).
+    #[must_use]
+    pub fn extension(self) -> &'static str {
+        match self {
+            Self::OpenScene => "toml",
+            Self::OpenSnapshot | Self::SaveSnapshot => "json",
+        }
+    }
+
+    /// What it opens or saves, in words.
+    #[must_use]
+    pub fn kind(self) -> &'static str {
+        match self {
+            Self::OpenScene => "scene file",
+            Self::OpenSnapshot | Self::SaveSnapshot => "snapshot",
+        }
+    }
+
+    /// The button's word.
+    #[must_use]
+    pub fn action(self) -> &'static str {
+        match self {
+            Self::OpenScene | Self::OpenSnapshot => "Open",
+            Self::SaveSnapshot => "Save",
+        }
+    }
 }
 
 /// Reused buffers for finding the mass joined to the dragged particle, so that a

@@ -23,6 +23,21 @@ pub struct OrbitCamera {
     pub orthographic: bool,
     /// Height of the ground drawn under the scene (m), which the eye stays above.
     pub ground: f32,
+    /// Draw only this piece of the view (a tile of a frame too big for one GPU
+    /// target); `None`, the whole view. Only the renderer reads it: picking, labels
+    /// and [`Self::project`] always see the whole view.
+    pub piece: Option<ViewPiece>,
+}
+
+/// A piece of a view drawn on its own: a frame larger than one GPU target is drawn a
+/// tile at a time, each with the whole view's projection moved and scaled so that
+/// every pixel lands where it would in the whole (see [`OrbitCamera::piece_projection`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewPiece {
+    /// Width and height of the whole view (px).
+    pub whole: [f32; 2],
+    /// The piece's top-left corner in the whole view (px from the view's top left).
+    pub offset: [f32; 2],
 }
 
 impl OrbitCamera {
@@ -46,6 +61,7 @@ impl OrbitCamera {
             fov_y: 45f32.to_radians(),
             orthographic: false,
             ground: 0.0,
+            piece: None,
         }
     }
 
@@ -99,6 +115,27 @@ impl OrbitCamera {
             rh::proj::directx::perspective(self.fov_y, aspect, near, self.far())
         };
         projection * rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
+    }
+
+    /// World to clip space for `piece` of the view, drawn into a viewport `size` pixels
+    /// large: [`Self::view_projection`] of the whole view, then moved and scaled in clip
+    /// space so the piece's rectangle fills the viewport. Depth is untouched, and a
+    /// pixel's footprint is the same as in the whole view, so lines a number of pixels
+    /// wide and screen-space derivatives come out as they would there.
+    #[must_use]
+    pub fn piece_projection(&self, piece: ViewPiece, size: [f32; 2]) -> Mat4 {
+        let [width, height] = piece.whole.map(|side| side.max(1e-3));
+        let [piece_width, piece_height] = size.map(|side| side.max(1e-3));
+        let [left, top] = piece.offset;
+        // The piece spans whole-view NDC x from 2 left / width - 1 to 2 (left +
+        // piece_width) / width - 1, y from 1 - 2 top / height down: those go to -1 and 1.
+        let scale = Vec3::new(width / piece_width, height / piece_height, 1.0);
+        let shift = Vec3::new(
+            (width - 2.0 * left - piece_width) / piece_width,
+            (2.0 * top + piece_height - height) / piece_height,
+            0.0,
+        );
+        Mat4::from_translation(shift) * Mat4::from_scale(scale) * self.view_projection(width / height)
     }
 
     /// The unit direction the camera looks in.
