@@ -131,6 +131,7 @@ use glam::Vec3;
 pub use self::build::MAX_PARTICLES;
 use self::build::{Built, Handle, Located};
 use self::format::Document;
+pub use self::format::{ACCEPTED_KEYS, accepted_keys};
 use super::{
     CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water,
 };

@@ -1,7 +1,7 @@
 //! Snapshots: a running scene saved to a file and loaded again, to step on with the
 //! same bits.
 //!
-//! A snapshot is one JSON object (format described in the README, "Snapshots"):
+//! A snapshot is one JSON object (described for users in docs/cli.md, "Snapshots"):
 //!
 //! - `format` (`"particle-lab snapshot"`) and `version` ([`VERSION`]): read first, so a
 //!   file from a newer particle-lab is refused with that said, not with a field error;

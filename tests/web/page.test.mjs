@@ -181,7 +181,7 @@ check(gzipped <= 4 * 1024 * 1024, 'the wasm is at most 4 MB gzipped',
   `${(wasm.length / 1048576).toFixed(2)} MB, ${(gzipped / 1048576).toFixed(2)} MB gzipped`);
 
 // The File menu's items, as the menu lays them out at this size (the first column of
-// the menu, a row each: see its screenshot in the README's web section).
+// the menu, a row each: see its screenshot in docs/guide.md, "Pictures").
 const FILE_MENU = { open: [20, 12] };
 const FILE_ITEMS = { openScene: [67, 39], downloadSnapshot: [74, 62], openSnapshot: [67, 85], copyLink: [43, 172] };
 

@@ -145,6 +145,78 @@ macro_rules! table {
     };
 }
 
+/// Every table a scene file may have and the keys each accepts, in the order the
+/// reference (`docs/scene-format.md`) lists them. The parser refuses any other table or
+/// key; a test below checks this list against the one serde reports for each table.
+pub const ACCEPTED_KEYS: &[(&str, &[&str])] = &[
+    ("scene", &["name", "summary", "dt", "steps", "trails", "color_by_speed", "gravity"]),
+    ("param", &["name", "unit", "default", "min", "max", "help", "logarithmic", "integer"]),
+    ("particle", &["name", "position", "velocity", "mass", "radius", "damping", "fixed", "rolls"]),
+    (
+        "row",
+        &[
+            "name",
+            "count",
+            "start",
+            "step",
+            "position",
+            "velocity",
+            "mass",
+            "radius",
+            "damping",
+            "fixed",
+            "rolls",
+            "pin",
+            "link",
+            "closed",
+            "length",
+            "k",
+            "restitution",
+            "damping_ratio",
+            "tear",
+        ],
+    ),
+    (
+        "grid",
+        &[
+            "name",
+            "rows",
+            "cols",
+            "origin",
+            "step_col",
+            "step_row",
+            "position",
+            "velocity",
+            "mass",
+            "radius",
+            "damping",
+            "fixed",
+            "rolls",
+            "pin",
+            "link",
+            "shear",
+            "length",
+            "k",
+            "restitution",
+            "damping_ratio",
+            "tear",
+        ],
+    ),
+    ("link", &["kind", "a", "b", "anchor", "length", "k", "restitution", "damping_ratio", "tear"]),
+    ("drag", &["k1", "k2", "targets"]),
+    ("buoyancy", &["particle", "surface", "half_height", "volume", "density"]),
+    ("ground", &["height", "restitution", "friction", "rolling_resistance"]),
+    ("wall", &["normal", "point", "restitution", "friction", "rolling_resistance"]),
+    ("collisions", &["restitution", "friction", "rolling_resistance"]),
+    ("camera", &["target", "distance", "yaw", "pitch"]),
+];
+
+/// The tables a scene file may have and the keys each accepts ([`ACCEPTED_KEYS`]).
+#[must_use]
+pub fn accepted_keys() -> &'static [(&'static str, &'static [&'static str])] {
+    ACCEPTED_KEYS
+}
+
 /// The whole file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -420,4 +492,65 @@ pub struct CameraTable {
     pub yaw: Option<SNum>,
     /// Elevation (degrees), positive looks down.
     pub pitch: Option<SNum>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{ACCEPTED_KEYS, Document};
+
+    /// The names serde lists after "expected one of" in an unknown-field error.
+    fn expected_names(message: &str) -> Vec<String> {
+        let (_, list) = message.split_once("expected").unwrap_or_else(|| panic!("no list in: {message}"));
+        list.split('`').skip(1).step_by(2).map(str::to_string).collect()
+    }
+
+    /// The parser's message for `text`, which must be refused.
+    fn refusal(text: &str) -> String {
+        match toml::from_str::<Document>(text) {
+            Ok(_) => panic!("accepted, but should not have:\n{text}"),
+            Err(error) => error.message().to_string(),
+        }
+    }
+
+    /// A file whose table `table` holds `line` and nothing else (with the `[scene]`
+    /// every file needs).
+    fn file_with(table: &str, line: &str) -> String {
+        let array = !matches!(table, "scene" | "ground" | "collisions" | "camera");
+        let header = if array { format!("[[{table}]]") } else { format!("[{table}]") };
+        if table == "scene" {
+            format!("{header}\n{line}\n")
+        } else {
+            format!("[scene]\nname = \"keys\"\n{header}\n{line}\n")
+        }
+    }
+
+    #[test]
+    fn the_accepted_keys_are_exactly_the_ones_the_parser_accepts() {
+        // The tables: an unknown one is refused with the list of the known ones.
+        let message = refusal("[scene]\nname = \"keys\"\n[no_such_table]\nx = 1\n");
+        assert!(message.contains("unknown field `no_such_table`"), "{message}");
+        let mut tables = expected_names(&message);
+        let mut listed: Vec<String> = ACCEPTED_KEYS.iter().map(|(t, _)| (*t).to_string()).collect();
+        tables.sort();
+        listed.sort();
+        assert_eq!(tables, listed, "the tables a file may have");
+        for (table, keys) in ACCEPTED_KEYS {
+            // An unknown key is refused, and the refusal lists what the table accepts.
+            let message = refusal(&file_with(table, "no_such_key = 1"));
+            assert!(message.contains("unknown field `no_such_key`"), "[{table}]: {message}");
+            let mut accepted = expected_names(&message);
+            let mut listed: Vec<String> = keys.iter().map(|k| (*k).to_string()).collect();
+            accepted.sort();
+            listed.sort();
+            assert_eq!(accepted, listed, "the keys of [{table}]");
+            // Every listed key is taken as a key of the table (its value may still be
+            // refused for its type, or another key be missing, but not the key itself).
+            for key in *keys {
+                if let Err(error) = toml::from_str::<Document>(&file_with(table, &format!("{key} = 1"))) {
+                    let message = error.message();
+                    assert!(!message.contains("unknown field"), "[{table}] {key}: {message}");
+                }
+            }
+        }
+    }
 }
