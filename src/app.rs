@@ -120,6 +120,7 @@ const SCENE_FILE_POLL: Duration = Duration::from_millis(250);
 
 /// The smallest side the window's surface is cut to after the GPU ran out of memory
 /// drawing a frame (physical pixels): below this the lab gives up with a message.
+#[cfg(not(target_arch = "wasm32"))]
 const SMALLEST_SURFACE_SIDE: u32 = 320;
 
 /// Everything that exists once the window does.
