@@ -2,6 +2,8 @@
 # particle-lab in a browser.
 #   bash scripts/web.sh build   installs what it needs, writes the static site to web/dist/
 #   bash scripts/web.sh serve   serves web/dist/ on 127.0.0.1 and prints the address
+#   bash scripts/web.sh serve --lan   serves it to the local network too (a classroom
+#                                     with no hosting) and prints every address
 # The site is static: copy web/dist/ to any web server (GitHub Pages, a school's
 # server, `python3 -m http.server`) and open index.html there.
 set -euo pipefail
@@ -68,11 +70,15 @@ build() {
 
 serve() {
     [ -f web/dist/index.html ] || { echo "no web/dist/ yet: run 'bash scripts/web.sh build' first" >&2; exit 1; }
-    exec python3 scripts/serve.py web/dist "${PORT:-8000}"
+    case "${1:-}" in
+        "") exec python3 scripts/serve.py web/dist "${PORT:-8000}" ;;
+        --lan) exec python3 scripts/serve.py web/dist "${PORT:-8000}" --lan ;;
+        *) echo "usage: bash scripts/web.sh serve [--lan]" >&2; exit 2 ;;
+    esac
 }
 
 case "${1:-}" in
     build) build ;;
-    serve) serve ;;
-    *) echo "usage: bash scripts/web.sh build|serve" >&2; exit 2 ;;
+    serve) shift; serve "$@" ;;
+    *) echo "usage: bash scripts/web.sh build|serve [--lan]" >&2; exit 2 ;;
 esac
