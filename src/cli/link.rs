@@ -2,28 +2,17 @@
 //! link gives in the window); and the flags of `open`, which opens such a link in the
 //! window (read by [`Launch::from_link`](crate::settings::Launch::from_link)).
 
-use std::path::PathBuf;
-
-use super::flags::{MAX_STEPS, SolverArgs};
+use super::flags::{MAX_STEPS, SceneChoice};
 use crate::ui::Lab;
 use crate::ui::lab::Link;
 
 /// `particle-lab link`.
 #[derive(Debug, clap::Args)]
 pub struct LinkArgs {
-    /// Scene name (see `particle-lab scenes`).
-    #[arg(long, value_name = "SCENE")]
-    pub scene: Option<String>,
-    /// Scene file (TOML), instead of --scene: a shipped one is named in the link, any
-    /// other is carried in it whole (packed, after `#`).
-    #[arg(long, value_name = "PATH")]
-    pub scene_file: Option<PathBuf>,
-    /// Set a scene parameter, KEY=VALUE (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// Solver choice.
+    /// The scene, its parameters and the solver: a shipped scene is named in the link,
+    /// any other scene file is carried in it whole (packed, after `#`).
     #[command(flatten)]
-    pub solver: SolverArgs,
+    pub choice: SceneChoice,
     /// Physics steps the page runs at once before it pauses, as `simulate --steps N`.
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
@@ -45,9 +34,9 @@ pub struct OpenArgs {
 
 /// The link `args` ask for, or a one-line reason it cannot be made.
 pub fn link(args: &LinkArgs) -> Result<String, String> {
-    let entry = crate::scenes::file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
-    let solver = args.solver.settings()?;
-    let mut lab = Lab::from_entry(entry, &args.set, solver)?;
+    let entry = args.choice.entry()?;
+    let solver = args.choice.solver.settings()?;
+    let mut lab = Lab::from_entry(entry, &args.choice.set, solver)?;
     if let Some(steps) = args.steps {
         if steps > MAX_STEPS {
             return Err(format!("--steps {steps} is out of range; valid range: 0 to {MAX_STEPS}"));
