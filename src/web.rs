@@ -46,6 +46,7 @@ pub fn start() {
         page::show_failure(&message);
     }));
     let _ = log::set_logger(&CONSOLE).map(|()| log::set_max_level(log::LevelFilter::Info));
+    reload_on_new_fragment();
 
     let mut problems = Vec::new();
     let mut link = Link::parse(&query_pairs()).unwrap_or_else(|message| {
@@ -58,6 +59,9 @@ pub fn start() {
         Launch::default()
     });
     launch.scene_text = link.scene_text.take();
+    if link.names_experiment() {
+        launch.link = Some(settings::LinkRate(link.rate));
+    }
     let opened = settings::open(&launch, Store::from_platform()).or_else(|message| {
         problems.push(message);
         settings::open(&Launch { fresh: launch.fresh, ..Launch::default() }, Store::from_platform())
@@ -86,6 +90,22 @@ pub fn start() {
         }
     };
     event_loop.spawn_app(App::new(lab, layout, store, window));
+}
+
+/// A link pasted into the same tab that differs only after the `#` (another scene
+/// file carried in it) moves to the new fragment without loading the page again:
+/// the page then loads itself again, so the new link is read. (Copy link changes the
+/// address with `history.replaceState`, which fires no `hashchange`.)
+fn reload_on_new_fragment() {
+    let Some(window) = web_sys::window() else { return };
+    let reload = wasm_bindgen::closure::Closure::<dyn FnMut()>::new(|| {
+        if let Some(window) = web_sys::window() {
+            let _ = window.location().reload();
+        }
+    });
+    window.set_onhashchange(Some(reload.as_ref().unchecked_ref()));
+    // The page keeps it for its lifetime.
+    reload.forget();
 }
 
 /// The log, to the browser's console.

@@ -275,3 +275,69 @@ fn a_scene_too_big_for_a_link_and_a_damaged_link_are_one_line() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A link opens at its own physics rate (`rate=HZ`, written when the lab's differs from
+/// the scene's), or the scene's own, never at a rate saved in the settings: otherwise
+/// `steps=N` would not reach the state it promises.
+#[test]
+fn a_link_opens_at_its_own_rate_not_a_saved_one() {
+    use particle_lab::settings::Settings;
+    // Settings saved on bridge at 90 Hz.
+    let dir = scratch("rate");
+    let (_, launch) = open_link("?scene=bridge").unwrap();
+    let mut saved_lab = settings::open(&launch, Store::in_dir(&dir)).unwrap().lab;
+    saved_lab.physics_rate = 90.0;
+    let panel = particle_lab::settings::PanelSettings::default();
+    assert!(Store::in_dir(&dir).save(&Settings::of(&saved_lab, &panel, [900, 600])).unwrap());
+    let (_, plain) = open_link("").unwrap();
+    assert_eq!(settings::open(&plain, Store::in_dir(&dir)).unwrap().lab.physics_rate, 90.0, "saved");
+
+    // A lab at 120 Hz: its link says so, and opens at 120 Hz over the saved 90.
+    let (_, first) = open_link("?scene=bridge&set=g=5").unwrap();
+    let mut lab = settings::open(&first, Store::in_dir(&scratch("rate-a"))).unwrap().lab;
+    lab.physics_rate = 120.0;
+    lab.run_steps_recorded(200);
+    let query = Link::of(&lab, true).unwrap();
+    assert!(query.contains("&rate=120&"), "{query}");
+    let copy_launch = Launch::from_link(&query).unwrap();
+    let mut copy = settings::open(&copy_launch, Store::in_dir(&dir)).unwrap().lab;
+    assert_eq!(copy.physics_rate, 120.0);
+    Link::parse_text(&query).unwrap().run_steps(&mut copy);
+    assert_eq!(copy.state_hash(), lab.state_hash(), "{query}");
+
+    // Without `rate`, the scene's own rate (240 Hz), not the saved 90.
+    let at_own = Launch::from_link("?scene=bridge&steps=240").unwrap();
+    let own = settings::open(&at_own, Store::in_dir(&dir)).unwrap().lab;
+    assert_eq!(own.dt(), own.entry.info.dt);
+    assert!(Link::of(&own, false).unwrap().find("rate=").is_none());
+    // A rate out of the panel's range is one line.
+    let error = Launch::from_link("?scene=bridge&rate=5").unwrap_err();
+    assert!(error.contains("'rate'") && error.contains("30 to 1000"), "{error}");
+    let error = Launch::from_link("?scene=bridge&steps=18446744073709551615").unwrap_err();
+    assert!(error.contains("0 to 100000000"), "{error}");
+}
+
+/// A scene carried by a link has no home to open again from: the settings saved from
+/// it name the default scene (the rest kept), so the next plain start opens cleanly
+/// instead of setting the whole settings file aside as unusable.
+#[test]
+fn settings_saved_on_a_carried_scene_open_again_on_the_default_scene() {
+    use particle_lab::settings::Settings;
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/chain.toml"))
+        .unwrap()
+        .replacen("name = \"chain\"", "name = \"sent-chain\"", 1);
+    let link = format!("#file={}", particle_lab::ui::lab::carried::pack(&text));
+    let dir = scratch("carried-settings");
+    let mut lab = settings::open(&Launch::from_link(&link).unwrap(), Store::in_dir(&dir)).unwrap().lab;
+    assert_eq!(lab.entry.info.name, "sent-chain");
+    lab.time_scale = 0.5;
+    let panel = particle_lab::settings::PanelSettings::default();
+    let saved = Settings::of(&lab, &panel, [900, 600]);
+    assert_eq!((saved.scene.as_str(), saved.params.len(), &saved.scene_file), ("projectile", 0, &None));
+    assert!(Store::in_dir(&dir).save(&saved).unwrap());
+    let (_, plain) = open_link("").unwrap();
+    let again = settings::open(&plain, Store::in_dir(&dir)).unwrap();
+    assert_eq!(again.warning, None, "the settings are usable");
+    assert_eq!(again.lab.entry.info.name, "projectile");
+    assert_eq!(again.lab.time_scale, 0.5, "the rest kept");
+}

@@ -62,5 +62,5 @@ impl SolverArgs {
     }
 }
 
-/// Most steps `simulate` accepts in one run.
-pub const MAX_STEPS: u64 = 100_000_000;
+/// Most steps `simulate` accepts in one run (a link's `steps` has the same bound).
+pub use crate::ui::lab::MAX_STEPS;

@@ -204,9 +204,27 @@ pub(super) struct Resolved {
 }
 
 impl Settings {
-    /// What persists of `lab` and the panel `panel`, in a window `window` logical pixels large.
+    /// What persists of `lab` and the panel `panel`, in a window `window` logical pixels
+    /// large. A scene with no home to open again from (a scene file carried by a link,
+    /// or picked in a web page: neither registered nor on disk) is not saved: the
+    /// settings name the default scene with its defaults instead, and keep the rest.
     #[must_use]
     pub fn of(lab: &Lab, panel: &PanelLayout, window: [u32; 2]) -> Self {
+        let mut settings = Self::of_any(lab, panel, window);
+        let found = scenes::find(&settings.scene).is_ok_and(|entry| std::ptr::eq(entry, lab.entry));
+        if settings.scene_file.is_none() && !found {
+            let default = scenes::find(DEFAULT_SCENE).expect("the default scene is registered");
+            settings.scene = DEFAULT_SCENE.to_string();
+            settings.params.clear();
+            settings.physics_rate = 1.0 / default.info.dt;
+            settings.camera.moved = false;
+        }
+        settings
+    }
+
+    /// What `lab` is now, whatever its scene (for the log's summary); [`Self::of`] is
+    /// what is saved.
+    pub(super) fn of_any(lab: &Lab, panel: &PanelLayout, window: [u32; 2]) -> Self {
         let solver = lab.solver();
         let camera = lab.camera;
         Self {

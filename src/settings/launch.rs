@@ -40,7 +40,14 @@ pub struct Launch {
     pub scene_text: Option<String>,
     /// A link's `steps=N`: run N physics steps at once, then pause.
     pub steps: Option<u64>,
+    /// Opened from a link: its physics rate (`rate=HZ`, else the scene's own) wins over
+    /// a saved one.
+    pub link: Option<LinkRate>,
 }
+
+/// The physics rate a link opens at: its own `rate=HZ`, or (`None`) the scene's.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LinkRate(pub Option<f32>);
 
 impl Launch {
     /// The window's flags from the parsed command line. Which solver flags were typed
@@ -60,6 +67,7 @@ impl Launch {
     pub fn from_link(text: &str) -> Result<Self, String> {
         let link = crate::ui::lab::Link::parse_text(text)?;
         let mut launch = Self::from_args(&link.args)?;
+        launch.link = link.names_experiment().then_some(LinkRate(link.rate));
         launch.scene_text = link.scene_text;
         launch.steps = link.steps;
         Ok(launch)
@@ -105,6 +113,7 @@ impl Launch {
             from: cli.from.clone(),
             scene_text: None,
             steps: None,
+            link: None,
         })
     }
 
@@ -246,13 +255,17 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         layout = saved.panel;
         window = [saved.window.width, saved.window.height];
     }
+    if let Some(LinkRate(rate)) = launch.link {
+        lab.physics_rate = rate.unwrap_or(1.0 / lab.entry.info.dt);
+    }
     let typed = launch.typed();
     let overrides = if typed.is_empty() {
         String::new()
     } else {
         format!("; from the command line: {}", typed.join(" "))
     };
-    let summary = format!("settings {origin}{overrides}: {}", Settings::of(&lab, &layout, window).describe());
+    let summary =
+        format!("settings {origin}{overrides}: {}", Settings::of_any(&lab, &layout, window).describe());
     // What went wrong with the saved scene file is in the status line too, once.
     if let Some(line) = warning.as_deref().filter(|_| saved.as_ref().is_some_and(|s| s.scene_file.is_some()))
     {

@@ -44,5 +44,5 @@ pub use format::{
     CameraSettings, DEFAULT_SCENE, DEFAULT_WINDOW, MAX_WINDOW_SIDE, MIN_WINDOW, Settings, SolverChoice,
     VERSION, ViewSettings, WindowSize,
 };
-pub use launch::{Launch, Opened, open};
+pub use launch::{Launch, LinkRate, Opened, open};
 pub use store::{AUTOSAVE_INTERVAL, FILE_NAME, Loaded, MAX_FILE_BYTES, Store};

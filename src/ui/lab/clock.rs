@@ -92,8 +92,21 @@ impl Lab {
         let real_dt = self.last_frame.map_or(0.0, |last| now.duration_since(last).as_secs_f64());
         self.last_frame = Some(now);
         self.stats.steps_last_frame = 0;
-        if !self.paused {
-            self.step_for(real_dt);
+        self.rest_tick(real_dt);
+    }
+
+    /// The physics of a tick at rest: `real_dt` of wall time in pieces of at most half
+    /// [`MAX_STEPS_PER_FRAME`] steps each, since a tick (longer than a frame) at a high
+    /// rate and time scale asks for more steps than one frame may take (1000 Hz at 4×
+    /// is 200 steps in a 50 ms tick), and none of them is to be dropped.
+    fn rest_tick(&mut self, real_dt: f64) {
+        let steps_time = f64::from(self.dt()) / f64::from(self.time_scale).max(1e-6);
+        let piece = 0.5 * f64::from(MAX_STEPS_PER_FRAME) * steps_time;
+        let mut left = real_dt.min(MAX_FRAME_TIME);
+        while left > 0.0 && !self.paused {
+            let now = left.min(piece);
+            self.step_for(now);
+            left -= now;
         }
     }
 
@@ -398,7 +411,7 @@ mod tests {
         let start = ticked.scene.world().time();
         let ticks = 200;
         for _ in 0..ticks {
-            ticked.step_for(REST_TICK.as_secs_f64());
+            ticked.rest_tick(REST_TICK.as_secs_f64());
             assert!(ticked.at_rest());
         }
         let steps = ticked.scene.world().steps() - stepped.scene.world().steps();
@@ -437,6 +450,29 @@ mod tests {
         );
         // The step it stopped at is the one the status names.
         assert!(lab.status.contains(&format!("at step {}", lab.scene.world().steps())), "{}", lab.status);
+    }
+
+    /// At the highest rate and time scale the panel offers, a tick at rest asks for
+    /// far more steps than a frame may take: none is dropped, the clock keeps pace.
+    #[test]
+    fn at_rest_at_the_highest_rate_and_time_scale_the_clock_keeps_pace() {
+        let mut lab = pile();
+        step_until_at_rest(&mut lab);
+        lab.physics_rate = *super::super::limits::PHYSICS_RATE_RANGE.end();
+        lab.time_scale = *super::super::limits::TIME_SCALE_RANGE.end();
+        assert!(lab.at_rest(), "the spheres sleep on at another rate");
+        let (start, dropped) = (lab.scene.world().time(), lab.stats.dropped_steps);
+        let ticks = 20;
+        for _ in 0..ticks {
+            lab.rest_tick(REST_TICK.as_secs_f64());
+        }
+        let counted = lab.scene.world().time() - start;
+        let asked = ticks as f64 * REST_TICK.as_secs_f64() * f64::from(lab.time_scale);
+        assert!(
+            (counted - asked).abs() <= f64::from(lab.dt()) * 1.001,
+            "{counted} s counted of {asked} s asked"
+        );
+        assert_eq!(lab.stats.dropped_steps, dropped, "steps dropped at rest");
     }
 
     #[test]

@@ -70,3 +70,5 @@ pub const HISTORY: usize = 600;
 pub const VELOCITY_ARROW: f32 = 0.25;
 /// See [`VELOCITY_ARROW`].
 pub const ACCELERATION_ARROW: f32 = 0.1;
+/// Most physics steps one run may ask for: `simulate --steps`, and a link's `steps=N`.
+pub const MAX_STEPS: u64 = 100_000_000;

@@ -30,6 +30,10 @@ pub struct Link {
     /// `file=PACKED`: a scene file carried in the link (see [`carried`](super::carried)),
     /// opened instead of a named scene.
     pub scene_text: Option<String>,
+    /// `rate=HZ`: the physics rate, where it is not the scene's own. A link opens at
+    /// this rate or the scene's own, never at one saved in the settings, so that it
+    /// shows the same experiment everywhere.
+    pub rate: Option<f32>,
 }
 
 impl Link {
@@ -40,8 +44,9 @@ impl Link {
         for (key, value) in pairs {
             match key.as_str() {
                 "steps" => {
-                    let steps = value.parse::<u64>().map_err(|_| {
-                        format!("invalid value '{value}' for 'steps': a whole number of physics steps")
+                    let most = super::limits::MAX_STEPS;
+                    let steps = value.parse::<u64>().ok().filter(|&steps| steps <= most).ok_or_else(|| {
+                        format!("invalid value '{value}' for 'steps': a whole number of physics steps, 0 to {most}")
                     })?;
                     link.steps = Some(steps);
                 }
@@ -52,6 +57,18 @@ impl Link {
                 },
                 "fresh" => link.args.push("--fresh".into()),
                 "file" => link.scene_text = Some(super::carried::unpack(value)?),
+                "rate" => {
+                    let range = super::limits::PHYSICS_RATE_RANGE;
+                    let rate =
+                        value.parse::<f32>().ok().filter(|rate| range.contains(rate)).ok_or_else(|| {
+                            format!(
+                                "invalid value '{value}' for 'rate': physics steps a second, {} to {}",
+                                range.start(),
+                                range.end()
+                            )
+                        })?;
+                    link.rate = Some(rate);
+                }
                 key if LINK_KEYS.contains(&key) => link.args.push(format!("--{key}={value}")),
                 _ => {
                     return Err(format!(
@@ -67,11 +84,21 @@ impl Link {
         Ok(link)
     }
 
+    /// Whether the link names an experiment (a scene, or a scene file it carries), as
+    /// opposed to only page keys (`?gpu=webgl2`): such a link opens at its own physics
+    /// rate (or the scene's), not a saved one.
+    #[must_use]
+    pub fn names_experiment(&self) -> bool {
+        self.scene_text.is_some() || self.args.iter().any(|arg| arg.starts_with("--scene="))
+    }
+
     /// Reads a whole link as typed or pasted: `https://…/?scene=…`, `?…`, `#file=…` or
     /// `…?query#fragment`; the keys and values of its query and its fragment, decoded.
     pub fn parse_text(text: &str) -> Result<Self, String> {
         let text = text.trim();
         let (before, fragment) = text.split_once('#').unwrap_or((text, ""));
+        // As a page reads its fragment: any further '#' at its start is dropped.
+        let fragment = fragment.trim_start_matches('#');
         let query = before.split_once('?').map_or("", |(_, query)| query);
         if query.is_empty() && fragment.is_empty() {
             return Err(format!(
@@ -97,7 +124,8 @@ fn decode(text: &str) -> Result<String, String> {
     while k < bytes.len() {
         match bytes[k] {
             b'%' => {
-                let hex = bytes.get(k + 1..k + 3).and_then(|h| std::str::from_utf8(h).ok());
+                let hex = bytes.get(k + 1..k + 3).filter(|h| h.iter().all(u8::is_ascii_hexdigit));
+                let hex = hex.and_then(|h| std::str::from_utf8(h).ok());
                 let byte = hex.and_then(|h| u8::from_str_radix(h, 16).ok()).ok_or_else(|| {
                     format!("the link has a broken escape near '{}'", crate::messages::clip(&text[k..], 12))
                 })?;
@@ -167,6 +195,9 @@ impl Link {
         pairs.push(("solver".into(), solver.kind.name().into()));
         pairs.push(("substeps".into(), solver.substeps.to_string()));
         pairs.push(("integrator".into(), solver.integrator.name().into()));
+        if lab.dt().to_bits() != lab.entry.info.dt.to_bits() {
+            pairs.push(("rate".into(), lab.physics_rate.to_string()));
+        }
         if with_steps {
             pairs.push(("steps".into(), lab.scene.world().steps().to_string()));
         }
