@@ -36,19 +36,10 @@ pub struct Cli {
     /// What to do; without a command the window opens.
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Scene to open the window on.
-    #[arg(long, global = false)]
-    pub scene: Option<String>,
-    /// Scene file (TOML) to open the window on, instead of --scene; reloaded when it
-    /// changes.
-    #[arg(long, value_name = "PATH")]
-    pub scene_file: Option<std::path::PathBuf>,
-    /// Set a scene parameter, KEY=VALUE (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// Solver choice for the window.
+    /// The scene to open the window on (a scene file is reloaded when it changes), its
+    /// parameters and the solver.
     #[command(flatten)]
-    pub solver: SolverArgs,
+    pub choice: flags::SceneChoice,
     /// Open the window with the default settings, without reading the saved ones
     /// (they are replaced on exit).
     #[arg(long)]

@@ -101,11 +101,11 @@ impl Launch {
     /// `typed`: whether `--solver`, `--substeps` and `--integrator` were typed (as
     /// opposed to filled in with their defaults).
     fn from_typed(cli: &Cli, typed: [bool; 3]) -> Result<Self, String> {
-        let solver = cli.solver.settings()?;
+        let solver = cli.choice.solver.settings()?;
         Ok(Self {
-            scene: cli.scene.clone(),
-            scene_file: cli.scene_file.clone(),
-            set: cli.set.clone(),
+            scene: cli.choice.scene.clone(),
+            scene_file: cli.choice.scene_file.clone(),
+            set: cli.choice.set.clone(),
             solver: typed[0].then_some(solver.kind),
             substeps: typed[1].then_some(solver.substeps),
             integrator: typed[2].then_some(solver.integrator),
