@@ -332,6 +332,60 @@ fn every_scene_is_framed_whole_in_a_narrow_view_and_the_users_camera_is_kept() {
     assert!(lab.camera.distance > distance, "Home reframes for the narrow view");
 }
 
+/// Issue 38, "the view finds the experiment": a scene file 500 m from the origin and
+/// one a kilometre wide open framed, in 3D and in the side view, and Home frames them
+/// again after the camera was moved away: every particle in the view, and the
+/// experiment not a speck in it (its particles span a tenth of the view or more).
+/// (Millimetre particles are not yet: framed closer, they were not drawn at all.)
+#[test]
+fn scene_files_at_any_place_and_scale_are_framed_in_3d_and_the_side_view() {
+    let size = Vec2::new(980.0, 700.0);
+    let files = [
+        (
+            "far",
+            "[[particle]]\nposition = [500, 3, 40]\nradius = 0.2\n\n[[particle]]\nposition = [501.5, 3, 40]\nradius = 0.2\n",
+        ),
+        (
+            "wide",
+            "[[row]]\ncount = 11\nstart = [-500, 30, 0]\nstep = [100, 0, 0]\nradius = 5\npin = [0, -1]\nlink = \"rod\"\n",
+        ),
+    ];
+    for (name, body) in files {
+        let text = format!("[scene]\nname = \"{name}\"\n\n{body}");
+        let entry = particle_lab::scenes::file::load_text(&text, name, None).unwrap();
+        for side in [false, true] {
+            let mut lab =
+                Lab::from_entry(entry, &[], particle_lab::physics::SolverSettings::default()).unwrap();
+            lab.set_view_aspect(size.x / size.y);
+            if side {
+                lab.set_side_view(true);
+            }
+            // Moved far off, then Home.
+            lab.camera.target += glam::Vec3::new(3000.0, 0.0, 0.0);
+            lab.home();
+            let positions = lab.scene.world().particles.positions().to_vec();
+            let screen: Vec<Vec2> = positions
+                .iter()
+                .map(|&p| {
+                    lab.camera.project(p, size).unwrap_or_else(|| panic!("{name}: {p} behind the camera"))
+                })
+                .collect();
+            for (p, s) in positions.iter().zip(&screen) {
+                let inside = s.x >= 0.0 && s.x <= size.x && s.y >= 0.0 && s.y <= size.y;
+                assert!(inside, "{name} (side {side}): {p} lands at {s}, outside the view");
+            }
+            let (lo, hi) = screen
+                .iter()
+                .fold((Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)), |(lo, hi), &s| (lo.min(s), hi.max(s)));
+            let span = (hi - lo).max_element();
+            assert!(
+                span > 0.1 * size.x.min(size.y),
+                "{name} (side {side}): the particles span only {span} px"
+            );
+        }
+    }
+}
+
 #[test]
 fn a_reset_clears_the_selection_and_the_tape() {
     let mut lab = Lab::new("springForces", &[]).unwrap();
