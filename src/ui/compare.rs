@@ -6,7 +6,7 @@
 use std::collections::VecDeque;
 
 use crate::messages::quote;
-use crate::physics::{Integrator, SolverKind, SolverSettings};
+use crate::physics::{Integrator, LinkState, SolverKind, SolverSettings};
 use crate::scenes::snapshot::Snapshot;
 use crate::scenes::{Scene, SceneEntry};
 
@@ -105,6 +105,8 @@ pub struct Compare {
     pub energy: VecDeque<EnergySample>,
     /// It stopped: a value stopped being finite, or a step was refused. Says why.
     pub stopped: Option<String>,
+    /// The copy's link states, reused by the once-a-frame finiteness check.
+    links: Vec<LinkState>,
 }
 
 impl Compare {
@@ -127,7 +129,8 @@ impl Compare {
             Change::Param(name, value) => scene.set_param(name, value).map_err(|e| e.to_string())?,
         }
         scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
-        let mut compare = Self { scene, change, dt, energy: VecDeque::new(), stopped: None };
+        let mut compare =
+            Self { scene, change, dt, energy: VecDeque::new(), stopped: None, links: Vec::new() };
         compare.record();
         Ok(compare)
     }
@@ -149,7 +152,8 @@ impl Compare {
         if solver != *scene.world().solver() {
             scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
         }
-        let mut compare = Self { scene, change, dt, energy: VecDeque::new(), stopped: None };
+        let mut compare =
+            Self { scene, change, dt, energy: VecDeque::new(), stopped: None, links: Vec::new() };
         compare.record();
         Ok(compare)
     }
@@ -175,8 +179,7 @@ impl Compare {
         }
         // Every other figure it shows (its energies), once a frame.
         if self.stopped.is_none() {
-            let mut links = Vec::new();
-            if let Some(what) = self.scene.world().first_non_finite(&mut links) {
+            if let Some(what) = self.scene.world().first_non_finite(&mut self.links) {
                 self.stopped = Some(format!("the copy blew up ({what} stopped being finite)"));
             }
         }
