@@ -1,6 +1,7 @@
 //! The command line: `scenes` lists the scenes, `simulate` runs one headless and prints
 //! JSON Lines, `render` draws frames off-screen, `link` prints the link that opens a
-//! scene in the web lab and `open` opens such a link in the window. Bad input gets one line on stderr and
+//! scene in the web lab, `open` opens such a link in the window and `export` prints a
+//! scene as a scene file. Bad input gets one line on stderr and
 //! exit code 2, never a panic.
 //!
 //! This file holds the flags (clap's derive) and their parsing; each command has its
@@ -10,6 +11,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod clock;
+pub mod export;
 pub mod flags;
 pub mod link;
 pub mod list;
@@ -20,6 +22,7 @@ pub mod setup;
 pub mod simulate;
 pub mod usage;
 
+pub use export::ExportArgs;
 pub use flags::{MAX_STEPS, SolverArgs};
 pub use link::{LinkArgs, OpenArgs};
 pub use list::{Format, list_scenes};
@@ -68,6 +71,9 @@ pub enum Command {
     Link(LinkArgs),
     /// Open a link to an experiment (from File → Copy link or `link`) in the window
     Open(OpenArgs),
+    /// Print a scene as a scene file (what File → Save scene as… writes), with the
+    /// values `--set` gives as its defaults
+    Export(ExportArgs),
 }
 
 /// Parses the command line; on bad flags prints clap's error on one line, with its

@@ -55,6 +55,28 @@ fn main() -> ExitCode {
             Err(message) => usage_error(&message),
         },
         Some(Command::Open(open)) => window(Launch::from_link(&open.link)),
+        Some(Command::Export(export)) => match cli::export::export(&export) {
+            Ok(text) => match &export.out {
+                None => {
+                    print!("{text}");
+                    ExitCode::SUCCESS
+                }
+                Some(path) => match particle_lab::writing::write_atomic(path, text.as_bytes()) {
+                    Ok(()) => {
+                        println!("wrote {}", particle_lab::messages::path(path));
+                        ExitCode::SUCCESS
+                    }
+                    Err(error) => {
+                        eprintln!(
+                            "particle-lab: cannot write {}: {error}",
+                            particle_lab::messages::path(path)
+                        );
+                        ExitCode::from(1)
+                    }
+                },
+            },
+            Err(message) => usage_error(&message),
+        },
         None => window(Launch::from_cli(&args)),
     }
 }

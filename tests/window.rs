@@ -728,8 +728,10 @@ fn a_saved_window_too_large_for_the_screen_opens_at_its_size_and_a_huge_resize_i
 #[test]
 fn the_rest_delay_outlasts_the_energy_plot_and_the_trails() {
     use particle_lab::ui::lab::{MAX_FRAME_TIME, REST_DELAY, REST_TICK};
-    assert!(REST_DELAY >= particle_lab::ui::views::energy::PLOT_SECONDS);
-    assert!(REST_DELAY >= particle_lab::render::Trails::LIFETIME);
+    const {
+        assert!(REST_DELAY >= particle_lab::ui::views::energy::PLOT_SECONDS);
+        assert!(REST_DELAY >= particle_lab::render::Trails::LIFETIME);
+    }
     assert!(REST_TICK.as_secs_f64() < MAX_FRAME_TIME);
 }
 
@@ -850,5 +852,63 @@ fn open_opens_a_link_that_carries_a_scene_file_in_the_window() {
     assert_eq!(last["step"], 150);
     assert_eq!(last["hash"].as_str(), Some(hash.as_str()), "window: {paused}");
     let _ = app.child.kill();
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 38, "Keep it as a file": Ctrl+Shift+S saves the running scene as a scene file
+/// (here through the lab's path field, filled with the scene's name), with the values
+/// it runs at as its defaults; the file is what `export` prints and runs as the scene
+/// did. On a scene built into the program it says why it cannot, and writes nothing.
+#[test]
+fn ctrl_shift_s_saves_the_scene_as_a_file_that_runs_as_it_did() {
+    let display = Display::start();
+    let dir = test_dir("save-scene");
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut app = App::start(&display, &["--scene", "chain", "--set", "links=9"], "save-scene");
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    display.xdotool(&["key", "ctrl+shift+s"]);
+    wait_until("the fallback said", || {
+        let log = app.log();
+        log.contains("no file dialog can open (") || log.contains("too soon for a cancel: it could not open")
+    });
+    pause();
+    // The field holds the scene's name; Enter saves.
+    display.xdotool(&["key", "Return"]);
+    app.expect_log("scene file saved: chain.toml");
+    let saved = std::fs::read_to_string(dir.join("chain.toml")).expect("the saved file");
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    assert!(!app.log().contains("panicked"), "{}", app.log());
+
+    let run = |args: &[&str]| {
+        let out =
+            Command::new(env!("CARGO_BIN_EXE_particle-lab")).args(args).current_dir(&dir).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    assert_eq!(saved, run(&["export", "--scene", "chain", "--set", "links=9"]));
+    let hash = |args: &[&str]| {
+        let out = run(args);
+        let last: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+        last["hash"].as_str().unwrap().to_string()
+    };
+    assert_eq!(
+        hash(&["simulate", "--scene-file", "chain.toml", "--steps", "200", "--every", "200"]),
+        hash(&["simulate", "--scene", "chain", "--set", "links=9", "--steps", "200", "--every", "200"]),
+    );
+
+    // A built-in scene: the status line says why, nothing is written.
+    let mut app = App::start(&display, &["--scene", "projectile"], "save-scene");
+    let window = app.window(&display);
+    display.xdotool(&["windowactivate", "--sync", &window]);
+    pause();
+    display.xdotool(&["key", "ctrl+shift+s"]);
+    app.expect_log("cannot save the scene as a file: 'projectile' is built into the program");
+    display.xdotool(&["key", "ctrl+q"]);
+    assert!(app.wait_exit().success(), "{}", app.log());
+    assert!(!app.log().contains("no file dialog can open ("), "{}", app.log());
+    assert!(!dir.join("projectile.toml").exists());
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -122,6 +122,7 @@
 mod build;
 pub mod expr;
 mod format;
+mod write;
 
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
@@ -132,6 +133,7 @@ pub use self::build::MAX_PARTICLES;
 use self::build::{Built, Handle, Located};
 use self::format::Document;
 pub use self::format::{ACCEPTED_KEYS, accepted_keys};
+pub use self::write::HEADER;
 use super::{
     CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water,
 };
@@ -203,6 +205,14 @@ impl Definition {
         self.path.as_deref()
     }
 
+    /// The file as the writer writes it ([`write`](self::write)): the same tables in the
+    /// reference's order, with each parameter's default the value in `values` (a slider
+    /// moved, a `--set`).
+    #[must_use]
+    pub fn written(&self, values: Option<&ParamValues>) -> String {
+        write::write(self.doc, values)
+    }
+
     /// The registry entry of this load.
     #[must_use]
     pub fn entry(&self) -> &'static SceneEntry {
@@ -266,6 +276,25 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
             let defaults = ParamValues::defaults(definition.info.params);
             Box::new(FileScene::new(definition, defaults).expect("the defaults were built at load"))
         }
+    }
+}
+
+/// The scene file of a scene as it stands: its tables with each parameter's default
+/// the value in `values` ([`Definition::written`]); or why it cannot be written.
+pub fn written(entry: &SceneEntry, values: &ParamValues) -> Result<String, String> {
+    writable(entry).map(|definition| definition.written(Some(values)))
+}
+
+/// The file a scene can be written as, or why it cannot be.
+pub fn writable(entry: &SceneEntry) -> Result<&'static Definition, String> {
+    match definition(entry) {
+        Some(definition) => Ok(definition),
+        None => Err(format!(
+            "'{}' is built into the program, and only scenes made from scene files can be saved as one so far \
+             (open a file, or a shipped one: {})",
+            entry.info.name,
+            shipped().iter().map(|e| e.info.name).collect::<Vec<_>>().join(", ")
+        )),
     }
 }
 

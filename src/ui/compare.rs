@@ -178,10 +178,10 @@ impl Compare {
             }
         }
         // Every other figure it shows (its energies), once a frame.
-        if self.stopped.is_none() {
-            if let Some(what) = self.scene.world().first_non_finite(&mut self.links) {
-                self.stopped = Some(format!("the copy blew up ({what} stopped being finite)"));
-            }
+        if self.stopped.is_none()
+            && let Some(what) = self.scene.world().first_non_finite(&mut self.links)
+        {
+            self.stopped = Some(format!("the copy blew up ({what} stopped being finite)"));
         }
         self.record();
     }

@@ -99,6 +99,13 @@ pub const SHORTCUTS: &[Shortcut] = &[
         binding: Binding::Keys(Modifiers::COMMAND, &[Key::O]),
         command: Some(Command::Ask(Purpose::OpenScene)),
     },
+    // Before Ctrl+S, which would take Ctrl+Shift+S too (egui matches it ignoring Shift).
+    Shortcut {
+        keys: "Ctrl+Shift+S",
+        meaning: "save the scene as a scene file",
+        binding: Binding::Keys(Modifiers::COMMAND.plus(Modifiers::SHIFT), &[Key::S]),
+        command: Some(Command::Ask(Purpose::SaveScene)),
+    },
     Shortcut {
         keys: "Ctrl+S",
         meaning: "save a snapshot",

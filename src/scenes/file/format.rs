@@ -137,7 +137,7 @@ macro_rules! table {
     };
     (@fields [$($meta:tt)*] $name:ident [$($done:tt)*]) => {
         $($meta)*
-        #[derive(Debug, Deserialize)]
+        #[derive(Debug, Deserialize, PartialEq)]
         #[serde(deny_unknown_fields)]
         pub struct $name {
             $($done)*
@@ -218,7 +218,7 @@ pub fn accepted_keys() -> &'static [(&'static str, &'static [&'static str])] {
 }
 
 /// The whole file.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Document {
     /// `[scene]`: name, summary, time step.
@@ -256,7 +256,7 @@ pub struct Document {
 }
 
 /// `[scene]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SceneTable {
     /// Name in the Scene menu.
@@ -277,7 +277,7 @@ pub struct SceneTable {
 }
 
 /// `[[param]]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ParamTable {
     /// Key for `--set` and the slider.
@@ -421,7 +421,7 @@ table! {
 }
 
 /// `[[drag]]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DragTable {
     /// Linear coefficient (N·s/m).
@@ -433,7 +433,7 @@ pub struct DragTable {
 }
 
 /// `[[buoyancy]]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct BuoyancyTable {
     /// The floating particle, or an array of them.
@@ -469,7 +469,7 @@ table! {
 }
 
 /// `[collisions]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CollisionsTable {
     /// Restitution between particles, default 0.5.
@@ -481,7 +481,7 @@ pub struct CollisionsTable {
 }
 
 /// `[camera]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CameraTable {
     /// Point looked at (m).

@@ -137,6 +137,8 @@ pub enum Purpose {
     OpenSnapshot,
     /// File → Save snapshot as…
     SaveSnapshot,
+    /// File → Save scene as…
+    SaveScene,
 }
 
 impl Purpose {
@@ -147,6 +149,7 @@ impl Purpose {
             Self::OpenScene => "Open scene file",
             Self::OpenSnapshot => "Open snapshot",
             Self::SaveSnapshot => "Save snapshot as",
+            Self::SaveScene => "Save scene as",
         }
     }
 
@@ -154,7 +157,7 @@ impl Purpose {
     #[must_use]
     pub fn extension(self) -> &'static str {
         match self {
-            Self::OpenScene => "toml",
+            Self::OpenScene | Self::SaveScene => "toml",
             Self::OpenSnapshot | Self::SaveSnapshot => "json",
         }
     }
@@ -163,7 +166,7 @@ impl Purpose {
     #[must_use]
     pub fn kind(self) -> &'static str {
         match self {
-            Self::OpenScene => "scene file",
+            Self::OpenScene | Self::SaveScene => "scene file",
             Self::OpenSnapshot | Self::SaveSnapshot => "snapshot",
         }
     }
@@ -173,8 +176,14 @@ impl Purpose {
     pub fn action(self) -> &'static str {
         match self {
             Self::OpenScene | Self::OpenSnapshot => "Open",
-            Self::SaveSnapshot => "Save",
+            Self::SaveSnapshot | Self::SaveScene => "Save",
         }
+    }
+
+    /// Whether it writes a file (rather than opening one).
+    #[must_use]
+    pub fn saves(self) -> bool {
+        matches!(self, Self::SaveSnapshot | Self::SaveScene)
     }
 }
 

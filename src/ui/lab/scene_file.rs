@@ -109,6 +109,42 @@ impl Lab {
         log::info!("scene file reloaded: {}", path.display());
     }
 
+    /// The running scene as a scene file, with the sliders' values as its defaults:
+    /// a name to save it under (the scene's, made safe for a file name) and the text.
+    pub fn scene_file_text(&self) -> Result<(String, String), String> {
+        let text = file::written(self.entry, self.scene.params())?;
+        let stem: String = self
+            .entry
+            .info
+            .name
+            .chars()
+            .map(|c| if c.is_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
+            .collect();
+        Ok((format!("{stem}.toml"), text))
+    }
+
+    /// File → Save scene as…: writes the running scene as a scene file at `path`
+    /// (replaced whole or not at all); true if it was written. The status line says
+    /// what happened either way.
+    pub fn save_scene_to(&mut self, path: &Path) -> bool {
+        let shown = crate::messages::path(path);
+        let written = self.scene_file_text().and_then(|(_, text)| {
+            crate::writing::write_atomic(path, text.as_bytes())
+                .map_err(|e| format!("cannot save to {shown}: {e}"))
+        });
+        match written {
+            Ok(()) => {
+                log::info!("scene file saved: {}", path.display());
+                self.status = format!("Saved the scene as {shown}");
+                true
+            }
+            Err(error) => {
+                self.status = error;
+                false
+            }
+        }
+    }
+
     fn report(&mut self, error: &FileError) {
         eprintln!("particle-lab: {error}");
         self.status = error.to_string();

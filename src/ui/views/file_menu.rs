@@ -28,6 +28,10 @@ use crate::ui::path_completion::{self, Completion};
 /// Where the shipped scene files are, the dialog's first folder.
 pub const SCENE_FOLDER: &str = "assets/scenes";
 
+/// What Save scene as… does, on its button.
+const SAVE_SCENE_HELP: &str = "The scene as a scene file, with the sliders' values as its defaults, to open \
+                               again, edit or share";
+
 /// The status line's word when a working dialog was cancelled.
 pub const NO_FILE_CHOSEN: &str = "No file chosen";
 
@@ -98,6 +102,8 @@ impl Listing {
 pub struct FileMenu {
     /// The scene file path being typed.
     pub scene_path: String,
+    /// Where Save scene as… writes, when typed.
+    pub save_scene_path: String,
     /// Where Save and Load snapshot write and read.
     pub snapshot_path: String,
     /// The path field's window, open for this, standing in for a file dialog that
@@ -120,6 +126,7 @@ impl Default for FileMenu {
     fn default() -> Self {
         Self {
             scene_path: String::new(),
+            save_scene_path: String::new(),
             snapshot_path: "snapshot.json".into(),
             prompt: None,
             #[cfg(not(target_arch = "wasm32"))]
@@ -142,13 +149,13 @@ impl Default for FileMenu {
 fn dialog(purpose: Purpose) -> Option<PathBuf> {
     let folder = match purpose {
         Purpose::OpenScene => Path::new(SCENE_FOLDER),
-        Purpose::OpenSnapshot | Purpose::SaveSnapshot => Path::new("."),
+        Purpose::OpenSnapshot | Purpose::SaveSnapshot | Purpose::SaveScene => Path::new("."),
     };
     // The portal takes an absolute folder.
     let folder = std::path::absolute(folder).unwrap_or_else(|_| folder.to_path_buf());
     let dialog =
         rfd::FileDialog::new().add_filter(purpose.kind(), &[purpose.extension()]).set_directory(folder);
-    if purpose == Purpose::SaveSnapshot { dialog.save_file() } else { dialog.pick_file() }
+    if purpose.saves() { dialog.save_file() } else { dialog.pick_file() }
 }
 
 /// Why no file dialog can open here, when that is certain before trying; `None` when
@@ -226,6 +233,26 @@ impl FileMenu {
             crate::ui::page::pick_file(crate::ui::page::FileKind::Snapshot);
             ui.close();
         }
+        let saveable = crate::scenes::file::writable(lab.entry);
+        let download = ui
+            .add_enabled(saveable.is_ok(), egui::Button::new("Download scene file"))
+            .on_hover_text(SAVE_SCENE_HELP)
+            .on_disabled_hover_text(saveable.err().unwrap_or_default());
+        if download.clicked() {
+            Self::download_scene(lab);
+            ui.close();
+        }
+    }
+
+    /// In a browser: the scene file goes out as a download.
+    #[cfg(target_arch = "wasm32")]
+    fn download_scene(lab: &mut Lab) {
+        lab.status = match lab.scene_file_text().and_then(|(name, text)| {
+            crate::ui::page::download(&name, "application/toml", text.as_bytes()).map(|()| name)
+        }) {
+            Ok(name) => format!("Downloaded {name}"),
+            Err(error) => error,
+        };
     }
 
     /// In a browser: the snapshot goes out as a download.
@@ -251,6 +278,7 @@ impl FileMenu {
                 Purpose::OpenScene => crate::ui::page::pick_file(crate::ui::page::FileKind::Scene),
                 Purpose::OpenSnapshot => crate::ui::page::pick_file(crate::ui::page::FileKind::Snapshot),
                 Purpose::SaveSnapshot => Self::download_snapshot(lab),
+                Purpose::SaveScene => Self::download_scene(lab),
             }
         }
     }
@@ -296,6 +324,15 @@ impl FileMenu {
         if (ui.button("Open").clicked() || entered) && self.act_typed(Purpose::OpenScene, lab) {
             ui.close();
         }
+        let saveable = crate::scenes::file::writable(lab.entry);
+        let save = ui
+            .add_enabled(saveable.is_ok(), egui::Button::new("Save scene as…").shortcut_text("Ctrl+Shift+S"))
+            .on_hover_text(SAVE_SCENE_HELP)
+            .on_disabled_hover_text(saveable.err().unwrap_or_default());
+        if save.clicked() {
+            ui.close();
+            self.ask(Purpose::SaveScene, lab);
+        }
         if let Some((_, Some(path))) = lab.scene.source() {
             ui.separator();
             ui.label(format!("Watching {} for changes", path.display()));
@@ -340,6 +377,13 @@ impl FileMenu {
     /// cancel ([`FAILED_WITHIN`]) before any dialog had worked: then it could not open.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn ask(&mut self, purpose: Purpose, lab: &mut Lab) {
+        if purpose == Purpose::SaveScene
+            && let Err(why) = crate::scenes::file::writable(lab.entry)
+        {
+            log::info!("cannot save the scene as a file: {why}");
+            lab.status = why;
+            return;
+        }
         if self.dialogs == Dialogs::Unknown
             && let Some(reason) = no_dialog_here()
         {
@@ -358,6 +402,7 @@ impl FileMenu {
                 self.dialogs = Dialogs::Work;
                 match purpose {
                     Purpose::OpenScene => self.scene_path = path.display().to_string(),
+                    Purpose::SaveScene => self.save_scene_path = path.display().to_string(),
                     Purpose::OpenSnapshot | Purpose::SaveSnapshot => {
                         self.snapshot_path = path.display().to_string();
                     }
@@ -383,7 +428,10 @@ impl FileMenu {
     /// Opens the path field's window for `purpose`, saying why in the status line.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn open_prompt(&mut self, purpose: Purpose, lab: &mut Lab, reason: &str) {
-        let verb = if purpose == Purpose::SaveSnapshot { "saves" } else { "opens" };
+        let verb = if purpose.saves() { "saves" } else { "opens" };
+        if purpose == Purpose::SaveScene && self.save_scene_path.is_empty() {
+            self.save_scene_path = lab.scene_file_text().map(|(name, _)| name).unwrap_or_default();
+        }
         lab.status =
             format!("No file dialog on this system ({reason}): type a path (Tab completes, Enter {verb})");
         self.prompt = Some(purpose);
@@ -409,8 +457,12 @@ impl FileMenu {
                 self.focus_prompt = false;
             }
             let focus = self.focus_prompt;
-            let Self { scene_path, snapshot_path, prompt_listing, .. } = self;
-            let text = if purpose == Purpose::OpenScene { scene_path } else { snapshot_path };
+            let Self { scene_path, save_scene_path, snapshot_path, prompt_listing, .. } = self;
+            let text = match purpose {
+                Purpose::OpenScene => scene_path,
+                Purpose::SaveScene => save_scene_path,
+                Purpose::OpenSnapshot | Purpose::SaveSnapshot => snapshot_path,
+            };
             egui::Window::new(purpose.title())
                 .id(egui::Id::unique("path prompt"))
                 .open(&mut open)
@@ -421,10 +473,10 @@ impl FileMenu {
                     ui.label(format!("The path of a {} (.{}):", purpose.kind(), purpose.extension()));
                     let field = PathField {
                         id: "prompt path",
-                        hint: if purpose == Purpose::OpenScene {
-                            "assets/scenes/chain.toml"
-                        } else {
-                            "snapshot.json"
+                        hint: match purpose {
+                            Purpose::OpenScene => "assets/scenes/chain.toml",
+                            Purpose::SaveScene => "my-experiment.toml",
+                            Purpose::OpenSnapshot | Purpose::SaveSnapshot => "snapshot.json",
                         },
                         extension: purpose.extension(),
                         width: 380.0,
@@ -451,6 +503,7 @@ impl FileMenu {
     fn act_typed(&mut self, purpose: Purpose, lab: &mut Lab) -> bool {
         let typed = match purpose {
             Purpose::OpenScene => self.scene_path.trim(),
+            Purpose::SaveScene => self.save_scene_path.trim(),
             Purpose::OpenSnapshot | Purpose::SaveSnapshot => self.snapshot_path.trim(),
         };
         if typed.is_empty() {
@@ -485,7 +538,7 @@ impl FileMenu {
                     false
                 }
             },
-            Purpose::SaveSnapshot => {
+            Purpose::SaveSnapshot | Purpose::SaveScene => {
                 let folder = match path.parent() {
                     Some(parent) if !parent.as_os_str().is_empty() => parent,
                     _ => Path::new("."),
@@ -497,6 +550,8 @@ impl FileMenu {
                     lab.status =
                         format!("cannot save to {shown}: no folder {}", crate::messages::path(folder));
                     false
+                } else if purpose == Purpose::SaveScene {
+                    lab.save_scene_to(path)
                 } else {
                     lab.save_snapshot_to(path);
                     true
@@ -573,12 +628,13 @@ impl PathField {
                 Err(error) => lab.status = error.clone(),
             }
         }
-        if listing.shown && !entered {
-            if let Ok(completion) = listing.of(text, self.extension) {
-                let (taken, acted) = Self::entries(ui, completion, self.width);
-                entered |= acted;
-                chosen = chosen.or(taken);
-            }
+        if listing.shown
+            && !entered
+            && let Ok(completion) = listing.of(text, self.extension)
+        {
+            let (taken, acted) = Self::entries(ui, completion, self.width);
+            entered |= acted;
+            chosen = chosen.or(taken);
         }
         if let Some(new) = chosen {
             if new != *text {
