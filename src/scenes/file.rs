@@ -133,7 +133,7 @@ pub use self::build::MAX_PARTICLES;
 use self::build::{Built, Handle, Located};
 use self::format::Document;
 pub use self::format::{ACCEPTED_KEYS, accepted_keys};
-pub use self::write::HEADER;
+pub use self::write::{HEADER, float32, string as toml_string};
 use super::{
     CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water,
 };

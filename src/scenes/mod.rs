@@ -34,6 +34,7 @@ mod params;
 mod pendulum;
 pub mod pile;
 mod projectile;
+pub mod sketch;
 pub mod snapshot;
 mod spring_forces;
 pub mod walls;

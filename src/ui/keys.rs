@@ -41,6 +41,14 @@ pub enum Command {
     Ask(Purpose),
     /// Move the bridge's load by (dx, dz) deck pairs.
     MoveLoad(f32, f32),
+    /// Open the builder on a copy of the scene, or, building, play.
+    Build,
+    /// Undo the builder's last edit.
+    Undo,
+    /// Redo the builder's last edit undone.
+    Redo,
+    /// Delete the builder's selected particle.
+    Delete,
 }
 
 /// How a control is reached.
@@ -75,7 +83,7 @@ const fn mouse(keys: &'static str, meaning: &'static str) -> Shortcut {
 
 /// Every control, in the order the Help window lists them.
 pub const SHORTCUTS: &[Shortcut] = &[
-    key("Space", "pause / resume", &[Key::Space], Command::Pause),
+    key("Space", "pause / resume (building: play)", &[Key::Space], Command::Pause),
     key(".", "one physics step", &[Key::Period], Command::Step),
     key("R", "reset the scene", &[Key::R], Command::Reset),
     key("F", "fire (projectile)", &[Key::F], Command::Fire),
@@ -87,6 +95,27 @@ pub const SHORTCUTS: &[Shortcut] = &[
     key("Home", "frame the scene (follow off)", &[Key::Home], Command::Frame),
     key("F12", "save a screenshot", &[Key::F12], Command::Screenshot),
     key("F1", "this list of controls", &[Key::F1], Command::Help),
+    key("B", "build: edit a copy of the scene / play what is built", &[Key::B], Command::Build),
+    key("Delete", "delete the selected particle (building)", &[Key::Delete], Command::Delete),
+    // Before Ctrl+Z, which would take Ctrl+Shift+Z too (egui matches it ignoring Shift).
+    Shortcut {
+        keys: "Ctrl+Shift+Z",
+        meaning: "redo (building)",
+        binding: Binding::Keys(Modifiers::COMMAND.plus(Modifiers::SHIFT), &[Key::Z]),
+        command: Some(Command::Redo),
+    },
+    Shortcut {
+        keys: "Ctrl+Z",
+        meaning: "undo (building)",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::Z]),
+        command: Some(Command::Undo),
+    },
+    Shortcut {
+        keys: "Ctrl+Y",
+        meaning: "redo (building)",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::Y]),
+        command: Some(Command::Redo),
+    },
     Shortcut {
         keys: "Ctrl+Q",
         meaning: "quit",
@@ -162,6 +191,7 @@ pub fn handle(ctx: &egui::Context, lab: &mut Lab, layout: &mut PanelLayout) {
 /// Does what `command` says, as its key or its button would.
 pub fn run(command: Command, lab: &mut Lab, layout: &mut PanelLayout) {
     match command {
+        Command::Pause if lab.editing() => lab.play(),
         Command::Pause => {
             lab.paused = !lab.paused;
             log::info!("paused: {}", lab.paused);
@@ -193,5 +223,15 @@ pub fn run(command: Command, lab: &mut Lab, layout: &mut PanelLayout) {
         Command::Quit => lab.requests.quit = true,
         Command::Ask(purpose) => lab.requests.file = Some(purpose),
         Command::MoveLoad(dx, dz) => lab.act(SceneAction::MoveLoad { dx, dz }),
+        Command::Build => {
+            if lab.editing() {
+                lab.play();
+            } else {
+                lab.edit_copy();
+            }
+        }
+        Command::Undo => lab.undo(),
+        Command::Redo => lab.redo(),
+        Command::Delete => lab.delete_selected(),
     }
 }

@@ -8,6 +8,7 @@ use egui::Rect;
 use super::keys;
 use super::lab::Lab;
 use super::layout::{PanelLayout, Section};
+use super::views::builder::BuilderPanel;
 use super::views::compare_panel::ComparePanel;
 use super::views::energy::EnergyPanel;
 use super::views::help::HelpWindow;
@@ -42,6 +43,8 @@ pub struct LabUi {
     pub readouts: Readouts,
     /// The Compare section.
     pub compare: ComparePanel,
+    /// The builder's section, while it is open.
+    pub builder: BuilderPanel,
     /// The Stats section.
     pub stats: StatsPanel,
     /// The Controls window.
@@ -110,6 +113,12 @@ impl LabUi {
     fn side_panel(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
         ui.heading(lab.entry.info.name);
         ui.label(egui::RichText::new(lab.entry.info.summary).small());
+        if lab.editing() {
+            egui::Frame::group(ui.style()).show(ui, |ui| {
+                ui.label(egui::RichText::new("Build").strong());
+                self.builder.ui(ui, lab);
+            });
+        }
         let picked = self.inspector.newly_selected(lab);
         let Self { layout, run, params, inspector, energy, readouts, compare, stats, drawn, .. } = self;
         let mut show = |ui: &mut egui::Ui,

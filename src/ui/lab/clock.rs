@@ -120,7 +120,8 @@ impl Lab {
             self.stats.fps = 1000.0 / self.stats.frame_ms.max(1e-3);
         }
         self.stats.steps_last_frame = 0;
-        if self.paused {
+        // The builder shows the experiment as built: nothing runs until Play.
+        if self.paused || self.editing() {
             self.stats.sim_speed = 0.0;
             return;
         }
@@ -157,8 +158,11 @@ impl Lab {
         })
     }
 
-    /// Runs exactly `steps` physics steps now, paused or not.
+    /// Runs exactly `steps` physics steps now, paused or not (not while building).
     pub fn run_steps(&mut self, steps: u32) {
+        if self.editing() {
+            return; // the builder shows the experiment as built; Play runs it
+        }
         if self.paused {
             // A single step from the panel: show its read-outs at once.
             self.readouts_taken = None;

@@ -4,7 +4,8 @@
 //! Its rooms: `model` (the `Lab` and its scene), `clock` (stepping in real time),
 //! `grab` (dragging and picking), `forces` (the inspector's forces and the arrows'
 //! scale), `framing` (the camera: framing, side view, follow), `bars` (energy bars), `tape`,
-//! `snapshots`, `scene_file` (open and hot-reload a scene file, with `watch`), `link`
+//! `snapshots`, `scene_file` (open and hot-reload a scene file, with `watch`), `editing`
+//! (the builder: a sketch, its history and the gestures that edit it), `link`
 //! (a web page's query string as the window's command line, and the link of what is on
 //! screen); and two leaves every room may read, `limits` (the constants) and
 //! `records` (plain data). Only this facade re-exports; no room imports it.
@@ -12,6 +13,7 @@
 mod bars;
 pub mod carried;
 mod clock;
+mod editing;
 mod forces;
 mod framing;
 mod grab;
@@ -25,6 +27,7 @@ mod tape;
 mod watch;
 
 pub use crate::physics::inspect::CONSTRAINT_FORCE;
+pub use editing::{Editor, Gesture, Tool, UNDO_LIMIT};
 pub use forces::{Spin, round_scale};
 pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;

@@ -104,6 +104,8 @@ pub struct Lab {
     /// The links' states, reused by the once-a-frame check that every figure shown is
     /// finite (`World::first_non_finite`).
     pub(super) finite_scratch: Vec<LinkState>,
+    /// The builder, while it is open.
+    pub editor: Option<super::editing::Editor>,
 }
 
 impl Lab {
@@ -167,6 +169,7 @@ impl Lab {
             quick_save: None,
             still_since: None,
             finite_scratch: Vec::new(),
+            editor: None,
         };
         lab.apply_scene_view();
         lab.frame_scene();
@@ -191,6 +194,8 @@ impl Lab {
     /// Switches to another scene with its default parameters.
     pub fn switch_scene(&mut self, entry: &'static SceneEntry) {
         log::info!("scene: {}", entry.info.name);
+        // Another scene closes the builder (the builder's own loads keep it).
+        self.editor = None;
         self.stop_compare();
         self.entry = entry;
         self.scene = entry.create_default();

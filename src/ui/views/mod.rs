@@ -3,6 +3,7 @@
 //! to the [`Lab`](crate::ui::lab::Lab), as egui's demo windows do. The shell
 //! (`ui/shell.rs`) places them.
 
+pub mod builder;
 pub mod compare_panel;
 pub mod energy;
 pub mod file_menu;

@@ -1,4 +1,5 @@
-//! The Scene menu: the compiled scenes, then the shipped scene files.
+//! The Scene menu: a new experiment or a copy to edit in the builder, the compiled
+//! scenes, then the shipped scene files.
 
 use std::path::Path;
 
@@ -13,6 +14,21 @@ pub struct SceneMenu;
 impl SceneMenu {
     /// Draws the menu's items; picking one switches the lab to it.
     pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
+        let new = ui
+            .button("New experiment…")
+            .on_hover_text("Build one of your own: an empty scene with the ground");
+        if new.clicked() {
+            lab.edit_new();
+            ui.close();
+        }
+        let copy = ui
+            .add_enabled(!lab.editing(), egui::Button::new("Edit a copy of this scene").shortcut_text("B"))
+            .on_hover_text("Open the builder on this scene's particles and links, as they start");
+        if copy.clicked() {
+            lab.edit_copy();
+            ui.close();
+        }
+        ui.separator();
         for entry in SCENES {
             let current = std::ptr::eq(entry, lab.entry);
             if ui.selectable_label(current, entry.info.name).on_hover_text(entry.info.summary).clicked() {

@@ -20,6 +20,44 @@ impl View3d {
     }
 }
 
+/// The builder's marks over the view: a ring round the selected particle, and the
+/// link being drawn from its first end to the pointer.
+fn paint_builder(ui: &egui::Ui, lab: &Lab, rect: Rect) {
+    let Some(editor) = &lab.editor else { return };
+    let size = Vec2::new(rect.width(), rect.height());
+    let screen = |p: glam::Vec3| lab.camera.project(p, size).map(|s| rect.min + egui::vec2(s.x, s.y));
+    let painter = ui.painter_at(rect);
+    let accent = Color32::from_rgb(255, 200, 60);
+    let bodies = &editor.sketch().bodies;
+    if let Some(body) = editor.selected.and_then(|i| bodies.get(i))
+        && let Some(centre) = screen(body.position)
+    {
+        // The ring's size on screen: the particle's radius projected beside it.
+        let side = lab.camera.right() * body.radius;
+        let radius = screen(body.position + side).map_or(8.0, |edge| centre.distance(edge)).max(6.0) + 4.0;
+        painter.circle_stroke(centre, radius, egui::Stroke::new(2.0, accent));
+    }
+    if let Some(crate::ui::lab::Gesture::Join { from, to, .. }) = editor.gesture
+        && let (Some(a), Some(b)) = (bodies.get(from).and_then(|b| screen(b.position)), screen(to))
+    {
+        painter.line_segment([a, b], egui::Stroke::new(2.0, accent));
+    }
+    let hint = match editor.tool {
+        crate::ui::lab::Tool::Add => "Building · click to add a particle · drag one to move it",
+        crate::ui::lab::Tool::Select => "Building · click to select · drag a particle to move it",
+        crate::ui::lab::Tool::Join => {
+            "Building · drag from a particle to another (or to empty space) to link"
+        }
+    };
+    painter.text(
+        rect.center_top() + egui::vec2(0.0, 12.0),
+        egui::Align2::CENTER_TOP,
+        hint,
+        egui::FontId::proportional(15.0),
+        Color32::from_gray(220),
+    );
+}
+
 /// How near the pointer must be to a path point to show its tooltip (points).
 const HOVER_RADIUS: f32 = 10.0;
 
@@ -49,14 +87,32 @@ pub fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
             response.clone().on_hover_text_at_pointer(text);
         }
     }
-    if response.drag_started_by(PointerButton::Primary) {
+    let building = lab.editing();
+    let mut building_gesture = building && lab.editor.as_ref().is_some_and(|e| e.gesture.is_some());
+    if building && response.drag_started_by(PointerButton::Primary) {
+        // In the builder a press on a particle moves or links it; elsewhere orbits.
+        if let Some(press) = ui.input(|i| i.pointer.press_origin()) {
+            building_gesture = lab.builder_press(local(press), size);
+        }
+    }
+    if building_gesture && response.dragged_by(PointerButton::Primary) {
+        if let Some(p) = response.interact_pointer_pos() {
+            lab.builder_drag(local(p), size);
+        }
+    }
+    if building_gesture && response.drag_stopped() {
+        if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
+            lab.builder_release(local(p), size);
+        }
+    }
+    if !building && response.drag_started_by(PointerButton::Primary) {
         // Press on a particle to drag it; anywhere else orbits. The drag starts only
         // after the pointer moved a little: pick where the button went down.
         if let Some(press) = ui.input(|i| i.pointer.press_origin()) {
             lab.start_grab(local(press), size);
         }
     }
-    if response.dragged_by(PointerButton::Primary) {
+    if !building_gesture && response.dragged_by(PointerButton::Primary) {
         if lab.grab.is_some() {
             if let Some(p) = response.interact_pointer_pos() {
                 lab.move_grab(local(p), size);
@@ -77,7 +133,9 @@ pub fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
     }
     let click = response.interact_pointer_pos().filter(|_| response.clicked_by(PointerButton::Primary));
     if let Some(p) = click {
-        if lab.tape {
+        if building {
+            lab.builder_click(local(p), size);
+        } else if lab.tape {
             // With the tape measure on, a click places one of its ends.
             lab.tape_click(local(p), size);
         } else {
@@ -100,6 +158,9 @@ pub fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
     }
     if lab.view.labels {
         paint::labels(ui, lab, rect);
+    }
+    if building {
+        paint_builder(ui, lab, rect);
     }
     if lab.scene.world().particles.is_empty()
         && lab.entry.info.actions.iter().any(|a| a.action == SceneAction::Fire)

@@ -1,0 +1,508 @@
+//! A sketch: an experiment made by hand in the lab's builder, held as plain particles,
+//! links and surroundings (numbers, no parameters or expressions), and written as a
+//! scene file. The builder edits a sketch; every edit writes the sketch's file and
+//! loads it as the running scene, so that what is built runs, resets, saves and
+//! travels in a link exactly as any scene file does.
+//!
+//! A sketch can also be taken from a running world ("Edit a copy"): its particles as
+//! they stand, its links, ground, walls, sphere collisions and gravity. What the
+//! format cannot carry (a plate with a hole, buoyancy, drag, a stiff spring, the rules
+//! of a scene built into the program) is left out, and named.
+
+use std::fmt::Write as _;
+
+use glam::Vec3;
+
+use super::file::{float32, toml_string};
+use crate::physics::collision::ContactGenerator;
+use crate::physics::state::SavedForce;
+use crate::physics::{LinkEnd, World};
+
+/// Most particles a sketch holds (a scene file's limit).
+pub const MAX_BODIES: usize = super::file::MAX_PARTICLES;
+
+/// A particle of a sketch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Body {
+    /// Position (m).
+    pub position: Vec3,
+    /// Velocity at the start (m/s).
+    pub velocity: Vec3,
+    /// Mass (kg).
+    pub mass: f32,
+    /// Radius (m).
+    pub radius: f32,
+    /// Fraction of velocity kept per second (1: no damping).
+    pub damping: f32,
+    /// Immovable.
+    pub fixed: bool,
+    /// A solid sphere that rolls.
+    pub rolls: bool,
+}
+
+impl Default for Body {
+    fn default() -> Self {
+        Self {
+            position: Vec3::ZERO,
+            velocity: Vec3::ZERO,
+            mass: 1.0,
+            radius: 0.1,
+            damping: 1.0,
+            fixed: false,
+            rolls: false,
+        }
+    }
+}
+
+/// The kinds of link the builder makes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JoinKind {
+    /// A fixed length.
+    Rod,
+    /// At most its length.
+    Cable,
+    /// Hooke's law, pushing and pulling.
+    Spring,
+    /// Hooke's law when stretched, slack when shorter.
+    Bungee,
+}
+
+impl JoinKind {
+    /// Every kind, in the order the builder offers them.
+    pub const ALL: [Self; 4] = [Self::Rod, Self::Cable, Self::Spring, Self::Bungee];
+
+    /// Its name in the scene file format.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Rod => "rod",
+            Self::Cable => "cable",
+            Self::Spring => "spring",
+            Self::Bungee => "bungee",
+        }
+    }
+
+    /// Whether it has a spring constant.
+    #[must_use]
+    pub fn elastic(self) -> bool {
+        matches!(self, Self::Spring | Self::Bungee)
+    }
+}
+
+/// The second end of a link.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum End {
+    /// A particle, by its number in the sketch.
+    Body(usize),
+    /// A fixed point (m).
+    Anchor(Vec3),
+}
+
+/// A link of a sketch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Join {
+    /// What sort.
+    pub kind: JoinKind,
+    /// First end, a particle's number.
+    pub a: usize,
+    /// Second end.
+    pub b: End,
+    /// Rod length, cable maximum or spring rest length (m).
+    pub length: f32,
+    /// Spring constant (N/m), for springs and bungees.
+    pub k: f32,
+}
+
+/// An unbounded wall: a plane through `point` facing `normal`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wall {
+    /// Unit normal, towards the free side.
+    pub normal: Vec3,
+    /// A point of it (m).
+    pub point: Vec3,
+    /// Restitution.
+    pub restitution: f32,
+    /// Friction.
+    pub friction: f32,
+}
+
+/// A surface's restitution and friction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// Restitution, 0 to 1.
+    pub restitution: f32,
+    /// Coulomb friction coefficient.
+    pub friction: f32,
+}
+
+/// An experiment made by hand.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sketch {
+    /// Its name in the Scene menu.
+    pub name: String,
+    /// Downward acceleration (m/s²).
+    pub g: f32,
+    /// The ground at y = 0, if it has one.
+    pub ground: Option<Surface>,
+    /// Particles with a radius collide with each other, if set.
+    pub collisions: Option<Surface>,
+    /// Walls besides the ground.
+    pub walls: Vec<Wall>,
+    /// Its particles.
+    pub bodies: Vec<Body>,
+    /// Its links.
+    pub joins: Vec<Join>,
+}
+
+/// The ground's surface when the builder adds one (the scene format's defaults).
+pub const GROUND: Surface = Surface { restitution: 0.3, friction: 0.5 };
+/// Particles' surface when collisions are on (the scene format's defaults).
+pub const COLLISIONS: Surface = Surface { restitution: 0.5, friction: 0.3 };
+
+impl Sketch {
+    /// An empty experiment on the ground, under Earth's gravity, its particles
+    /// colliding.
+    #[must_use]
+    pub fn new(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            g: 9.81,
+            ground: Some(GROUND),
+            collisions: Some(COLLISIONS),
+            walls: Vec::new(),
+            bodies: Vec::new(),
+            joins: Vec::new(),
+        }
+    }
+
+    /// The world as it stands, as a sketch named `name`, with what it leaves out named
+    /// (empty when it keeps everything).
+    #[must_use]
+    pub fn from_world(world: &World, name: &str) -> (Self, Vec<String>) {
+        let mut sketch = Self::new(name);
+        sketch.ground = None;
+        sketch.collisions = None;
+        let mut left_out: Vec<String> = Vec::new();
+        let mut leave = |what: &str| {
+            if !left_out.iter().any(|w| w == what) {
+                left_out.push(what.to_string());
+            }
+        };
+        let p = &world.particles;
+        let number = |id| p.index(id);
+        // Gravity: the particles' own acceleration where all movable ones share one
+        // that points down.
+        let mut g = None;
+        for i in 0..p.len() {
+            if p.inverse_masses()[i] == 0.0 {
+                continue;
+            }
+            let a = p.accelerations()[i];
+            let down = a.x == 0.0 && a.z == 0.0 && a.y <= 0.0;
+            match g {
+                None if down => g = Some(-a.y),
+                Some(g) if down && -a.y == g => {}
+                _ => leave("an acceleration that is not the same downward g on every particle"),
+            }
+        }
+        sketch.g = g.unwrap_or(9.81);
+        for i in 0..p.len() {
+            let fixed = p.inverse_masses()[i] == 0.0;
+            sketch.bodies.push(Body {
+                position: p.positions()[i],
+                velocity: if fixed { Vec3::ZERO } else { p.velocities()[i] },
+                mass: if fixed { 1.0 } else { p.mass(i) },
+                radius: p.radii()[i],
+                damping: p.damping(i),
+                fixed,
+                rolls: p.rolls(i),
+            });
+            if p.angular_velocities()[i] != Vec3::ZERO {
+                leave("the particles' spin");
+            }
+        }
+        let Ok(state) = world.state() else {
+            leave("everything but the particles (the world could not be read)");
+            return (sketch, left_out);
+        };
+        for (_, force) in &state.forces {
+            match force {
+                SavedForce::Spring(s) => {
+                    let (Some(a), b) = (number(s.a), s.b) else { continue };
+                    let b = match b {
+                        LinkEnd::Particle(id) => match number(id) {
+                            Some(b) => End::Body(b),
+                            None => continue,
+                        },
+                        LinkEnd::Anchor(point) => End::Anchor(point),
+                    };
+                    let kind = if s.bungee { JoinKind::Bungee } else { JoinKind::Spring };
+                    sketch.joins.push(Join { kind, a, b, length: s.rest_length, k: s.k });
+                }
+                SavedForce::Gravity(_) => leave("gravity fields"),
+                SavedForce::Drag(_) => leave("drag"),
+                SavedForce::Buoyancy(_) => leave("buoyancy"),
+                SavedForce::StiffSpring(_) => leave("stiff springs"),
+            }
+        }
+        for (_, generator) in &state.contact_generators {
+            match generator {
+                ContactGenerator::Plane(plane) => {
+                    let surface = Surface { restitution: plane.restitution, friction: plane.friction };
+                    if plane.normal == Vec3::Y && plane.offset == 0.0 && sketch.ground.is_none() {
+                        sketch.ground = Some(surface);
+                    } else {
+                        sketch.walls.push(Wall {
+                            normal: plane.normal,
+                            point: plane.normal * plane.offset,
+                            restitution: plane.restitution,
+                            friction: plane.friction,
+                        });
+                    }
+                }
+                ContactGenerator::Spheres(spheres) => {
+                    sketch.collisions =
+                        Some(Surface { restitution: spheres.restitution, friction: spheres.friction });
+                }
+                ContactGenerator::Link(link) => {
+                    let Some(a) = number(link.a) else { continue };
+                    let b = match link.b {
+                        LinkEnd::Particle(id) => match number(id) {
+                            Some(b) => End::Body(b),
+                            None => continue,
+                        },
+                        LinkEnd::Anchor(point) => End::Anchor(point),
+                    };
+                    let kind = if link.rigid { JoinKind::Rod } else { JoinKind::Cable };
+                    sketch.joins.push(Join { kind, a, b, length: link.length, k: 0.0 });
+                }
+                ContactGenerator::Plate(_) => leave("plates with an opening"),
+            }
+        }
+        (sketch, left_out)
+    }
+
+    /// Adds a particle; returns its number, or `None` at [`MAX_BODIES`].
+    pub fn add(&mut self, body: Body) -> Option<usize> {
+        if self.bodies.len() >= MAX_BODIES {
+            return None;
+        }
+        self.bodies.push(body);
+        Some(self.bodies.len() - 1)
+    }
+
+    /// Removes particle `i` and its links; the particles after it move down one.
+    pub fn remove(&mut self, i: usize) {
+        if i >= self.bodies.len() {
+            return;
+        }
+        self.bodies.remove(i);
+        self.joins.retain(|j| j.a != i && j.b != End::Body(i));
+        let shift = |k: usize| if k > i { k - 1 } else { k };
+        for j in &mut self.joins {
+            j.a = shift(j.a);
+            if let End::Body(b) = &mut j.b {
+                *b = shift(*b);
+            }
+        }
+    }
+
+    /// A copy of particle `i`, `offset` away; returns the copy's number.
+    pub fn duplicate(&mut self, i: usize, offset: Vec3) -> Option<usize> {
+        let mut body = *self.bodies.get(i)?;
+        body.position += offset;
+        self.add(body)
+    }
+
+    /// Links particle `a` to `b` with `kind` (spring constant `k`), at the distance
+    /// between them. Refused, with the reason, for a particle to itself, ends at one
+    /// point, or a link that is already there.
+    pub fn join(&mut self, kind: JoinKind, a: usize, b: End, k: f32) -> Result<(), String> {
+        let Some(from) = self.bodies.get(a).map(|body| body.position) else {
+            return Err("no such particle".into());
+        };
+        let to = match b {
+            End::Body(b) if b == a => return Err("a link needs two different ends".into()),
+            End::Body(b) => match self.bodies.get(b) {
+                Some(body) => body.position,
+                None => return Err("no such particle".into()),
+            },
+            End::Anchor(point) => point,
+        };
+        let length = from.distance(to);
+        if length < 1e-4 {
+            return Err("the two ends are at one point: move one first".into());
+        }
+        let same = |j: &Join| j.a == a && j.b == b || (End::Body(j.a) == b && j.b == End::Body(a));
+        if self.joins.iter().any(same) {
+            return Err("these two are already linked".into());
+        }
+        self.joins.push(Join { kind, a, b, length, k });
+        Ok(())
+    }
+
+    /// The links with particle `i` at an end, by their numbers.
+    pub fn joins_of(&self, i: usize) -> impl Iterator<Item = (usize, &Join)> + '_ {
+        self.joins.iter().enumerate().filter(move |(_, j)| j.a == i || j.b == End::Body(i))
+    }
+
+    /// Every link between particles takes the distance they are at now as its length
+    /// (after a particle moved, its rods keep it where it was put).
+    pub fn fit_lengths(&mut self, moved: usize) {
+        for j in &mut self.joins {
+            if j.a != moved && j.b != End::Body(moved) {
+                continue;
+            }
+            let from = self.bodies[j.a].position;
+            let to = match j.b {
+                End::Body(b) => self.bodies[b].position,
+                End::Anchor(point) => point,
+            };
+            j.length = from.distance(to).max(1e-4);
+        }
+    }
+
+    /// The sketch as a scene file.
+    #[must_use]
+    pub fn text(&self) -> String {
+        let mut out = String::from(super::file::HEADER);
+        let _ = write!(out, "# Made in the lab's builder.\n\n[scene]\nname = {}\n", toml_string(&self.name));
+        out.push_str("summary = \"An experiment made in the builder\"\n");
+        let _ = write!(
+            out,
+            "\n[[param]]\nname = \"g\"\nunit = \"m/s²\"\ndefault = {}\nmin = 0\nmax = 30\n\
+             help = \"Gravitational acceleration, downwards\"\n",
+            float32(self.g.clamp(0.0, 30.0))
+        );
+        let vector = |v: Vec3| format!("[{}, {}, {}]", float32(v.x), float32(v.y), float32(v.z));
+        for body in &self.bodies {
+            let _ = write!(out, "\n[[particle]]\nposition = {}\n", vector(body.position));
+            if body.velocity != Vec3::ZERO && !body.fixed {
+                let _ = writeln!(out, "velocity = {}", vector(body.velocity));
+            }
+            if !body.fixed {
+                let _ = writeln!(out, "mass = {}", float32(body.mass));
+            }
+            let _ = writeln!(out, "radius = {}", float32(body.radius));
+            if body.damping != 1.0 {
+                let _ = writeln!(out, "damping = {}", float32(body.damping));
+            }
+            if body.fixed {
+                out.push_str("fixed = true\n");
+            }
+            if body.rolls {
+                out.push_str("rolls = true\n");
+            }
+        }
+        for join in &self.joins {
+            let _ = write!(out, "\n[[link]]\nkind = \"{}\"\na = {}\n", join.kind.name(), join.a);
+            match join.b {
+                End::Body(b) => {
+                    let _ = writeln!(out, "b = {b}");
+                }
+                End::Anchor(point) => {
+                    let _ = writeln!(out, "anchor = {}", vector(point));
+                }
+            }
+            let _ = writeln!(out, "length = {}", float32(join.length));
+            if join.kind.elastic() {
+                let _ = writeln!(out, "k = {}", float32(join.k));
+            }
+        }
+        if let Some(ground) = self.ground {
+            let _ = write!(
+                out,
+                "\n[ground]\nrestitution = {}\nfriction = {}\n",
+                float32(ground.restitution),
+                float32(ground.friction)
+            );
+        }
+        for wall in &self.walls {
+            let _ = write!(
+                out,
+                "\n[[wall]]\nnormal = {}\npoint = {}\nrestitution = {}\nfriction = {}\n",
+                vector(wall.normal),
+                vector(wall.point),
+                float32(wall.restitution),
+                float32(wall.friction)
+            );
+        }
+        if let Some(c) = self.collisions {
+            let _ = write!(
+                out,
+                "\n[collisions]\nrestitution = {}\nfriction = {}\n",
+                float32(c.restitution),
+                float32(c.friction)
+            );
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::{Body, End, JoinKind, Sketch};
+    use crate::scenes::file;
+
+    /// A spring dumbbell on a pinned rod, by hand.
+    fn dumbbell() -> Sketch {
+        let mut s = Sketch::new("dumbbell");
+        let a = s.add(Body { position: Vec3::new(0.0, 2.0, 0.0), radius: 0.15, ..Body::default() }).unwrap();
+        let b = s.add(Body { position: Vec3::new(1.0, 2.5, 0.0), mass: 2.0, ..Body::default() }).unwrap();
+        let c = s.add(Body { position: Vec3::new(0.0, 3.0, 0.0), fixed: true, ..Body::default() }).unwrap();
+        s.join(JoinKind::Spring, a, End::Body(b), 40.0).unwrap();
+        s.join(JoinKind::Rod, a, End::Body(c), 0.0).unwrap();
+        s.join(JoinKind::Cable, b, End::Anchor(Vec3::new(2.0, 4.0, 0.0)), 0.0).unwrap();
+        s
+    }
+
+    #[test]
+    fn a_sketch_written_loads_and_builds_what_it_holds() {
+        let sketch = dumbbell();
+        let text = sketch.text();
+        let entry = file::load_text(&text, "dumbbell", None).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let scene = entry.create_default();
+        let world = scene.world();
+        assert_eq!(world.particles.len(), 3);
+        assert_eq!(world.links().len(), 3);
+        // Taken back from the world it built, it is the same sketch.
+        let (again, left_out) = Sketch::from_world(world, "dumbbell");
+        assert!(left_out.is_empty(), "{left_out:?}");
+        assert_eq!(again, sketch);
+        assert_eq!(again.text(), text);
+    }
+
+    #[test]
+    fn removing_a_particle_takes_its_links_and_renumbers_the_rest() {
+        let mut s = dumbbell();
+        s.remove(0);
+        assert_eq!(s.bodies.len(), 2);
+        // Only the cable from the old particle 1 (now 0) to its anchor is left.
+        assert_eq!(s.joins.len(), 1);
+        assert_eq!(s.joins[0].a, 0);
+        assert!(matches!(s.joins[0].b, End::Anchor(_)));
+    }
+
+    #[test]
+    fn links_are_refused_to_themselves_twice_or_at_one_point() {
+        let mut s = dumbbell();
+        assert!(s.join(JoinKind::Rod, 0, End::Body(0), 0.0).is_err());
+        assert!(s.join(JoinKind::Rod, 1, End::Body(0), 0.0).is_err(), "already linked as a spring");
+        let d = s.duplicate(0, Vec3::ZERO).unwrap();
+        assert!(s.join(JoinKind::Rod, 0, End::Body(d), 0.0).is_err());
+    }
+
+    #[test]
+    fn built_in_scenes_are_taken_as_copies_with_what_they_leave_out_named() {
+        for entry in crate::scenes::SCENES {
+            let scene = entry.create_default();
+            let (sketch, left_out) = Sketch::from_world(scene.world(), entry.info.name);
+            assert_eq!(sketch.bodies.len(), scene.world().particles.len(), "{}", entry.info.name);
+            let text = sketch.text();
+            let loaded = file::load_text(&text, entry.info.name, None);
+            assert!(loaded.is_ok(), "{}: {:?} (left out {left_out:?})", entry.info.name, loaded.err());
+        }
+    }
+}

@@ -1,0 +1,277 @@
+//! The builder's section of the panel: the tools, undo and redo, Play, what the Add
+//! tool puts down, rows of many, the scene's gravity, ground and collisions, and the
+//! selected particle's properties and links. Every change is an edit of the lab's
+//! sketch (see `ui/lab/editing.rs`), undone with Ctrl+Z.
+
+use glam::Vec3;
+
+use crate::scenes::sketch::{COLLISIONS, End, GROUND, JoinKind};
+use crate::ui::lab::{Lab, Purpose, Tool};
+
+/// The builder's own settings that are not the sketch's.
+#[derive(Debug)]
+pub struct BuilderPanel {
+    /// Particles a row adds.
+    row_count: usize,
+    /// Their spacing (m).
+    row_spacing: f32,
+    /// The link between neighbours of a row (`None`: unlinked).
+    row_link: Option<JoinKind>,
+    /// The row's first particle is pinned.
+    row_pin: bool,
+}
+
+impl Default for BuilderPanel {
+    fn default() -> Self {
+        Self { row_count: 5, row_spacing: 0.4, row_link: Some(JoinKind::Rod), row_pin: true }
+    }
+}
+
+/// A vector's three fields in a row; true if one changed.
+fn vector(ui: &mut egui::Ui, label: &str, v: &mut Vec3, speed: f64) -> bool {
+    ui.horizontal(|ui| {
+        let mut changed = false;
+        for (axis, value) in [("x", &mut v.x), ("y", &mut v.y), ("z", &mut v.z)] {
+            changed |= ui.add(egui::DragValue::new(value).speed(speed).prefix(format!("{axis} "))).changed();
+        }
+        ui.label(label);
+        changed
+    })
+    .inner
+}
+
+impl BuilderPanel {
+    /// Draws the section (only while the builder is open).
+    pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
+        let Some(editor) = &lab.editor else { return };
+        let (can_undo, can_redo) = (editor.can_undo(), editor.can_redo());
+        ui.horizontal(|ui| {
+            if ui.button("Play").on_hover_text("Run the experiment from this state (B)").clicked() {
+                lab.play();
+            }
+            if ui.add_enabled(can_undo, egui::Button::new("Undo")).on_hover_text("Ctrl+Z").clicked() {
+                lab.undo();
+            }
+            if ui
+                .add_enabled(can_redo, egui::Button::new("Redo"))
+                .on_hover_text("Ctrl+Shift+Z or Ctrl+Y")
+                .clicked()
+            {
+                lab.redo();
+            }
+            if ui.button("Save scene as…").on_hover_text("Ctrl+Shift+S").clicked() {
+                lab.requests.file = Some(Purpose::SaveScene);
+            }
+        });
+        let Some(editor) = &mut lab.editor else { return };
+        ui.horizontal(|ui| {
+            ui.label("Tool");
+            ui.selectable_value(&mut editor.tool, Tool::Add, "Add")
+                .on_hover_text("Click in the view to put a particle there");
+            ui.selectable_value(&mut editor.tool, Tool::Select, "Select")
+                .on_hover_text("Click a particle to select it; drag one to move it");
+            ui.selectable_value(&mut editor.tool, Tool::Join, "Link").on_hover_text(
+                "Drag from a particle to another to link them, or to empty space to hang it from a fixed point",
+            );
+        });
+        ui.horizontal(|ui| {
+            ui.label("Link with");
+            for kind in JoinKind::ALL {
+                ui.selectable_value(&mut editor.join_kind, kind, kind.name());
+            }
+        });
+        if editor.join_kind.elastic() {
+            ui.horizontal(|ui| {
+                ui.label("k");
+                ui.add(egui::DragValue::new(&mut editor.spring_k).range(0.1..=1e6).speed(1.0).suffix(" N/m"))
+                    .on_hover_text("Spring constant of new springs and bungees");
+            });
+        }
+        ui.horizontal(|ui| {
+            ui.label("New particles");
+            ui.add(
+                egui::DragValue::new(&mut editor.new_body.mass).range(1e-3..=1e4).speed(0.05).suffix(" kg"),
+            );
+            ui.add(
+                egui::DragValue::new(&mut editor.new_body.radius).range(0.0..=10.0).speed(0.01).suffix(" m"),
+            );
+        });
+        self.row(ui, lab);
+        self.scene(ui, lab);
+        self.selection(ui, lab);
+    }
+
+    /// Make many at once: a row of particles, linked or not.
+    fn row(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut self.row_count).range(2..=200).prefix("row of "));
+            ui.add(
+                egui::DragValue::new(&mut self.row_spacing).range(0.01..=10.0).speed(0.01).suffix(" m apart"),
+            );
+        });
+        ui.horizontal(|ui| {
+            ui.label("its links");
+            ui.selectable_value(&mut self.row_link, None, "none");
+            for kind in JoinKind::ALL {
+                ui.selectable_value(&mut self.row_link, Some(kind), kind.name());
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.row_pin, "first pinned");
+            let hover = "Along x, from the selected particle (or 2 m above the origin)";
+            if ui.button("Add row").on_hover_text(hover).clicked() {
+                lab.add_row(self.row_count, self.row_spacing, self.row_link, self.row_pin);
+            }
+        });
+    }
+
+    /// The scene's name, gravity, ground and collisions.
+    fn scene(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
+        let Some(editor) = &lab.editor else { return };
+        let sketch = editor.sketch();
+        let (mut name, mut g) = (sketch.name.clone(), sketch.g);
+        let (mut ground, mut collisions) = (sketch.ground.is_some(), sketch.collisions.is_some());
+        let mut renamed = false;
+        ui.horizontal(|ui| {
+            ui.label("Name");
+            let field = ui.add(egui::TextEdit::singleline(&mut name).desired_width(160.0));
+            renamed = field.lost_focus() && !name.trim().is_empty();
+        });
+        let mut changed_g = false;
+        let mut changed_surfaces = false;
+        ui.horizontal(|ui| {
+            changed_g = ui
+                .add(egui::DragValue::new(&mut g).range(0.0..=30.0).speed(0.05).prefix("g ").suffix(" m/s²"))
+                .changed();
+            changed_surfaces |= ui.checkbox(&mut ground, "ground").changed();
+            changed_surfaces |= ui
+                .checkbox(&mut collisions, "collisions")
+                .on_hover_text("Particles with a radius bounce off each other")
+                .changed();
+        });
+        if renamed && name.trim() != sketch.name {
+            lab.edit("rename", |sketch, _| {
+                sketch.name = name.trim().to_string();
+                true
+            });
+            lab.end_edit();
+        }
+        if changed_g {
+            lab.edit("g", |sketch, _| {
+                sketch.g = g;
+                true
+            });
+        }
+        if changed_surfaces {
+            lab.edit("surroundings", |sketch, _| {
+                sketch.ground = ground.then_some(sketch.ground.unwrap_or(GROUND));
+                sketch.collisions = collisions.then_some(sketch.collisions.unwrap_or(COLLISIONS));
+                true
+            });
+            lab.end_edit();
+        }
+    }
+
+    /// The selected particle: where, how fast, how heavy, pinned, rolling; its links;
+    /// duplicate and delete.
+    fn selection(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
+        let Some(editor) = &lab.editor else { return };
+        let Some(i) = editor.selected else {
+            ui.label(egui::RichText::new("Select a particle to set its mass, speed and links").small());
+            return;
+        };
+        let Some(&before) = editor.sketch().bodies.get(i) else { return };
+        let links: Vec<(usize, String)> = editor
+            .sketch()
+            .joins_of(i)
+            .map(|(k, j)| {
+                let other = match j.b {
+                    End::Body(b) if b == i => format!("particle {}", j.a),
+                    End::Body(b) => format!("particle {b}"),
+                    End::Anchor(_) => "a fixed point".to_string(),
+                };
+                (k, format!("{} {:.3} m to {other}", j.kind.name(), j.length))
+            })
+            .collect();
+        ui.separator();
+        ui.label(egui::RichText::new(format!("Particle {i}")).strong());
+        let mut body = before;
+        let mut changed = None;
+        if vector(ui, "position (m)", &mut body.position, 0.01) {
+            changed = Some("position");
+        }
+        if vector(ui, "velocity (m/s)", &mut body.velocity, 0.05) {
+            changed = Some("velocity");
+        }
+        ui.horizontal(|ui| {
+            if ui
+                .add(egui::DragValue::new(&mut body.mass).range(1e-3..=1e4).speed(0.05).suffix(" kg"))
+                .changed()
+            {
+                changed = Some("mass");
+            }
+            if ui
+                .add(egui::DragValue::new(&mut body.radius).range(0.0..=10.0).speed(0.01).suffix(" m"))
+                .changed()
+            {
+                changed = Some("radius");
+            }
+            let damping =
+                egui::DragValue::new(&mut body.damping).range(0.0..=1.0).speed(0.005).prefix("damping ");
+            if ui.add(damping).on_hover_text("Fraction of velocity kept per second (1: none)").changed() {
+                changed = Some("damping");
+            }
+        });
+        ui.horizontal(|ui| {
+            if ui.checkbox(&mut body.fixed, "pinned").changed() {
+                changed = Some("pinned");
+            }
+            if ui
+                .checkbox(&mut body.rolls, "rolls")
+                .on_hover_text("A solid sphere that friction turns")
+                .changed()
+            {
+                changed = Some("rolls");
+            }
+        });
+        if let Some(change) = changed {
+            let moved = body.position != before.position;
+            lab.edit(change, |sketch, _| {
+                sketch.bodies[i] = body;
+                if moved {
+                    sketch.fit_lengths(i);
+                }
+                true
+            });
+        }
+        let mut remove_link = None;
+        for (k, text) in &links {
+            ui.horizontal(|ui| {
+                ui.label(text);
+                if ui.small_button("remove").clicked() {
+                    remove_link = Some(*k);
+                }
+            });
+        }
+        if let Some(k) = remove_link {
+            lab.edit("remove a link", |sketch, _| {
+                sketch.joins.remove(k);
+                true
+            });
+            lab.end_edit();
+        }
+        ui.horizontal(|ui| {
+            if ui.button("Duplicate").on_hover_text("A copy beside it, unlinked").clicked() {
+                let offset = Vec3::X * (before.radius * 2.0 + 0.1);
+                lab.edit("duplicate", |sketch, editor| {
+                    editor.selected = sketch.duplicate(i, offset).or(editor.selected);
+                    true
+                });
+                lab.end_edit();
+            }
+            if ui.button("Delete").on_hover_text("Delete").clicked() {
+                lab.delete_selected();
+            }
+        });
+    }
+}
