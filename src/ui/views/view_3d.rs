@@ -95,15 +95,17 @@ pub fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
             building_gesture = lab.builder_press(local(press), size);
         }
     }
-    if building_gesture && response.dragged_by(PointerButton::Primary) {
-        if let Some(p) = response.interact_pointer_pos() {
-            lab.builder_drag(local(p), size);
-        }
+    if building_gesture
+        && response.dragged_by(PointerButton::Primary)
+        && let Some(p) = response.interact_pointer_pos()
+    {
+        lab.builder_drag(local(p), size);
     }
-    if building_gesture && response.drag_stopped() {
-        if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
-            lab.builder_release(local(p), size);
-        }
+    if building_gesture
+        && response.drag_stopped()
+        && let Some(p) = ui.input(|i| i.pointer.latest_pos())
+    {
+        lab.builder_release(local(p), size);
     }
     if !building && response.drag_started_by(PointerButton::Primary) {
         // Press on a particle to drag it; anywhere else orbits. The drag starts only
