@@ -108,8 +108,8 @@ impl LabUi {
     /// is selected (where the eye goes after a click), then run, parameters, energy,
     /// read-outs, compare and, with View → Stats, the stats.
     fn side_panel(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
-        ui.heading(lab.entry.info.name);
-        ui.label(egui::RichText::new(lab.entry.info.summary).small());
+        ui.heading(&*lab.entry.info().name);
+        ui.label(egui::RichText::new(&*lab.entry.info().summary).small());
         let picked = self.inspector.newly_selected(lab);
         let Self { layout, run, params, inspector, energy, readouts, compare, stats, drawn, .. } = self;
         let mut show = |ui: &mut egui::Ui,

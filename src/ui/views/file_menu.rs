@@ -713,7 +713,7 @@ mod tests {
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Tab));
         assert_eq!(menu.scene_path, "assets/scenes/chain.toml");
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Enter));
-        assert_eq!(lab.entry.info.name, "chain");
+        assert_eq!(lab.entry.info().name, "chain");
         assert_eq!(menu.prompt, None, "the window closes once the file opened");
     }
 
@@ -753,7 +753,7 @@ mod tests {
         assert_eq!(lab.status, "cannot list no-such-folder/: no such folder");
         assert_eq!(menu.scene_path, "no-such-folder/x");
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Enter));
-        assert_eq!(lab.entry.info.name, "projectile");
+        assert_eq!(lab.entry.info().name, "projectile");
         assert!(lab.status.contains("no-such-folder/x") && !lab.status.contains('\n'), "{}", lab.status);
         assert_eq!(menu.prompt, Some(Purpose::OpenScene), "the window stays for another try");
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Escape));
