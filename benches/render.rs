@@ -24,10 +24,10 @@ fn scenes(c: &mut Criterion) {
         let mut group = c.benchmark_group(name);
         group.sample_size(20);
         for entry in SCENES {
-            let mut lab = Lab::new(entry.info.name, &[]).expect("default scene");
+            let mut lab = Lab::new(&entry.info().name, &[]).expect("default scene");
             lab.view.msaa = msaa;
             lab.run_steps_recorded(120);
-            group.bench_function(entry.info.name, |b| {
+            group.bench_function(&*entry.info().name, |b| {
                 b.iter(|| capture.render(&mut lab, [1280, 720], true).expect("frame renders"))
             });
         }

@@ -207,7 +207,7 @@ impl ApplicationHandler for App {
         #[cfg(not(target_arch = "wasm32"))]
         match WindowState::open(event_loop, self.window_size) {
             Ok((state, opened_at)) => {
-                log::info!("window open: scene {}", self.lab.entry.info.name);
+                log::info!("window open: scene {}", self.lab.entry.info().name);
                 // A size cut to fit is what the settings keep from now on.
                 self.window_size = opened_at;
                 self.window = Some(state);
@@ -226,7 +226,7 @@ impl ApplicationHandler for App {
             let pending = self.pending.borrow_mut().take();
             match pending {
                 Some(Ok(state)) => {
-                    log::info!("page open: scene {}", self.lab.entry.info.name);
+                    log::info!("page open: scene {}", self.lab.entry.info().name);
                     crate::ui::page::set_window(state.window.clone());
                     state.window.request_redraw();
                     self.window = Some(state);
@@ -338,9 +338,9 @@ impl ApplicationHandler for App {
             // reload, or a bad edit's message, is drawn at once.
             if now >= self.scene_file_polled + SCENE_FILE_POLL {
                 self.scene_file_polled = now;
-                let (entry, status) = (self.lab.entry, self.lab.status.clone());
+                let (entry, status) = (self.lab.entry.clone(), self.lab.status.clone());
                 self.lab.poll_scene_file();
-                if !std::ptr::eq(entry, self.lab.entry) || status != self.lab.status {
+                if !entry.same(&self.lab.entry) || status != self.lab.status {
                     state.window.request_redraw();
                 }
             }
@@ -791,7 +791,7 @@ impl WindowState {
         // is the screenshot, downloaded.
         #[cfg(target_arch = "wasm32")]
         if std::mem::take(&mut lab.requests.screenshot) {
-            lab.status = crate::ui::page::download_canvas(&lab.entry.info.name);
+            lab.status = crate::ui::page::download_canvas(&lab.entry.info().name);
             log::info!("{}", lab.status);
         }
         #[cfg(not(target_arch = "wasm32"))]
@@ -829,7 +829,7 @@ impl WindowState {
             .map(|d| d.as_millis())
             .unwrap_or_default();
         let directory = std::env::current_dir().map_err(|e| format!("no current directory: {e}"))?;
-        let path = directory.join(format!("particle-lab-{}-{seconds}.png", lab.entry.info.name));
+        let path = directory.join(format!("particle-lab-{}-{seconds}.png", lab.entry.info().name));
         crate::render::offscreen::write_png(&path, size, &pixels)?;
         Ok(path)
     }

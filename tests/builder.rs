@@ -93,7 +93,7 @@ fn counts(h: &Harness<'_, Rig>) -> (usize, usize) {
 fn hash_of_text(text: &str, steps: u32) -> u64 {
     let entry = file::load_text(text, "saved", None).expect("the saved file opens");
     let mut lab =
-        Lab::from_entry(entry, &[], particle_lab::physics::SolverSettings::default()).expect("a lab");
+        Lab::from_entry(&entry, &[], particle_lab::physics::SolverSettings::default()).expect("a lab");
     lab.run_steps_recorded(u64::from(steps));
     assert_eq!(lab.scene.world().steps(), u64::from(steps));
     lab.scene.world().state_hash()
@@ -114,10 +114,10 @@ fn play_and_compare(h: &mut Harness<'_, Rig>, steps: u32) {
     // Saved again, the same bytes.
     let entry = file::load_text(&text, "saved", None).unwrap();
     let again =
-        file::written(entry, &particle_lab::scenes::ParamValues::defaults(entry.info.params)).unwrap();
+        file::written(&entry, &particle_lab::scenes::ParamValues::defaults(&entry.info().params)).unwrap();
     let reread = file::load_text(&again, "saved", None).unwrap();
     let twice =
-        file::written(reread, &particle_lab::scenes::ParamValues::defaults(reread.info.params)).unwrap();
+        file::written(&reread, &particle_lab::scenes::ParamValues::defaults(&reread.info().params)).unwrap();
     assert_eq!(again, twice);
 }
 
@@ -223,7 +223,7 @@ fn a_built_in_scene_edited_as_a_copy_runs_and_b_goes_back_to_building() {
     key(&mut h, Modifiers::NONE, Key::B);
     assert!(h.state().lab.editing());
     assert_eq!(counts(&h), before, "the copy holds the scene's particles and links");
-    assert!(h.state().lab.entry.info.name.ends_with("(copy)"));
+    assert!(h.state().lab.entry.info().name.ends_with("(copy)"));
     // The bob, selected by a click.
     click(&mut h, "Select");
     let bob = *h.state().lab.scene.world().particles.positions().last().unwrap();

@@ -530,11 +530,11 @@ fn the_same_run_gives_the_same_bits() {
 fn every_scene_runs_its_default_steps_and_stays_finite() {
     for entry in scenes::SCENES {
         let mut scene = entry.create_default();
-        assert!(!scene.world().particles.is_empty(), "{} starts empty", entry.info.name);
-        for _ in 0..entry.info.default_steps {
-            scene.step(entry.info.dt).unwrap();
+        assert!(!scene.world().particles.is_empty(), "{} starts empty", entry.info().name);
+        for _ in 0..entry.info().default_steps {
+            scene.step(entry.info().dt).unwrap();
         }
-        assert!(scene.world().is_finite(), "{} blew up", entry.info.name);
+        assert!(scene.world().is_finite(), "{} blew up", entry.info().name);
     }
 }
 

@@ -44,7 +44,7 @@ fn assert_one_line(what: &str, stderr: &str) {
 
 /// Every scene the lab offers: compiled and shipped as files.
 fn entries() -> Vec<&'static SceneEntry> {
-    SCENES.iter().chain(scenes::file::shipped().iter().copied()).collect()
+    SCENES.iter().chain(scenes::file::shipped()).collect()
 }
 
 /// The biggest values of the count-like parameters make scenes that take seconds a
@@ -103,7 +103,7 @@ fn simulate_runs_every_parameter_at_its_ends_its_default_and_minus_zero() {
 /// drawn and a frame rendered after it), a lab opened on the value, and Compare with
 /// the value as the change.
 fn window_doors(gpu: &mut FrameCapture, entry: &'static SceneEntry, name: &'static str, value: f32) {
-    let scene = entry.info.name;
+    let scene = &*entry.info().name;
     let steps = steps_for(scene, name, f64::from(value));
     // The slider: the scene runs a little, then the value is set, as a drag does.
     let mut lab = Lab::from_entry(entry, &[], Default::default()).unwrap();
@@ -116,7 +116,7 @@ fn window_doors(gpu: &mut FrameCapture, entry: &'static SceneEntry, name: &'stat
     // Opened on the value: `render --set`, `--set` in the window, saved settings.
     let assignment = format!("{name}={value}");
     let mut lab = Lab::from_entry(entry, &[assignment], Default::default()).unwrap();
-    lab.start_compare(Change::Param(name, value));
+    lab.start_compare(Change::Param(name.to_string(), value));
     lab.run_steps(steps);
     gpu.render(&mut lab, SIZE, true).unwrap_or_else(|e| panic!("{scene} {name}={value}: {e}"));
 }
@@ -126,16 +126,16 @@ fn the_window_and_render_take_every_parameter_at_its_ends_its_default_and_minus_
     let mut gpu = FrameCapture::new().expect("headless rendering needs a GPU adapter (bash scripts/test.sh)");
     let mut tried = 0;
     for entry in entries() {
-        for param in entry.info.params {
+        for param in entry.info().params.iter() {
             let (min, max, default) = (f64::from(param.min), f64::from(param.max), f64::from(param.default));
             for value in values(min, max, default) {
                 if in_range(value, min, max) {
-                    window_doors(&mut gpu, entry, param.name, value as f32);
+                    window_doors(&mut gpu, entry, &param.name, value as f32);
                     tried += 1;
                 } else {
                     // Out of range: the slider cannot reach it and a typed value is refused.
                     let mut lab = Lab::from_entry(entry, &[], Default::default()).unwrap();
-                    lab.set_param(param.name, value as f32);
+                    lab.set_param(&param.name, value as f32);
                     assert!(lab.status.contains("out of range"), "{}: {}", param.name, lab.status);
                     assert!(!lab.status.contains('\n'));
                 }
@@ -146,9 +146,9 @@ fn the_window_and_render_take_every_parameter_at_its_ends_its_default_and_minus_
 }
 
 /// A value for each parameter of `entry`, from fractions of their ranges.
-fn random_values(entry: &SceneEntry, fractions: &[f64]) -> Vec<(&'static str, f32)> {
+fn random_values(entry: &'static SceneEntry, fractions: &[f64]) -> Vec<(&'static str, f32)> {
     entry
-        .info
+        .info()
         .params
         .iter()
         .zip(fractions.iter().cycle())
@@ -158,7 +158,7 @@ fn random_values(entry: &SceneEntry, fractions: &[f64]) -> Vec<(&'static str, f3
             let value = f64::from(p.min) + f * (f64::from(max) - f64::from(p.min));
             // A whole-number parameter takes whole numbers only (a fraction is refused).
             let value = if p.integer { value.round() } else { value };
-            (p.name, (value as f32).clamp(p.min, max))
+            (&*p.name, (value as f32).clamp(p.min, max))
         })
         .collect()
 }
@@ -184,7 +184,7 @@ proptest! {
             solver.kind = particle_lab::physics::SolverKind::Paper;
         }
         let mut lab = Lab::from_entry(entry, &assignments, solver)
-            .map_err(|e| TestCaseError::fail(format!("{}: {e}", entry.info.name)))?;
+            .map_err(|e| TestCaseError::fail(format!("{}: {e}", entry.info().name)))?;
         lab.run_steps(STEPS);
         let mut lab = Lab::from_entry(entry, &[], solver).unwrap();
         lab.run_steps(3);

@@ -74,11 +74,11 @@ fn check_round_trip(what: &str, scene: &[&str], set: &[&str], dir: &Path) {
 fn shipped_scene_files_exported_run_as_the_originals() {
     let dir = folder("shipped");
     for entry in file::shipped() {
-        let name = entry.info.name;
+        let name: &str = &entry.info().name;
         check_round_trip(name, &["--scene", name], &[], &dir);
         // Moved sliders become the file's defaults: the first parameter at its
         // maximum, and g at the Moon's.
-        let first = &entry.info.params[0];
+        let first = &entry.info().params[0];
         let moved = format!("{}={}", first.name, first.max);
         check_round_trip(&format!("{name} moved"), &["--scene", name], &[&moved, "g=1.62"], &dir);
     }

@@ -47,13 +47,13 @@ const EXTREMES: &[&str] = &[
 /// hourglass small, so a case is quick) and the shipped scene files.
 fn seeds() -> Vec<(String, String)> {
     let mut seeds = Vec::new();
-    let entries = SCENES.iter().chain(scenes::file::shipped().iter().copied());
+    let entries = SCENES.iter().chain(scenes::file::shipped());
     for entry in entries {
-        let name = entry.info.name;
+        let name = &*entry.info().name;
         let small = matches!(name, "pile" | "hourglass");
         let set: Vec<String> = if small { vec!["count=40".into()] } else { Vec::new() };
         let mut scene = scenes::build_entry(entry, &set).unwrap();
-        let dt = entry.info.dt;
+        let dt = entry.info().dt;
         for _ in 0..90 {
             scene.step(dt).unwrap();
         }

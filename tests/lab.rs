@@ -66,8 +66,8 @@ fn reset_keeps_parameters_and_switching_scenes_works() {
     assert_eq!(lab.scene.world().particles.len(), 1);
     for entry in particle_lab::scenes::SCENES {
         lab.switch_scene(entry);
-        assert_eq!(lab.entry.info.name, entry.info.name);
-        assert_eq!(lab.view.trails, entry.info.trails);
+        assert_eq!(lab.entry.info().name, entry.info().name);
+        assert_eq!(lab.view.trails, entry.info().trails);
     }
 }
 
@@ -120,11 +120,11 @@ fn dragging_while_paused_moves_the_particle_at_once() {
 #[test]
 fn colour_by_speed_defaults_to_the_scene_on_opening_and_switching() {
     for entry in SCENES {
-        let lab = Lab::new(entry.info.name, &[]).unwrap();
-        assert_eq!(lab.view.color_by_speed, entry.info.color_by_speed, "{} opened", entry.info.name);
+        let lab = Lab::new(&entry.info().name, &[]).unwrap();
+        assert_eq!(lab.view.color_by_speed, entry.info().color_by_speed, "{} opened", entry.info().name);
     }
     let pile = scenes::find("pile").unwrap();
-    assert!(pile.info.color_by_speed, "the pile is the scene that wants it");
+    assert!(pile.info().color_by_speed, "the pile is the scene that wants it");
     let mut lab = Lab::new("pile", &[]).unwrap();
     // The user's choice holds until another scene is opened ...
     lab.view.color_by_speed = false;
@@ -312,13 +312,13 @@ fn every_scene_is_framed_whole_in_a_narrow_view_and_the_users_camera_is_kept() {
     // An 800x600 window less the 300-pixel panel: a 500x575 view.
     let size = Vec2::new(500.0, 575.0);
     for entry in SCENES {
-        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        let mut lab = Lab::new(&entry.info().name, &[]).unwrap();
         lab.set_view_aspect(size.x / size.y);
         let particles = &lab.scene.world().particles;
         for (i, &p) in particles.positions().iter().enumerate().take(2000) {
             let screen = lab.camera.project(p, size);
             let inside = screen.is_some_and(|s| s.x >= 0.0 && s.x <= size.x && s.y >= 0.0 && s.y <= size.y);
-            assert!(inside, "{}: particle {i} at {p} is outside the view ({screen:?})", entry.info.name);
+            assert!(inside, "{}: particle {i} at {p} is outside the view ({screen:?})", entry.info().name);
         }
     }
     // Once the user has moved the camera, a new view shape does not reframe it.
@@ -355,7 +355,7 @@ fn scene_files_at_any_place_and_scale_are_framed_in_3d_and_the_side_view() {
         let entry = particle_lab::scenes::file::load_text(&text, name, None).unwrap();
         for side in [false, true] {
             let mut lab =
-                Lab::from_entry(entry, &[], particle_lab::physics::SolverSettings::default()).unwrap();
+                Lab::from_entry(&entry, &[], particle_lab::physics::SolverSettings::default()).unwrap();
             lab.set_view_aspect(size.x / size.y);
             if side {
                 lab.set_side_view(true);
@@ -499,21 +499,21 @@ fn compare_runs_a_copy_with_one_setting_changed() {
 
     // Another rate: the copy takes its own steps and keeps within half of one.
     let mut lab = Lab::new("pendulum", &[]).unwrap();
-    lab.start_compare(Change::parse("rate=60", lab.entry).unwrap());
+    lab.start_compare(Change::parse("rate=60", &lab.entry).unwrap());
     lab.run_steps(240);
     let compare = lab.compare.as_ref().unwrap();
     assert_eq!(compare.scene.world().steps(), 60);
     // Another parameter: the copy has it, the original does not; other changes reach both.
     let mut lab = Lab::new("projectile", &[]).unwrap();
-    lab.start_compare(Change::parse("k1=20", lab.entry).unwrap());
+    lab.start_compare(Change::parse("k1=20", &lab.entry).unwrap());
     lab.set_param("g", 9.81);
     let copy = lab.compare.as_ref().unwrap().scene.params();
     assert_eq!((copy.get("k1"), copy.get("g")), (20.0, 9.81));
     assert_eq!(lab.scene.params().get("k1"), 0.0);
     // Refusals name what is accepted.
-    let error = Change::parse("mass=0", lab.entry).unwrap_err();
+    let error = Change::parse("mass=0", &lab.entry).unwrap_err();
     assert!(error.contains("valid range"), "{error}");
-    assert!(Change::parse("integrator=leapfrog", lab.entry).is_err());
+    assert!(Change::parse("integrator=leapfrog", &lab.entry).is_err());
 }
 
 /// A bridge that has come to rest and fallen asleep still reports the tension in its

@@ -29,7 +29,7 @@ fn written(lab: &mut Lab, size: [f32; 2]) -> (Vec<PlacedLabel>, egui::Rect) {
 }
 
 fn every_lab() -> Vec<Lab> {
-    let entries = SCENES.iter().chain(scenes::file::shipped().iter().copied());
+    let entries = SCENES.iter().chain(scenes::file::shipped());
     entries.map(|entry| Lab::from_entry(entry, &[], SolverSettings::default()).unwrap()).collect()
 }
 
@@ -41,7 +41,11 @@ fn no_object_or_link_is_named_twice() {
         let names: Vec<&str> =
             placed.iter().filter(|l| l.kind != LabelKind::Tick).map(|l| l.text.as_str()).collect();
         for (i, name) in names.iter().enumerate() {
-            assert!(!names[..i].contains(name), "{}: '{name}' written twice: {names:?}", lab.entry.info.name);
+            assert!(
+                !names[..i].contains(name),
+                "{}: '{name}' written twice: {names:?}",
+                lab.entry.info().name
+            );
         }
     }
     // springForces names its stiff spring's particle "stiff spring": the link is not named
@@ -64,7 +68,7 @@ fn labels_never_overprint_at_800_by_600_or_1280_by_720() {
                 }
                 lab.run_steps(60);
                 let (placed, _) = written(&mut lab, size);
-                let name = lab.entry.info.name;
+                let name = &lab.entry.info().name;
                 for (i, a) in placed.iter().enumerate() {
                     for b in &placed[..i] {
                         assert!(

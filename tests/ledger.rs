@@ -150,7 +150,7 @@ fn rounds_that_come_and_go_keep_the_budget_closed_with_a_removed_line() {
     use particle_lab::scenes::{self, SceneAction};
     let entry = scenes::find("projectile").unwrap();
     let mut scene = scenes::build_entry(entry, &[]).unwrap();
-    let dt = entry.info.dt;
+    let dt = entry.info().dt;
     let budget = |e: &Energy| f64::from(e.kinetic + e.potential + e.dissipated + e.removed - e.work);
     let start = budget(&scene.world().energy());
     let (mut removed, mut fired_energy) = (0.0_f64, 0.0_f64);

@@ -152,8 +152,8 @@ fn the_link_of_what_is_on_screen_opens_it_again() {
     assert!(query.starts_with("?scene=springForces&"), "{query}");
     let (link, again) = open_link(&query).unwrap();
     let mut copy = settings::open(&again, Store::in_dir(&scratch("copy-b"))).unwrap().lab;
-    let params: Vec<_> = copy.scene.params().iter().map(|(p, v)| (p.name, v.to_bits())).collect();
-    let wanted: Vec<_> = lab.scene.params().iter().map(|(p, v)| (p.name, v.to_bits())).collect();
+    let params: Vec<_> = copy.scene.params().iter().map(|(p, v)| (p.name.to_string(), v.to_bits())).collect();
+    let wanted: Vec<_> = lab.scene.params().iter().map(|(p, v)| (p.name.to_string(), v.to_bits())).collect();
     assert_eq!(params, wanted, "{query}");
     assert_eq!(copy.solver(), lab.solver(), "{query}");
     link.run_steps(&mut copy);
@@ -199,7 +199,7 @@ fn a_link_to_a_scene_file_of_ones_own_carries_it_and_opens_the_same_experiment()
         let mut launch = Launch::from_args(&link.args).unwrap();
         launch.scene_text = link.scene_text.clone();
         let mut lab = settings::open(&launch, Store::in_dir(&scratch(&format!("own-{name}")))).unwrap().lab;
-        assert_eq!(lab.entry.info.name, format!("my-{name}"));
+        assert_eq!(lab.entry.info().name, format!("my-{name}"));
         assert_eq!(lab.scene.params().get("g"), 5.0, "{name}: with its parameters");
         link.run_steps(&mut lab);
         assert!(lab.paused);
@@ -308,7 +308,7 @@ fn a_link_opens_at_its_own_rate_not_a_saved_one() {
     // Without `rate`, the scene's own rate (240 Hz), not the saved 90.
     let at_own = Launch::from_link("?scene=bridge&steps=240").unwrap();
     let own = settings::open(&at_own, Store::in_dir(&dir)).unwrap().lab;
-    assert_eq!(own.dt(), own.entry.info.dt);
+    assert_eq!(own.dt(), own.entry.info().dt);
     assert!(Link::of(&own, false).unwrap().find("rate=").is_none());
     // A rate out of the panel's range is one line.
     let error = Launch::from_link("?scene=bridge&rate=5").unwrap_err();
@@ -329,7 +329,7 @@ fn settings_saved_on_a_carried_scene_open_again_on_the_default_scene() {
     let link = format!("#file={}", particle_lab::ui::lab::carried::pack(&text));
     let dir = scratch("carried-settings");
     let mut lab = settings::open(&Launch::from_link(&link).unwrap(), Store::in_dir(&dir)).unwrap().lab;
-    assert_eq!(lab.entry.info.name, "sent-chain");
+    assert_eq!(lab.entry.info().name, "sent-chain");
     lab.time_scale = 0.5;
     let panel = particle_lab::settings::PanelSettings::default();
     let saved = Settings::of(&lab, &panel, [900, 600]);
@@ -338,6 +338,6 @@ fn settings_saved_on_a_carried_scene_open_again_on_the_default_scene() {
     let (_, plain) = open_link("").unwrap();
     let again = settings::open(&plain, Store::in_dir(&dir)).unwrap();
     assert_eq!(again.warning, None, "the settings are usable");
-    assert_eq!(again.lab.entry.info.name, "projectile");
+    assert_eq!(again.lab.entry.info().name, "projectile");
     assert_eq!(again.lab.time_scale, 0.5, "the rest kept");
 }

@@ -183,11 +183,11 @@ fn the_energy_plot_is_in_view_without_scrolling_at_1280x720_on_every_scene() {
         let mut lab = Lab::from_entry(entry, &[], Default::default()).unwrap();
         let mut shell = LabUi::default();
         settle(&ctx, &mut shell, &mut lab, WIDE);
-        let plot = shell.energy.plot.unwrap_or_else(|| panic!("{}: no energy plot", entry.info.name));
+        let plot = shell.energy.plot.unwrap_or_else(|| panic!("{}: no energy plot", entry.info().name));
         assert!(
             plot.data.bottom() <= WIDE[1] && plot.data.height() > 50.0,
             "{}: the plot ends at y = {} in a 720-point window",
-            entry.info.name,
+            entry.info().name,
             plot.data.bottom()
         );
     }
@@ -466,8 +466,9 @@ fn copy_link_in_the_file_menu_gives_the_query_that_opens_this_experiment() {
     let link = Link::parse(&pairs).unwrap();
     let dir = std::env::temp_dir().join(format!("particle-lab-panel-link-{}", std::process::id()));
     let again = settings::open(&Launch::from_args(&link.args).unwrap(), Store::in_dir(&dir)).unwrap().lab;
-    let values =
-        |lab: &Lab| lab.scene.params().iter().map(|(p, v)| (p.name, v.to_bits())).collect::<Vec<_>>();
+    let values = |lab: &Lab| {
+        lab.scene.params().iter().map(|(p, v)| (p.name.to_string(), v.to_bits())).collect::<Vec<_>>()
+    };
     assert_eq!(values(&again), values(&lab));
     assert_eq!(again.solver(), lab.solver());
     let _ = std::fs::remove_dir_all(dir);

@@ -83,11 +83,11 @@ fn compare_with_golden(name: &str, actual: &[u8], size: [u32; 2]) {
 fn every_scene_matches_its_reference_image() {
     let mut capture = capture();
     for entry in SCENES {
-        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        let mut lab = Lab::new(&entry.info().name, &[]).unwrap();
         lab.run_steps_recorded(STEPS);
         let image = capture.render(&mut lab, SIZE, false).unwrap();
         assert_eq!(image.len(), (SIZE[0] * SIZE[1] * 4) as usize);
-        compare_with_golden(entry.info.name, &image, SIZE);
+        compare_with_golden(&entry.info().name, &image, SIZE);
     }
 }
 
@@ -100,7 +100,7 @@ fn spheres_drawn_as_instances_look_as_spheres_read_from_storage() {
     let mut storage = FrameCapture::with_sphere_path(Some(SpherePath::Storage)).unwrap();
     let mut instanced = FrameCapture::with_sphere_path(Some(SpherePath::Instanced)).unwrap();
     for entry in SCENES {
-        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        let mut lab = Lab::new(&entry.info().name, &[]).unwrap();
         lab.run_steps_recorded(STEPS);
         let a = storage.render(&mut lab, SIZE, false).unwrap();
         let b = instanced.render(&mut lab, SIZE, false).unwrap();
@@ -108,11 +108,11 @@ fn spheres_drawn_as_instances_look_as_spheres_read_from_storage() {
         assert!(
             different * 1000 < a.len() / 4,
             "{}: {different} pixels differ between the paths",
-            entry.info.name
+            entry.info().name
         );
         let spheres = a.chunks_exact(4).filter(|p| p[0] > 100 || p[1] > 100 || p[2] > 100).count();
-        assert!(spheres > 0, "{}: something bright (a sphere) is drawn", entry.info.name);
-        compare_with_golden(entry.info.name, &b, SIZE);
+        assert!(spheres > 0, "{}: something bright (a sphere) is drawn", entry.info().name);
+        compare_with_golden(&entry.info().name, &b, SIZE);
     }
 }
 
@@ -142,7 +142,7 @@ fn the_falling_pile_is_coloured_by_speed() {
 fn each_particle_is_drawn_where_the_camera_projects_it() {
     let mut capture = capture();
     for entry in SCENES {
-        let mut lab = Lab::new(entry.info.name, &[]).unwrap();
+        let mut lab = Lab::new(&entry.info().name, &[]).unwrap();
         lab.run_steps_recorded(STEPS);
         let size = Vec2::new(SIZE[0] as f32, SIZE[1] as f32);
         // The first particle in sight: picking at its projected centre finds it (in a
@@ -153,11 +153,11 @@ fn each_particle_is_drawn_where_the_camera_projects_it() {
                 let screen = lab.camera.project(particles.positions()[i], size);
                 screen.is_some_and(|s| lab.pick(s, size) == particles.id(i))
             })
-            .unwrap_or_else(|| panic!("{}: no particle in sight", entry.info.name));
+            .unwrap_or_else(|| panic!("{}: no particle in sight", entry.info().name));
         let (id, centre, radius) = (particles.ids()[i], particles.positions()[i], particles.radii()[i]);
         let screen = lab.camera.project(centre, size).unwrap();
         let (x, y) = (screen.x.round() as u32, screen.y.round() as u32);
-        assert!(x < SIZE[0] && y < SIZE[1], "{}: particle {i} is off screen at {screen}", entry.info.name);
+        assert!(x < SIZE[0] && y < SIZE[1], "{}: particle {i} is off screen at {screen}", entry.info().name);
         // Only the particle's own colour changes when it is highlighted (yellow), so a
         // pixel that turns yellow at its projected centre is the sphere itself.
         let plain = capture.render(&mut lab, SIZE, false).unwrap();
@@ -165,18 +165,18 @@ fn each_particle_is_drawn_where_the_camera_projects_it() {
         let lit = capture.render(&mut lab, SIZE, false).unwrap();
         lab.hovered = None;
         let (before, after) = (pixel(&plain, SIZE, x, y), pixel(&lit, SIZE, x, y));
-        assert!(differs(before, after, 30), "{}: ({x}, {y}) is {before:?} either way", entry.info.name);
+        assert!(differs(before, after, 30), "{}: ({x}, {y}) is {before:?} either way", entry.info().name);
         assert!(
             after[0] > 120 && after[1] > 100 && after[2] + 40 < after[0],
             "{}: not yellow: {after:?}",
-            entry.info.name
+            entry.info().name
         );
         // Well outside the highlighted sphere (1.15 r) nothing changed colour.
         let edge = lab.camera.project(centre + lab.camera.right() * radius * 3.0, size).unwrap();
         let (ex, ey) = (edge.x.round() as u32, edge.y.round() as u32);
         if ex < SIZE[0] && ey < SIZE[1] {
             let (b, a) = (pixel(&plain, SIZE, ex, ey), pixel(&lit, SIZE, ex, ey));
-            assert!(!differs(b, a, 8), "{}: ({ex}, {ey}) outside the sphere changed", entry.info.name);
+            assert!(!differs(b, a, 8), "{}: ({ex}, {ey}) outside the sphere changed", entry.info().name);
         }
     }
 }

@@ -27,7 +27,7 @@ struct Case {
 fn cases() -> Vec<Case> {
     let mut cases = Vec::new();
     for entry in SCENES {
-        let name = entry.info.name;
+        let name = &*entry.info().name;
         // Cut to sizes that step quickly; the hourglass still flows (the opening is
         // seven grain diameters), the pile still settles.
         let quick: &[&str] = match name {
@@ -42,7 +42,7 @@ fn cases() -> Vec<Case> {
         }
     }
     for entry in scenes::file::shipped() {
-        cases.push(Case { what: format!("scene file {}", entry.info.name), entry, params: Vec::new() });
+        cases.push(Case { what: format!("scene file {}", entry.info().name), entry, params: Vec::new() });
     }
     cases
 }
@@ -65,7 +65,7 @@ fn seen(scene: &dyn Scene, dt: f32) -> (u64, Vec<u32>, u64, Vec<(String, String)
 #[test]
 fn every_scene_reopens_at_every_checkpoint_and_steps_on_to_the_same_bits() {
     for case in cases() {
-        let dt = case.entry.info.dt;
+        let dt = case.entry.info().dt;
         let mut straight = scenes::build_entry(case.entry, &case.params).unwrap();
         // (checkpoint, snapshot text, what the run showed then, what it showed ON later)
         let mut taken: Vec<(u64, String, _, Option<_>)> = Vec::new();
@@ -101,7 +101,7 @@ fn every_scene_reopens_at_every_checkpoint_and_steps_on_to_the_same_bits() {
 #[test]
 fn the_projectile_reopens_after_its_rounds_landed_with_their_records() {
     let entry = scenes::find("projectile").unwrap();
-    let dt = entry.info.dt;
+    let dt = entry.info().dt;
     let mut straight = entry.create_default();
     for _ in 0..2000 {
         straight.step(dt).unwrap();
@@ -130,7 +130,7 @@ fn the_projectile_reopens_after_its_rounds_landed_with_their_records() {
 #[test]
 fn the_hourglass_gauges_come_back_from_a_snapshot() {
     let entry = scenes::find("hourglass").unwrap();
-    let dt = entry.info.dt;
+    let dt = entry.info().dt;
     let mut scene = scenes::build_entry(entry, &["count=400".into()]).unwrap();
     for _ in 0..600 {
         scene.step(dt).unwrap();

@@ -15,7 +15,7 @@ use particle_lab::scenes::{self, Scene, file};
 /// Loads a scene from text as a file named `test.toml`; the error as its one line.
 fn load(text: &str) -> Result<Box<dyn Scene>, String> {
     let entry = file::load_text(text, "test.toml", None).map_err(|e| e.to_string())?;
-    scenes::build_entry(entry, &[])
+    scenes::build_entry(&entry, &[])
 }
 
 fn load_err(text: &str) -> String {
@@ -144,7 +144,7 @@ fn load_path_within(path: &Path, limit: Duration) -> Result<String, String> {
     let owned = path.to_path_buf();
     std::thread::spawn(move || {
         let _ =
-            send.send(file::load_path(&owned).map(|e| e.info.name.to_string()).map_err(|e| e.to_string()));
+            send.send(file::load_path(&owned).map(|e| e.info().name.to_string()).map_err(|e| e.to_string()));
     });
     receive
         .recv_timeout(limit)
@@ -461,15 +461,15 @@ fn mutated_shipped_files_load_or_fail_with_one_line_and_never_panic() {
         let outcome = std::panic::catch_unwind(|| match file::load_text(&text, "test.toml", None) {
             Err(error) => Err(error.to_string()),
             Ok(entry) => {
-                let mut scene = scenes::build_entry(entry, &[])?;
-                let dt = entry.info.dt;
+                let mut scene = scenes::build_entry(&entry, &[])?;
+                let dt = entry.info().dt;
                 for _ in 0..3 {
                     scene.step(dt).map_err(|e| e.to_string())?;
                 }
                 // Every parameter at its ends: a rebuild, or a refusal in one line.
-                for param in entry.info.params {
+                for param in entry.info().params.iter() {
                     for value in [param.min, param.max] {
-                        if let Err(error) = scene.set_param(param.name, value) {
+                        if let Err(error) = scene.set_param(&param.name, value) {
                             let message = error.to_string();
                             assert!(
                                 !message.chars().any(char::is_control) && message.chars().count() <= 300,

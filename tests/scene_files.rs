@@ -30,7 +30,7 @@ fn scratch_dir(name: &str) -> PathBuf {
 /// Loads a scene from text as a file named `test.toml`; the error as its one line.
 fn load(text: &str) -> Result<Box<dyn Scene>, String> {
     let entry = file::load_text(text, "test.toml", None).map_err(|e| e.to_string())?;
-    scenes::build_entry(entry, &[])
+    scenes::build_entry(&entry, &[])
 }
 
 fn load_err(text: &str) -> String {
@@ -191,7 +191,7 @@ fn parameters_reach_set_and_the_sliders_and_g_acts_at_once() {
     let blob = scenes::build("blob", &["beads=8".into(), "height=3".into()]).unwrap();
     assert_eq!(blob.world().particles.len(), 9);
     assert_eq!(blob.params().get("height"), 3.0);
-    let names: Vec<&str> = blob.info().params.iter().map(|p| p.name).collect();
+    let names: Vec<&str> = blob.info().params.iter().map(|p| &*p.name).collect();
     assert_eq!(names, ["beads", "radius", "k", "height", "damping", "g"], "g is added to every file scene");
 
     let mut chain = scenes::build("chain", &[]).unwrap();
@@ -259,7 +259,7 @@ mass = "1 + i"
     assert_eq!(p.positions()[3].x, 1.0);
     assert_eq!(p.mass(3), 3.0);
     let entry = file::load_text(text, "test.toml", None).unwrap();
-    let bigger = scenes::build_entry(entry, &["m=8".into()]).unwrap();
+    let bigger = scenes::build_entry(&entry, &["m=8".into()]).unwrap();
     assert_eq!(bigger.world().particles.len(), 10);
     assert_eq!(bigger.world().particles.positions()[0].y, 17.0);
 }
@@ -369,7 +369,7 @@ fn a_file_scene_gives_its_source_text_and_path() {
     let text = "[scene]\nname = \"one\"\n[[particle]]\nposition = [0, 1, 0]\n";
     std::fs::write(&path, text).unwrap();
     let entry = file::load_path(&path).unwrap();
-    let scene = scenes::build_entry(entry, &[]).unwrap();
+    let scene = scenes::build_entry(&entry, &[]).unwrap();
     let (source, from) = scene.source().unwrap();
     assert_eq!(source, text);
     assert_eq!(from, Some(path.as_path()));
@@ -401,7 +401,7 @@ fn an_edited_file_reloads_keeping_the_camera_and_a_bad_edit_keeps_the_scene() {
     };
     std::fs::write(&path, text("3")).unwrap();
     let entry = file::load_path(&path).unwrap();
-    let mut lab = Lab::from_entry(entry, &["gap=0.8".into()], SolverSettings::default()).unwrap();
+    let mut lab = Lab::from_entry(&entry, &["gap=0.8".into()], SolverSettings::default()).unwrap();
     lab.watch_scene_file();
     lab.camera.distance = 42.0;
     std::thread::sleep(Duration::from_millis(100));
@@ -456,7 +456,7 @@ proptest! {
         let text = String::from_utf8_lossy(&bytes).to_string();
         match file::load_text(&text, name, None) {
             Ok(entry) => {
-                let scene = scenes::build_entry(entry, &[]).unwrap();
+                let scene = scenes::build_entry(&entry, &[]).unwrap();
                 prop_assert!(scene.world().particles.len() <= file::MAX_PARTICLES);
             }
             Err(error) => {
@@ -545,7 +545,7 @@ fn an_edited_default_takes_effect_on_reload() {
         )
     };
     std::fs::write(&path, text(3)).unwrap();
-    let mut lab = Lab::from_entry(file::load_path(&path).unwrap(), &[], SolverSettings::default()).unwrap();
+    let mut lab = Lab::from_entry(&file::load_path(&path).unwrap(), &[], SolverSettings::default()).unwrap();
     lab.watch_scene_file();
     std::thread::sleep(Duration::from_millis(100));
     std::fs::write(&path, text(4)).unwrap();
@@ -566,19 +566,19 @@ fn lcg(state: &mut u64) -> f32 {
 /// range) every 50 steps; fails on an error or a non-finite state.
 fn soak(steps: u32) {
     let mut seed = 7;
-    for &entry in file::shipped() {
+    for entry in file::shipped() {
         let mut scene = entry.create_default();
-        let params = entry.info.params;
+        let params = &entry.info().params;
         for step in 0..steps {
             if step % 50 == 0 {
                 let p = &params[(lcg(&mut seed) * params.len() as f32) as usize % params.len()];
                 let value = p.min + (p.max - p.min) * lcg(&mut seed);
                 // A whole-number parameter's slider moves in whole numbers.
                 let value = if p.integer { value.round() } else { value };
-                scene.set_param(p.name, value).unwrap_or_else(|e| panic!("{}: {e}", entry.info.name));
+                scene.set_param(&p.name, value).unwrap_or_else(|e| panic!("{}: {e}", entry.info().name));
             }
-            scene.step(entry.info.dt).unwrap();
-            assert!(scene.world().is_finite(), "{} went non-finite at step {step}", entry.info.name);
+            scene.step(entry.info().dt).unwrap();
+            assert!(scene.world().is_finite(), "{} went non-finite at step {step}", entry.info().name);
         }
     }
 }
@@ -705,6 +705,6 @@ fn a_value_the_file_cannot_be_built_with_is_refused_and_the_scene_stays() {
     assert_eq!((scene.params().get("m"), scene.world().steps()), (3.0, 1), "nothing changed");
     assert_eq!(scene.world().particles.mass(0), 2.0);
     let entry = file::load_text(text, "test.toml", None).unwrap();
-    let error = scenes::build_entry(entry, &["m=0.5".into()]).err().unwrap();
+    let error = scenes::build_entry(&entry, &["m=0.5".into()]).err().unwrap();
     assert_eq!(error, "test.toml:10:8: mass = -0.5 is out of range; valid range: 1e-9 to 1e12 kg");
 }

@@ -6,9 +6,9 @@ use particle_lab::scenes::{self, ParamError, SceneAction};
 #[test]
 fn every_parameter_table_is_consistent() {
     for entry in scenes::SCENES {
-        let info = entry.info;
+        let info = entry.info();
         assert!(info.dt > 0.0 && info.default_steps > 0, "{}", info.name);
-        for p in info.params {
+        for p in info.params.iter() {
             assert!(p.min < p.max && (p.min..=p.max).contains(&p.default), "{}.{}", info.name, p.name);
             assert!(!p.help.is_empty(), "{}.{} has no help", info.name, p.name);
             assert!(!p.logarithmic || p.min > 0.0, "{}.{}: log slider needs min > 0", info.name, p.name);
@@ -25,7 +25,7 @@ fn every_parameter_table_is_consistent() {
 #[test]
 fn scenes_expose_the_parameters_the_issue_names() {
     let names = |scene: &str| -> Vec<&str> {
-        scenes::find(scene).unwrap().info.params.iter().map(|p| p.name).collect()
+        scenes::find(scene).unwrap().info().params.iter().map(|p| &*p.name).collect()
     };
     for name in ["g", "speed", "angle", "mass", "damping", "height"] {
         assert!(names("projectile").contains(&name), "projectile lacks {name}");
@@ -36,7 +36,7 @@ fn scenes_expose_the_parameters_the_issue_names() {
     for name in ["load_x", "load_z", "load_mass", "g"] {
         assert!(names("bridge").contains(&name), "bridge lacks {name}");
     }
-    let projectile = scenes::find("projectile").unwrap().info;
+    let projectile = scenes::find("projectile").unwrap().info();
     let default = |n: &str| projectile.params.iter().find(|p| p.name == n).unwrap().default;
     assert_eq!((default("g"), default("mass"), default("damping")), (20.0, 200.0, 0.99));
 }

@@ -91,7 +91,7 @@ fn everything_saved_comes_back_at_the_next_launch() {
         "every saved field comes back"
     );
     let lab = &opened.lab;
-    assert_eq!(lab.entry.info.name, "bridge");
+    assert_eq!(lab.entry.info().name, "bridge");
     assert_eq!(lab.scene.params().get("g"), 5.0);
     assert_eq!(lab.scene.params().get("load_x"), 2.5);
     assert_eq!(lab.scene.params().get("load_mass"), 10.0, "an unchanged parameter keeps its default");
@@ -194,7 +194,7 @@ fn typed_flags_win_over_the_saved_settings_each_on_its_own() {
     // Another scene: its own parameters, rate, camera, trails and colours; the rest saved.
     let opened = open(&Launch { scene: Some("pendulum".into()), ..Launch::default() }, &dir);
     let lab = &opened.lab;
-    assert_eq!(lab.entry.info.name, "pendulum");
+    assert_eq!(lab.entry.info().name, "pendulum");
     assert_eq!(lab.scene.params().get("g"), 9.81, "the bridge's g does not carry over");
     assert_eq!(lab.physics_rate, Lab::new("pendulum", &[]).unwrap().physics_rate, "the pendulum's own rate");
     assert!(!lab.camera_moved, "the bridge's camera is not put on the pendulum");
@@ -247,7 +247,7 @@ fn restore_defaults_resets_parameters_solver_rate_and_view_and_keeps_the_scene_a
     lab.follow = true;
     let camera = lab.camera;
     lab.restore_defaults();
-    assert_eq!(lab.entry.info.name, "bridge");
+    assert_eq!(lab.entry.info().name, "bridge");
     let fresh = Lab::new("bridge", &[]).unwrap();
     assert_eq!(lab.scene.params(), fresh.scene.params());
     assert_eq!(lab.solver(), SolverSettings::default());
@@ -586,9 +586,10 @@ fn a_scene_file_is_saved_by_its_path_and_opened_again_with_its_values_and_watche
     assert_eq!(opened.warning, None);
     assert_eq!(Settings::of(&opened.lab, &opened.layout, opened.window), saved, "everything comes back");
     let mut lab = opened.lab;
-    assert_eq!(lab.entry.info.name, "hanging");
-    let definition = particle_lab::scenes::file::definition(lab.entry).expect("a file scene");
+    assert_eq!(lab.entry.info().name, "hanging");
+    let definition = particle_lab::scenes::file::definition(&lab.entry).expect("a file scene");
     assert_eq!(definition.path(), Some(scene_file.as_path()), "the user's file, opened again");
+    let source = definition.source().to_string();
     assert_eq!(lab.scene.params().get("links"), 8.0);
     assert_eq!(lab.scene.params().get("span"), 3.0);
     assert_eq!(lab.camera.distance, 6.5, "the scene's camera comes back with it");
@@ -602,10 +603,10 @@ fn a_scene_file_is_saved_by_its_path_and_opened_again_with_its_values_and_watche
     // The window watches it as it does for --scene-file: an edit reloads it.
     lab.watch_scene_file();
     std::thread::sleep(std::time::Duration::from_millis(100));
-    let edited = format!("{}# edited\n", definition.source());
+    let edited = format!("{source}# edited\n");
     std::fs::write(&scene_file, &edited).unwrap();
     let start = std::time::Instant::now();
-    while particle_lab::scenes::file::definition(lab.entry).unwrap().source() != edited {
+    while particle_lab::scenes::file::definition(&lab.entry).unwrap().source() != edited {
         assert!(start.elapsed().as_secs() < 10, "the saved scene file is not watched");
         lab.poll_scene_file();
         std::thread::sleep(std::time::Duration::from_millis(20));
@@ -624,7 +625,7 @@ fn a_scene_file_is_saved_by_its_path_and_opened_again_with_its_values_and_watche
     assert_eq!(open(&launch, &dir).lab.scene.params().get("links"), 8.0);
     let opened = open(&Launch { scene: Some("chain".into()), ..Launch::default() }, &dir);
     assert_eq!(opened.warning, None);
-    assert!(particle_lab::scenes::file::definition(opened.lab.entry).unwrap().path() != Some(&scene_file));
+    assert!(particle_lab::scenes::file::definition(&opened.lab.entry).unwrap().path() != Some(&scene_file));
     assert_eq!(opened.lab.scene.params().get("links"), 20.0, "the shipped chain has its own values");
 }
 
@@ -665,7 +666,7 @@ fn assert_starts_on_the_default_scene(tag: &str, break_it: impl Fn(&Path), reaso
     let status = opened.warning.as_deref().unwrap().replacen("particle-lab: the", "The", 1);
     assert_eq!(opened.lab.status, status, "the status line says it too");
     let lab = &opened.lab;
-    assert_eq!(lab.entry.info.name, "projectile");
+    assert_eq!(lab.entry.info().name, "projectile");
     assert_eq!(lab.scene.params(), Lab::new("projectile", &[]).unwrap().scene.params());
     assert!(!lab.camera_moved, "the chain's camera is not put on the projectile");
     assert!(!opened.layout.open && !lab.view.grid && lab.time_scale == 0.25, "the rest of the settings stay");
@@ -728,7 +729,7 @@ fn an_unreadable_saved_scene_file_is_kept_through_an_autosave_and_opens_once_it_
             "{warning}"
         );
         assert!(opened.lab.status.starts_with("The scene file ") && opened.lab.status.contains(reason));
-        assert_eq!(opened.lab.entry.info.name, "projectile");
+        assert_eq!(opened.lab.entry.info().name, "projectile");
         assert!(opened.kept.is_some());
         // The user changes things on the scene the window opened on; the window autosaves.
         opened.lab.time_scale = 2.0;
@@ -767,7 +768,7 @@ fn an_unreadable_saved_scene_file_is_kept_through_an_autosave_and_opens_once_it_
             (back.warning.as_deref(), back.lab.status.as_str(), back.kept.is_none()),
             (None, "", true)
         );
-        assert_eq!(back.lab.entry.info.name, "hanging");
+        assert_eq!(back.lab.entry.info().name, "hanging");
         assert_eq!(back.lab.scene.params().get("links"), 8.0);
         assert_eq!(back.lab.camera.distance, 6.5, "with its camera");
         assert_eq!(back.lab.time_scale, 2.0);
@@ -828,7 +829,7 @@ fn saved_values_that_no_longer_fit_an_edited_scene_file_give_way_to_its_defaults
     );
     assert!(warning.contains("'links' = 8 is out of range"), "{warning}");
     assert!(warning.ends_with("); opening it with its defaults"), "{warning}");
-    assert_eq!(opened.lab.entry.info.name, "hanging");
+    assert_eq!(opened.lab.entry.info().name, "hanging");
     assert_eq!(opened.lab.scene.params().get("links"), 5.0);
     assert!(!dir.join("settings.json.bad").exists());
     // --set still has to fit.

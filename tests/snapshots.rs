@@ -69,9 +69,9 @@ fn solvers() -> [(&'static str, SolverSettings); 2] {
 #[test]
 fn every_scene_replays_bit_for_bit_through_a_snapshot_with_both_solvers() {
     for entry in SCENES {
-        let name = entry.info.name;
+        let name = &*entry.info().name;
         for (solver_name, solver) in solvers() {
-            let dt = entry.info.dt;
+            let dt = entry.info().dt;
             let mut straight = scene_with(name, solver);
             step(straight.as_mut(), 400, dt);
 
@@ -100,7 +100,7 @@ fn the_other_integrators_replay_too() {
         for (solver_name, solver) in solvers() {
             for name in ["springForces", "pendulum", "cradle"] {
                 let solver = SolverSettings { integrator, ..solver };
-                let dt = scenes::find(name).unwrap().info.dt;
+                let dt = scenes::find(name).unwrap().info().dt;
                 let mut straight = scene_with(name, solver);
                 step(straight.as_mut(), 300, dt);
                 let mut first = scene_with(name, solver);
@@ -126,7 +126,7 @@ fn last_line(output: &Output) -> Value {
 fn a_run_split_by_save_and_a_new_process_gives_the_same_bits_as_one_run() {
     let dir = scratch("split");
     for entry in SCENES {
-        let name = entry.info.name;
+        let name = &*entry.info().name;
         for solver in ["soft", "paper"] {
             let mut args = vec!["simulate", "--scene", name, "--solver", solver, "--every", "1000000"];
             let params = quick_params(name);
@@ -169,7 +169,7 @@ fn simulate_prints_the_state_hash_of_every_line() {
     assert_eq!(unique.len(), 4, "a swinging pendulum changes every step: {hashes:?}");
     let mut scene = scenes::build("pendulum", &[]).unwrap();
     assert_eq!(hashes[0], hash_text(scene.world().state_hash()));
-    step(scene.as_mut(), 3, scenes::find("pendulum").unwrap().info.dt);
+    step(scene.as_mut(), 3, scenes::find("pendulum").unwrap().info().dt);
     assert_eq!(hashes[3], hash_text(scene.world().state_hash()));
 }
 
@@ -211,8 +211,8 @@ fn the_window_loads_a_snapshot_and_quick_saves() {
     // A snapshot of another scene switches the lab to it.
     let other = Lab::new("bridge", &[]).unwrap().snapshot().unwrap().to_json();
     load_text(&mut lab, &dir, other.as_bytes());
-    assert_eq!(lab.scene.info().name, "bridge");
-    assert_eq!(lab.entry.info.name, "bridge");
+    assert_eq!(lab.scene.info().name.clone(), "bridge");
+    assert_eq!(lab.entry.info().name, "bridge");
 }
 
 /// A snapshot without its seals (the checksum and the state hash), as after an edit
@@ -370,13 +370,13 @@ fn bad_snapshots_get_one_line_and_change_nothing() {
     ];
     for (what, bytes, expected) in cases {
         let before = lab.state_hash();
-        let (steps, name) = (lab.scene.world().steps(), lab.scene.info().name);
+        let (steps, name) = (lab.scene.world().steps(), lab.scene.info().name.clone());
         let status = load_text(&mut lab, &dir, &bytes);
         assert!(status.contains(expected), "{what}: '{status}' should say '{expected}'");
         assert!(!status.contains('\n'), "{what}: one line: {status}");
         assert!(status.contains("bad.json"), "{what}: names the file: {status}");
         assert_eq!(
-            (lab.state_hash(), lab.scene.world().steps(), lab.scene.info().name),
+            (lab.state_hash(), lab.scene.world().steps(), lab.scene.info().name.clone()),
             (before, steps, name),
             "{what}"
         );
@@ -417,9 +417,9 @@ fn snapshots() -> &'static [String] {
         SCENES
             .iter()
             .map(|entry| {
-                let mut scene = scenes::build(entry.info.name, &quick_params(entry.info.name)).unwrap();
-                step(scene.as_mut(), 40, entry.info.dt);
-                Snapshot::of(scene.as_ref(), entry.info.dt).unwrap().to_json()
+                let mut scene = scenes::build(&entry.info().name, &quick_params(&entry.info().name)).unwrap();
+                step(scene.as_mut(), 40, entry.info().dt);
+                Snapshot::of(scene.as_ref(), entry.info().dt).unwrap().to_json()
             })
             .collect()
     })
@@ -430,7 +430,7 @@ fn snapshots() -> &'static [String] {
 fn read_damaged(text: &[u8]) -> bool {
     let mut lab = Lab::new("pendulum", &[]).unwrap();
     lab.run_steps(7);
-    let before = (lab.state_hash(), lab.scene.info().name, lab.scene.world().steps());
+    let before = (lab.state_hash(), lab.scene.info().name.clone(), lab.scene.world().steps());
     let Ok(text) = std::str::from_utf8(text) else { return false };
     match Snapshot::from_json(text).and_then(|s| lab.load_snapshot(&s)) {
         Ok(()) => {
@@ -440,7 +440,7 @@ fn read_damaged(text: &[u8]) -> bool {
         Err(error) => {
             assert!(!error.contains('\n'), "one line: {error}");
             assert!(!error.is_empty());
-            let after = (lab.state_hash(), lab.scene.info().name, lab.scene.world().steps());
+            let after = (lab.state_hash(), lab.scene.info().name.clone(), lab.scene.world().steps());
             assert_eq!(after, before, "a refused file changed the running scene: {error}");
             false
         }
@@ -502,7 +502,7 @@ fn scene_files_replay_through_snapshots_even_without_their_file() {
     {
         for (solver_name, solver) in solvers() {
             let entry = scenes::find(name).unwrap();
-            let dt = entry.info.dt;
+            let dt = entry.info().dt;
             let build = || {
                 let mut scene = scenes::build_entry(entry, &params).unwrap();
                 scene.world_mut().set_solver(solver).unwrap();
@@ -527,7 +527,7 @@ fn scene_files_replay_through_snapshots_even_without_their_file() {
     let entry = scenes::find("cloth").unwrap();
     let mut cloth = scenes::build_entry(entry, &["tear=2".into()]).unwrap();
     let before = cloth.world().links().len();
-    step(cloth.as_mut(), 200, entry.info.dt);
+    step(cloth.as_mut(), 200, entry.info().dt);
     assert!(cloth.world().links().len() < before, "links tore in the first 200 steps");
 
     // Across processes, with the scene file gone by the time the snapshot is read.
@@ -563,7 +563,7 @@ fn awkward_numbers_and_a_disturbed_sleeper_survive_a_snapshot() {
     let mut scene = scenes::build("pendulum", &[]).unwrap();
     let id = scene.world().particles.ids()[0];
     scene.world_mut().particles.set_velocity(id, glam::Vec3::new(tricky, -tricky, 1.0)).unwrap();
-    let dt = scenes::find("pendulum").unwrap().info.dt;
+    let dt = scenes::find("pendulum").unwrap().info().dt;
     let back =
         Snapshot::from_json(&Snapshot::of(scene.as_ref(), dt).unwrap().to_json()).unwrap().restore().unwrap();
     assert_eq!(back.world().particles.velocities()[0].x.to_bits(), 0x15ae_43fd);
@@ -573,7 +573,7 @@ fn awkward_numbers_and_a_disturbed_sleeper_survive_a_snapshot() {
     let entry = scenes::find("pile").unwrap();
     let mut pile = scenes::build("pile", &["count=40".into(), "width=3".into()]).unwrap();
     for _ in 0..2000 {
-        pile.step(entry.info.dt).unwrap();
+        pile.step(entry.info().dt).unwrap();
         if pile.world().last_report().asleep == pile.world().particles.len() {
             break;
         }
@@ -581,11 +581,11 @@ fn awkward_numbers_and_a_disturbed_sleeper_survive_a_snapshot() {
     assert_eq!(pile.world().last_report().asleep, 40, "the pile fell asleep");
     let id = pile.world().particles.ids()[5];
     pile.world_mut().particles.set_velocity(id, glam::Vec3::new(0.0, 3.0, 0.0)).unwrap();
-    let text = Snapshot::of(pile.as_ref(), entry.info.dt).unwrap().to_json();
+    let text = Snapshot::of(pile.as_ref(), entry.info().dt).unwrap().to_json();
     assert!(text.contains("\"rest\": null"), "the disturbed sleeper's mark is written as null");
     let mut loaded = Snapshot::from_json(&text).unwrap().restore().unwrap();
-    step(pile.as_mut(), 100, entry.info.dt);
-    step(loaded.as_mut(), 100, entry.info.dt);
+    step(pile.as_mut(), 100, entry.info().dt);
+    step(loaded.as_mut(), 100, entry.info().dt);
     assert_eq!(fingerprint(loaded.as_ref()), fingerprint(pile.as_ref()));
 }
 
@@ -661,11 +661,11 @@ fn snapshot_checks_cover_dt_the_scene_file_name_and_every_index() {
     ];
     for (what, bytes, expected) in cases {
         let (mut lab, _) = lab_and_snapshot("springForces");
-        let before = (lab.state_hash(), lab.scene.world().steps(), lab.scene.info().name);
+        let before = (lab.state_hash(), lab.scene.world().steps(), lab.scene.info().name.clone());
         let status = load_text(&mut lab, &dir, &bytes);
         assert!(status.contains(expected), "{what}: '{status}' should say '{expected}'");
         assert!(!status.contains('\n'), "{what}: one line: {status}");
-        let after = (lab.state_hash(), lab.scene.world().steps(), lab.scene.info().name);
+        let after = (lab.state_hash(), lab.scene.world().steps(), lab.scene.info().name.clone());
         assert_eq!(after, before, "{what}: the running scene is unchanged");
     }
     // A dt changed on the command line's side is refused too, with exit code 2.
@@ -748,12 +748,12 @@ fn unsealed_snapshots() -> &'static [Value] {
     VALUES.get_or_init(|| {
         SCENES
             .iter()
-            .chain(scenes::file::shipped().iter().copied())
+            .chain(scenes::file::shipped())
             .map(|entry| {
-                let mut scene = scenes::build_entry(entry, &quick_params(entry.info.name)).unwrap();
-                step(scene.as_mut(), 40, entry.info.dt);
+                let mut scene = scenes::build_entry(entry, &quick_params(&entry.info().name)).unwrap();
+                step(scene.as_mut(), 40, entry.info().dt);
                 let mut value: Value =
-                    serde_json::from_str(&Snapshot::of(scene.as_ref(), entry.info.dt).unwrap().to_json())
+                    serde_json::from_str(&Snapshot::of(scene.as_ref(), entry.info().dt).unwrap().to_json())
                         .unwrap();
                 unsealed(&mut value);
                 value

@@ -28,9 +28,9 @@ fn soak(name: &str, seed: u64) {
     let mut stepped = 0;
     for step in 0..STEPS {
         if step % EVERY == 0 {
-            let params = entry.info.params;
+            let params = &entry.info().params;
             let param = &params[(random.next() % params.len() as u64) as usize];
-            let (min, max) = range(name, param.name, param.min, param.max);
+            let (min, max) = range(name, &param.name, param.min, param.max);
             let u = random.unit();
             let value = if param.logarithmic && min > 0.0 {
                 (min.ln() + u * (max.ln() - min.ln())).exp().clamp(min, max)
@@ -39,8 +39,8 @@ fn soak(name: &str, seed: u64) {
             };
             // A whole-number parameter's slider moves in whole numbers.
             let value = if param.integer { value.round() } else { value };
-            lab.set_param(param.name, value);
-            changes.push((step, param.name, value));
+            lab.set_param(&param.name, value);
+            changes.push((step, param.name.clone(), value));
             if changes.len() > 8 {
                 changes.remove(0);
             }
@@ -134,7 +134,7 @@ fn every_compiled_scene_and_shipped_file_is_soaked() {
         "platform",
         "blob",
     ];
-    for entry in SCENES.iter().chain(scenes::file::shipped().iter().copied()) {
-        assert!(soaked.contains(&entry.info.name), "add a soak test for {}", entry.info.name);
+    for entry in SCENES.iter().chain(scenes::file::shipped()) {
+        assert!(soaked.contains(&entry.info().name.as_ref()), "add a soak test for {}", entry.info().name);
     }
 }

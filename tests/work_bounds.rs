@@ -216,7 +216,7 @@ fn a_run_that_hits_the_pair_budget_says_so_once() {
     assert_eq!(warnings.len(), 1, "one warning for the run: {stderr}");
     assert!(warnings[0].starts_with("particle-lab: warning: at step 1,"), "{stderr}");
     let entry = particle_lab::scenes::file::load_path(&file).unwrap();
-    let mut lab = particle_lab::ui::Lab::from_entry(entry, &[], Default::default()).unwrap();
+    let mut lab = particle_lab::ui::Lab::from_entry(&entry, &[], Default::default()).unwrap();
     lab.run_steps(1);
     assert!(lab.status.contains(particle_lab::physics::broad_phase::BUDGET_HIT_MESSAGE), "{}", lab.status);
     std::fs::remove_dir_all(&dir).ok();

@@ -25,13 +25,15 @@ pub struct ExportArgs {
 /// The scene file `args` ask for, or a one-line reason it cannot be made.
 pub fn export(args: &ExportArgs) -> Result<String, String> {
     let entry = file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
-    let definition = file::writable(entry)?;
-    let mut values = scenes::ParamValues::defaults(entry.info.params);
+    file::writable(&entry)?;
+    let mut values = scenes::ParamValues::defaults(&entry.info().params);
     for assignment in &args.set {
         values.assign(assignment).map_err(|e| e.to_string())?;
     }
     // The values must build (a count a file's rows cannot take is refused here, as
     // `simulate` would refuse it).
-    definition.create(values.clone()).map_err(|e| e.to_string())?;
-    Ok(definition.written(Some(&values)))
+    if let scenes::SceneEntry::File(definition) = &entry {
+        definition.create(values.clone()).map_err(|e| e.to_string())?;
+    }
+    file::written(&entry, &values)
 }

@@ -24,7 +24,7 @@ pub struct SceneChoice {
 impl SceneChoice {
     /// The scene these flags name (a registered scene, or a scene file read now), or a
     /// one-line reason.
-    pub fn entry(&self) -> Result<&'static SceneEntry, String> {
+    pub fn entry(&self) -> Result<SceneEntry, String> {
         scenes::file::choose(self.scene.as_deref(), self.scene_file.as_deref())
     }
 }

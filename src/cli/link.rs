@@ -36,7 +36,7 @@ pub struct OpenArgs {
 pub fn link(args: &LinkArgs) -> Result<String, String> {
     let entry = args.choice.entry()?;
     let solver = args.choice.solver.settings()?;
-    let mut lab = Lab::from_entry(entry, &args.choice.set, solver)?;
+    let mut lab = Lab::from_entry(&entry, &args.choice.set, solver)?;
     if let Some(steps) = args.steps {
         if steps > MAX_STEPS {
             return Err(format!("--steps {steps} is out of range; valid range: 0 to {MAX_STEPS}"));

@@ -19,7 +19,7 @@ pub enum Format {
 
 /// The scenes `scenes` lists: the compiled ones, then the shipped scene files.
 fn listed() -> impl Iterator<Item = &'static scenes::SceneEntry> {
-    SCENES.iter().chain(scenes::file::shipped().iter().copied())
+    SCENES.iter().chain(scenes::file::shipped())
 }
 
 /// Runs `scenes`.
@@ -28,22 +28,22 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
         Format::Json => {
             let list: Vec<SceneJson> = listed()
                 .map(|entry| {
-                    let info = entry.info;
+                    let info = entry.info();
                     SceneJson {
-                        name: info.name,
-                        summary: info.summary,
+                        name: &info.name,
+                        summary: &info.summary,
                         dt: clock::Step::of(info.dt).map_or(f64::from(info.dt), clock::Step::seconds),
                         default_steps: info.default_steps,
                         params: info
                             .params
                             .iter()
                             .map(|p| ParamJson {
-                                name: p.name,
-                                unit: p.unit,
+                                name: &p.name,
+                                unit: &p.unit,
                                 default: p.default,
                                 min: p.min,
                                 max: p.max,
-                                help: p.help,
+                                help: &p.help,
                             })
                             .collect(),
                         presets: info.presets.iter().map(|p| p.name).collect(),
@@ -56,7 +56,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
         }
         Format::Text => {
             for entry in listed() {
-                let info = entry.info;
+                let info = entry.info();
                 writeln!(out, "{} — {}", info.name, info.summary)?;
                 writeln!(
                     out,
@@ -65,7 +65,7 @@ pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
                     1.0 / info.dt,
                     info.default_steps
                 )?;
-                for p in info.params {
+                for p in info.params.iter() {
                     let unit = if p.unit.is_empty() { String::new() } else { format!(" {}", p.unit) };
                     writeln!(
                         out,

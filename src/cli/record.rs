@@ -222,7 +222,7 @@ pub fn record(
     }
     let written = sink.finish()?;
     drop(progress);
-    let name = lab.entry.info.name;
+    let name = lab.entry.info().name.to_string();
     if let Some(index) = frozen_from {
         return Err((
             1,

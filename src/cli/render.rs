@@ -89,7 +89,7 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         None => {
             let solver = args.choice.solver.settings().map_err(|e| (2, e))?;
             let entry = args.choice.entry().map_err(|e| (2, e))?;
-            crate::ui::Lab::from_entry(entry, &args.choice.set, solver).map_err(|e| (2, e))?
+            crate::ui::Lab::from_entry(&entry, &args.choice.set, solver).map_err(|e| (2, e))?
         }
     };
     lab.view.swept |= args.swept;
@@ -97,7 +97,7 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
         lab.set_view_option(option).map_err(|e| (2, e))?;
     }
     if let Some(text) = &args.compare {
-        let change = crate::ui::compare::Change::parse(text, lab.entry).map_err(|e| (2, e))?;
+        let change = crate::ui::compare::Change::parse(text, &lab.entry).map_err(|e| (2, e))?;
         lab.start_compare(change);
         if lab.compare.is_none() {
             return Err((2, std::mem::take(&mut lab.status)));
@@ -126,7 +126,7 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
     drop(progress);
     let pixels = capture.render(&mut lab, args.size, args.ui).map_err(|e| (1, e))?;
     record::write_png(&args.out, args.size, &pixels).map_err(|e| (1, e))?;
-    let (out, name) = (crate::messages::path(&args.out), lab.scene.info().name);
+    let (out, name) = (crate::messages::path(&args.out), lab.scene.info().name.to_string());
     // A run that blew up (or whose step failed) fails, as `simulate` does; the frame
     // shows where it stopped.
     if lab.paused {

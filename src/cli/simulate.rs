@@ -88,7 +88,7 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
         None => {
             let solver = args.choice.solver.settings()?;
             let entry = args.choice.entry()?;
-            let mut scene = scenes::build_entry(entry, &args.choice.set)?;
+            let mut scene = scenes::build_entry(&entry, &args.choice.set)?;
             scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
             (scene, None)
         }

@@ -2,11 +2,13 @@
 //! cables along it, hung from anchors by support cables, with a movable load whose mass
 //! is shared bilinearly among the four nearest particles.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
 use super::{
-    ActionInfo, CameraHint, LOAD_STEP, Marker, Param, ParamError, ParamValues, Scene, SceneAction,
-    SceneEntry, SceneInfo,
+    ActionInfo, CameraHint, LOAD_STEP, Marker, Param, ParamError, ParamTable, ParamValues, Scene,
+    SceneAction, SceneEntry, SceneInfo,
 };
 use crate::physics::{
     Constraint, ContactGenerator, GroundPlane, ParticleDesc, ParticleId, PhysicsError, ResolveReport, World,
@@ -19,9 +21,9 @@ pub const SUPPORT_LENGTHS: [f32; 12] = [3.0, 3.0, 3.5, 3.5, 4.0, 4.0, 4.0, 4.0, 
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "load_x", unit: "", default: 0.0, min: 0.0, max: 5.0, help: "Load position along the bridge, from deck pair 0 to deck pair 5", logarithmic: false, integer: false },
-    Param { name: "load_z", unit: "", default: 0.5, min: 0.0, max: 1.0, help: "Load position across the bridge, from one side (0) to the other (1)", logarithmic: false, integer: false },
-    Param { name: "load_mass", unit: "kg", default: 10.0, min: 0.0, max: 50.0, help: "Mass of the load, shared among the four nearest particles", logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("load_x"), unit: Cow::Borrowed(""), default: 0.0, min: 0.0, max: 5.0, help: Cow::Borrowed("Load position along the bridge, from deck pair 0 to deck pair 5"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("load_z"), unit: Cow::Borrowed(""), default: 0.5, min: 0.0, max: 1.0, help: Cow::Borrowed("Load position across the bridge, from one side (0) to the other (1)"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("load_mass"), unit: Cow::Borrowed("kg"), default: 10.0, min: 0.0, max: 50.0, help: Cow::Borrowed("Mass of the load, shared among the four nearest particles"), logarithmic: false, integer: false },
     super::GRAVITY,
 ];
 
@@ -34,18 +36,18 @@ static ACTIONS: &[ActionInfo] = &[
 ];
 
 static INFO: SceneInfo = SceneInfo {
-    name: "bridge",
-    summary: "A rope bridge of rods and cables carrying a movable load",
+    name: Cow::Borrowed("bridge"),
+    summary: Cow::Borrowed("A rope bridge of rods and cables carrying a movable load"),
     dt: 1.0 / 240.0,
     default_steps: 1200,
-    params: PARAMS,
+    params: ParamTable::Static(PARAMS),
     presets: &[],
     actions: ACTIONS,
     trails: false,
     color_by_speed: false,
 };
 
-pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let mut world = World::new();
@@ -162,7 +164,7 @@ impl Scene for Bridge {
         }
     }
 
-    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+    fn labels<'a>(&'a self, out: &mut Vec<(Vec3, &'a str)>) {
         let radius = 0.2 * (self.params.get("load_mass") / BASE_MASS).cbrt().max(1.0);
         out.push((self.load_position() + Vec3::Y * (2.0 * radius + 0.3), "load"));
     }

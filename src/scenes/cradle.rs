@@ -6,9 +6,11 @@
 //! The balls are particles 0.. in order along the row (left to right), so the lifted
 //! ones come first and particle 0 is the outermost.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
-use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
+use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{Constraint, ParticleDesc, PhysicsError, ResolveReport, SphereCollisions, World};
 
 /// Ball radius (m).
@@ -20,26 +22,26 @@ const TOP: f32 = 1.6;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "balls", unit: "", default: 5.0, min: 2.0, max: 9.0, help: "Number of balls in the row (rounded)", logarithmic: false, integer: true },
-    Param { name: "lifted", unit: "", default: 1.0, min: 1.0, max: 8.0, help: "Balls pulled back and released (rounded; at most balls - 1)", logarithmic: false, integer: true },
-    Param { name: "angle", unit: "°", default: 30.0, min: 1.0, max: 80.0, help: "How far the lifted balls are pulled back on their cables", logarithmic: false, integer: false },
-    Param { name: "restitution", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between the balls", logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("balls"), unit: Cow::Borrowed(""), default: 5.0, min: 2.0, max: 9.0, help: Cow::Borrowed("Number of balls in the row (rounded)"), logarithmic: false, integer: true },
+    Param { name: Cow::Borrowed("lifted"), unit: Cow::Borrowed(""), default: 1.0, min: 1.0, max: 8.0, help: Cow::Borrowed("Balls pulled back and released (rounded; at most balls - 1)"), logarithmic: false, integer: true },
+    Param { name: Cow::Borrowed("angle"), unit: Cow::Borrowed("°"), default: 30.0, min: 1.0, max: 80.0, help: Cow::Borrowed("How far the lifted balls are pulled back on their cables"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("restitution"), unit: Cow::Borrowed(""), default: 1.0, min: 0.0, max: 1.0, help: Cow::Borrowed("Coefficient of restitution between the balls"), logarithmic: false, integer: false },
     super::GRAVITY,
 ];
 
 static INFO: SceneInfo = SceneInfo {
-    name: "cradle",
-    summary: "Newton's cradle: as many balls leave as came in",
+    name: Cow::Borrowed("cradle"),
+    summary: Cow::Borrowed("Newton's cradle: as many balls leave as came in"),
     dt: 1.0 / 240.0,
     default_steps: 2400,
-    params: PARAMS,
+    params: ParamTable::Static(PARAMS),
     presets: &[],
     actions: &[],
     trails: false,
     color_by_speed: false,
 };
 
-pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     Box::new(Cradle::build(params))

@@ -113,19 +113,27 @@
 //!
 //! # How a file scene joins the registry
 //!
-//! [`SceneInfo`] and [`SceneEntry`] hold `&'static` data and a plain `fn` to build a
-//! scene, which cannot carry the file it came from. Each load therefore leaks its parsed
-//! file and tables (a few kilobytes per load), and the scene's `create` finds its file
-//! again through the parameter table's address, which is unique to that load: reset,
-//! compare and the panel then work on file scenes exactly as on compiled ones.
+//! A load makes one [`Definition`]: the file's text, its parsed tables and its
+//! [`SceneInfo`], whose name, summary and parameter table are the file's own (owned
+//! strings, where a compiled scene's borrow from the binary). It comes back as a
+//! [`SceneEntry::File`], which holds the definition behind an `Arc`. Every clone of the
+//! entry (the lab's, a Compare copy's) and every scene built from it hold that same
+//! `Arc`, and every set of parameter values shares the file's parameter table, so reset,
+//! Compare, snapshots and the panel work on file scenes exactly as on compiled ones.
+//! When the last of them is dropped (the file reloaded after an edit, a snapshot of
+//! another scene loaded, another scene picked) the file and its tables are freed:
+//! nothing keeps a list of loads, and a thousand reloads take no more memory than one
+//! (`tests/scene_memory.rs`). Only the shipped scenes, loaded once for the Scene menu
+//! ([`shipped`]), live as long as the program, as the compiled scenes do.
 
 mod build;
 pub mod expr;
 mod format;
 mod write;
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
 
@@ -135,7 +143,8 @@ use self::format::Document;
 pub use self::format::{ACCEPTED_KEYS, accepted_keys};
 pub use self::write::{HEADER, float32, string as toml_string};
 use super::{
-    CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water,
+    CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo,
+    Water,
 };
 use crate::messages::{self, clip, quote};
 use crate::physics::{LinkState, PhysicsError, ResolveReport, World};
@@ -176,14 +185,15 @@ impl std::fmt::Display for FileError {
 
 impl std::error::Error for FileError {}
 
-/// A loaded scene file: its text, where it came from, and its parsed tables.
+/// A loaded scene file: its text, where it came from, and its parsed tables. Its
+/// entry ([`SceneEntry::File`]) and every scene built from it share it; it is freed
+/// with the last of them.
 pub struct Definition {
-    doc: &'static Document,
+    doc: Document,
     source: String,
     shown: String,
     path: Option<PathBuf>,
-    info: &'static SceneInfo,
-    entry: OnceLock<&'static SceneEntry>,
+    info: SceneInfo,
 }
 
 impl std::fmt::Debug for Definition {
@@ -210,23 +220,23 @@ impl Definition {
     /// moved, a `--set`).
     #[must_use]
     pub fn written(&self, values: Option<&ParamValues>) -> String {
-        write::write(self.doc, values)
+        write::write(&self.doc, values)
     }
 
-    /// The registry entry of this load.
+    /// The scene's description, as the file declares it.
     #[must_use]
-    pub fn entry(&self) -> &'static SceneEntry {
-        self.entry.get().expect("set when the file was loaded")
+    pub fn info(&self) -> &SceneInfo {
+        &self.info
     }
 
     /// Builds the scene with these values; an error names the line and column of the
-    /// value that cannot be used with them.
-    pub fn create(&'static self, params: ParamValues) -> Result<Box<dyn Scene>, FileError> {
-        Ok(Box::new(FileScene::new(self, params)?))
+    /// value that cannot be used with them. The scene holds this file while it lives.
+    pub fn create(self: &Arc<Self>, params: ParamValues) -> Result<Box<dyn Scene>, FileError> {
+        Ok(Box::new(FileScene::new(Arc::clone(self), params)?))
     }
 
     fn build(&self, params: &ParamValues) -> Result<Built, FileError> {
-        build::build(self.doc, &self.source, params).map_err(|e| self.locate(&e))
+        build::build(&self.doc, &self.source, params).map_err(|e| self.locate(&e))
     }
 
     fn locate(&self, error: &Located) -> FileError {
@@ -250,32 +260,12 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
-/// Every load so far, found by its parameter table's address.
-static LOADED: Mutex<Vec<&'static Definition>> = Mutex::new(Vec::new());
-
 /// The file behind a registry entry, if it is a file scene.
 #[must_use]
-pub fn definition(entry: &SceneEntry) -> Option<&'static Definition> {
-    find_loaded(entry.info.params)
-}
-
-fn find_loaded(table: &[Param]) -> Option<&'static Definition> {
-    let loaded = LOADED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    loaded.iter().copied().find(|d| std::ptr::eq(d.info.params.as_ptr(), table.as_ptr()))
-}
-
-/// The `create` of every file scene's entry: finds the file by the table.
-fn create(params: ParamValues) -> Box<dyn Scene> {
-    let definition = find_loaded(params.table()).expect("a file scene's table belongs to a loaded file");
-    match FileScene::new(definition, params) {
-        Ok(scene) => Box::new(scene),
-        // Values reach here only once a build with them has worked (set_param and
-        // `--set` build first); should one still fail, the defaults were checked at load.
-        Err(error) => {
-            log::warn!("{error}; using the defaults");
-            let defaults = ParamValues::defaults(definition.info.params);
-            Box::new(FileScene::new(definition, defaults).expect("the defaults were built at load"))
-        }
+pub fn definition(entry: &SceneEntry) -> Option<&Definition> {
+    match entry {
+        SceneEntry::File(definition) => Some(definition),
+        SceneEntry::Compiled { .. } => None,
     }
 }
 
@@ -286,14 +276,14 @@ pub fn written(entry: &SceneEntry, values: &ParamValues) -> Result<String, Strin
 }
 
 /// The file a scene can be written as, or why it cannot be.
-pub fn writable(entry: &SceneEntry) -> Result<&'static Definition, String> {
+pub fn writable(entry: &SceneEntry) -> Result<&Definition, String> {
     match definition(entry) {
         Some(definition) => Ok(definition),
         None => Err(format!(
             "'{}' is built into the program, and only scenes made from scene files can be saved as one so far \
              (open a file, or a shipped one: {})",
-            entry.info.name,
-            shipped().iter().map(|e| e.info.name).collect::<Vec<_>>().join(", ")
+            entry.info().name,
+            shipped().iter().map(|e| e.info().name.to_string()).collect::<Vec<_>>().join(", ")
         )),
     }
 }
@@ -301,7 +291,7 @@ pub fn writable(entry: &SceneEntry) -> Result<&'static Definition, String> {
 /// Reads and loads a scene file from disk. A device, FIFO or directory is refused
 /// before it is opened, and at most [`MAX_FILE_BYTES`] are read whatever the file
 /// says its size is.
-pub fn load_path(path: &Path) -> Result<&'static SceneEntry, FileError> {
+pub fn load_path(path: &Path) -> Result<SceneEntry, FileError> {
     let shown = messages::path(path);
     let fail = |message: String| FileError { file: shown.clone(), position: None, message };
     let bytes =
@@ -312,7 +302,7 @@ pub fn load_path(path: &Path) -> Result<&'static SceneEntry, FileError> {
 
 /// Loads a scene from its text; `shown` names it in messages (escaped and cut, as any
 /// user text there), `path` is where it lives on disk, if anywhere.
-pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
+pub fn load_text(text: &str, shown: &str, path: Option<PathBuf>) -> Result<SceneEntry, FileError> {
     load_shown(text, quote(shown), path)
 }
 
@@ -340,7 +330,7 @@ fn toml_message(error: &toml::de::Error) -> String {
 }
 
 /// [`load_text`] with `shown` already fit for a message.
-fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<&'static SceneEntry, FileError> {
+fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<SceneEntry, FileError> {
     let shown = shown.as_str();
     if text.len() as u64 > MAX_FILE_BYTES {
         let limit = reading::bytes(MAX_FILE_BYTES);
@@ -356,8 +346,7 @@ fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<&'stat
         let offset = e.span().map_or(0, |s| s.start);
         at(offset, toml_message(&e))
     })?;
-    let doc: &'static Document = Box::leak(Box::new(doc));
-    let params = param_table(doc).map_err(|e| at(e.offset, e.message))?;
+    let params = param_table(&doc).map_err(|e| at(e.offset, e.message))?;
     let scene = &doc.scene;
     let name = scene.name.get_ref().trim();
     if name.is_empty() {
@@ -384,36 +373,25 @@ fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<&'stat
         None => 2400,
     };
     let has_g = params.iter().any(|p| p.name == "g");
-    let info: &'static SceneInfo = Box::leak(Box::new(SceneInfo {
-        name,
-        summary: scene.summary.as_str(),
+    let info = SceneInfo {
+        name: Cow::Owned(name.to_string()),
+        summary: Cow::Owned(scene.summary.clone()),
         dt,
         default_steps: steps,
-        params: Box::leak(params.into_boxed_slice()),
+        params: ParamTable::Shared(params.into()),
         presets: if has_g { GRAVITY_PRESETS } else { &[] },
         actions: &[],
         trails: scene.trails.unwrap_or(true),
         color_by_speed: scene.color_by_speed.unwrap_or(false),
-    }));
-    let definition: &'static Definition = Box::leak(Box::new(Definition {
-        doc,
-        source: text.to_string(),
-        shown: shown.to_string(),
-        path,
-        info,
-        entry: OnceLock::new(),
-    }));
+    };
+    let definition = Definition { doc, source: text.to_string(), shown: shown.to_string(), path, info };
     // Build once with the defaults: an error anywhere in the file shows now.
-    definition.build(&ParamValues::defaults(info.params))?;
-    let entry: &'static SceneEntry = Box::leak(Box::new(SceneEntry { info, create }));
-    // Set once, here, before anyone can look.
-    let _ = definition.entry.set(entry);
-    LOADED.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(definition);
-    Ok(entry)
+    definition.build(&ParamValues::defaults(&definition.info.params))?;
+    Ok(SceneEntry::File(Arc::new(definition)))
 }
 
 /// The `[[param]]` tables as a parameter table, with `g` added unless declared.
-fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
+fn param_table(doc: &Document) -> Result<Vec<Param>, Located> {
     const RESERVED: &[&str] =
         &["i", "j", "pi", "sqrt", "sin", "cos", "tan", "abs", "exp", "ln", "rad", "round"];
     let mut table: Vec<Param> = Vec::new();
@@ -467,12 +445,12 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
             return Err(Located::at(&p.min.span(), "a logarithmic parameter needs min > 0"));
         }
         table.push(Param {
-            name,
-            unit: p.unit.as_str(),
+            name: Cow::Owned(name.to_string()),
+            unit: Cow::Owned(p.unit.clone()),
             default: default as f32,
             min: min as f32,
             max: max as f32,
-            help: p.help.as_str(),
+            help: Cow::Owned(p.help.clone()),
             logarithmic: p.logarithmic,
             integer: p.integer,
         });
@@ -483,10 +461,11 @@ fn param_table(doc: &'static Document) -> Result<Vec<Param>, Located> {
     Ok(table)
 }
 
-/// The shipped scenes, loaded once (from disk where the working directory has them).
+/// The shipped scenes, loaded once (from disk where the working directory has them)
+/// and kept for the program's life, as the compiled scenes are.
 #[must_use]
-pub fn shipped() -> &'static [&'static SceneEntry] {
-    static ENTRIES: OnceLock<Vec<&'static SceneEntry>> = OnceLock::new();
+pub fn shipped() -> &'static [SceneEntry] {
+    static ENTRIES: OnceLock<Vec<SceneEntry>> = OnceLock::new();
     ENTRIES.get_or_init(|| {
         SHIPPED
             .iter()
@@ -501,18 +480,18 @@ pub fn shipped() -> &'static [&'static SceneEntry] {
 }
 
 /// The scene a command line asks for: exactly one of a name and a file.
-pub fn choose(name: Option<&str>, file: Option<&Path>) -> Result<&'static SceneEntry, String> {
+pub fn choose(name: Option<&str>, file: Option<&Path>) -> Result<SceneEntry, String> {
     match (name, file) {
-        (Some(name), None) => super::find(name),
+        (Some(name), None) => super::find(name).cloned(),
         (None, Some(path)) => load_path(path).map_err(|e| e.to_string()),
         (Some(_), Some(_)) => Err("give either --scene NAME or --scene-file PATH, not both".into()),
         (None, None) => Err("no scene given: name one with --scene NAME or --scene-file PATH".into()),
     }
 }
 
-/// A running scene built from a file.
+/// A running scene built from a file, which it holds while it lives.
 struct FileScene {
-    definition: &'static Definition,
+    definition: Arc<Definition>,
     params: ParamValues,
     built: Built,
     /// Links torn so far.
@@ -555,7 +534,7 @@ fn particle_box(world: &World) -> (Vec3, Vec3) {
 }
 
 impl FileScene {
-    fn new(definition: &'static Definition, params: ParamValues) -> Result<Self, FileError> {
+    fn new(definition: Arc<Definition>, params: ParamValues) -> Result<Self, FileError> {
         let built = definition.build(&params)?;
         let walls = wall_outlines(&built);
         Ok(Self { definition, params, built, torn: 0, states: Vec::new(), walls })
@@ -592,8 +571,8 @@ impl FileScene {
 }
 
 impl Scene for FileScene {
-    fn info(&self) -> &'static SceneInfo {
-        self.definition.info
+    fn info(&self) -> &SceneInfo {
+        &self.definition.info
     }
 
     fn world(&self) -> &World {
@@ -613,7 +592,7 @@ impl Scene for FileScene {
         params.set(name, value)?;
         if name == "g" && !self.built.g_elsewhere {
             // Gravity acts at once: no rebuild, the motion goes on.
-            let g = build::gravity(self.definition.doc, &self.definition.source, &params).map_err(|e| {
+            let g = build::gravity(&self.definition.doc, &self.definition.source, &params).map_err(|e| {
                 ParamError::Rejected { key: name.to_string(), reason: self.definition.locate(&e).to_string() }
             })?;
             self.built
@@ -701,10 +680,10 @@ impl Scene for FileScene {
         self.built.camera
     }
 
-    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+    fn labels<'a>(&'a self, out: &mut Vec<(Vec3, &'a str)>) {
         let p = &self.built.world.particles;
-        for &(id, name) in &self.built.labels {
-            if let Some(i) = p.index(id) {
+        for (id, name) in &self.built.labels {
+            if let Some(i) = p.index(*id) {
                 out.push((p.positions()[i] + Vec3::Y * (p.radii()[i] + 0.15), name));
             }
         }

@@ -2,9 +2,11 @@
 //! planes they stand in, the collisions between their spheres, the spheres
 //! themselves, and the seeded random numbers that jitter where they start.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
-use super::SceneInfo;
+use super::{ParamTable, SceneInfo};
 use crate::physics::{ParticleDesc, Plane, SphereCollisions, World};
 
 /// How a granular scene is shown, the part of its [`SceneInfo`] they share: no presets
@@ -12,11 +14,11 @@ use crate::physics::{ParticleDesc, Plane, SphereCollisions, World};
 /// by speed (what matters is which still move). Name, summary, step, steps and
 /// parameters are blank here: each scene gives its own (`..granular::LOOK`).
 pub(super) const LOOK: SceneInfo = SceneInfo {
-    name: "",
-    summary: "",
+    name: Cow::Borrowed(""),
+    summary: Cow::Borrowed(""),
     dt: 0.0,
     default_steps: 0,
-    params: &[],
+    params: ParamTable::Static(&[]),
     presets: &[],
     actions: &[],
     trails: false,

@@ -16,12 +16,13 @@
 //! crossed the floor in the last second, and ρ_b as the packing of the bed (see
 //! [`bed_packing`]) times the grains' density.
 
+use std::borrow::Cow;
 use std::collections::VecDeque;
 
 use glam::Vec3;
 
 use super::granular::{self, Material, SplitMix64};
-use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
+use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{DEFAULT_ROLLING_RESISTANCE, PhysicsError, Plate, ResolveReport, World};
 
 /// Density of a grain: glass (kg/m³).
@@ -35,28 +36,28 @@ pub const FLOW_WINDOW: f64 = 1.0;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "orifice", unit: "m", default: 1.4, min: 0.05, max: 50.0, help: "Diameter of the opening in the floor", logarithmic: true, integer: false },
-    Param { name: "radius", unit: "m", default: 0.1, min: 0.01, max: 2.0, help: "Radius of every grain", logarithmic: true, integer: false },
-    Param { name: "count", unit: "", default: 4000.0, min: 1.0, max: 200_000.0, help: "Number of grains (rounded to a whole number)", logarithmic: true, integer: true },
-    Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between grains, walls and floor", logarithmic: false, integer: false },
-    Param { name: "rolling_resistance", unit: "", default: DEFAULT_ROLLING_RESISTANCE, min: 0.0, max: 1.0, help: "Rolling resistance coefficient of every contact", logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("orifice"), unit: Cow::Borrowed("m"), default: 1.4, min: 0.05, max: 50.0, help: Cow::Borrowed("Diameter of the opening in the floor"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("radius"), unit: Cow::Borrowed("m"), default: 0.1, min: 0.01, max: 2.0, help: Cow::Borrowed("Radius of every grain"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("count"), unit: Cow::Borrowed(""), default: 4000.0, min: 1.0, max: 200_000.0, help: Cow::Borrowed("Number of grains (rounded to a whole number)"), logarithmic: true, integer: true },
+    Param { name: Cow::Borrowed("friction"), unit: Cow::Borrowed(""), default: 0.5, min: 0.0, max: 2.0, help: Cow::Borrowed("Coulomb friction coefficient between grains, walls and floor"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("rolling_resistance"), unit: Cow::Borrowed(""), default: DEFAULT_ROLLING_RESISTANCE, min: 0.0, max: 1.0, help: Cow::Borrowed("Rolling resistance coefficient of every contact"), logarithmic: false, integer: false },
     // Some gravity: the grains must drain.
     Param { min: 0.1, ..super::GRAVITY },
 ];
 
 static INFO: SceneInfo = SceneInfo {
-    name: "hourglass",
-    summary: "Grains drain through an opening in a floor; the flow beside Beverloo's law",
+    name: Cow::Borrowed("hourglass"),
+    summary: Cow::Borrowed("Grains drain through an opening in a floor; the flow beside Beverloo's law"),
     // Half the pile's step: at 1/60 s the flow came out 10% slower than at 1/120 s for
     // an opening of 5 grains (tests/hourglass.rs), the contacts too soft for grains
     // this small to pass each other as quickly as they should.
     dt: 1.0 / 120.0,
     default_steps: 1200,
-    params: PARAMS,
+    params: ParamTable::Static(PARAMS),
     ..granular::LOOK
 };
 
-pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let shape = Shape::of(&params);

@@ -6,7 +6,7 @@
 /// and `params` fields and a `static INFO`: its description, world and parameters.
 macro_rules! scene_basics {
     () => {
-        fn info(&self) -> &'static SceneInfo {
+        fn info(&self) -> &SceneInfo {
             &INFO
         }
 
@@ -39,14 +39,16 @@ pub mod snapshot;
 mod spring_forces;
 pub mod walls;
 
+use std::borrow::Cow;
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 pub use serde_json::value::RawValue;
 
 use crate::physics::{PhysicsError, ResolveReport, World};
 
-pub use params::{Param, ParamError, ParamValues, Preset};
+pub use params::{Param, ParamError, ParamTable, ParamValues, Preset};
 
 /// How far one key press moves the bridge's load, in load coordinates (m).
 pub const LOAD_STEP: f32 = 0.1;
@@ -54,12 +56,12 @@ pub const LOAD_STEP: f32 = 0.1;
 /// The `g` parameter most scenes share: gravity pulling straight down (m/s²), from
 /// weightless to three Earths. Its presets are [`GRAVITY_PRESETS`].
 pub(crate) const GRAVITY: Param = Param {
-    name: "g",
-    unit: "m/s²",
+    name: Cow::Borrowed("g"),
+    unit: Cow::Borrowed("m/s²"),
     default: 9.81,
     min: 0.0,
     max: 30.0,
-    help: "Gravitational acceleration, downwards",
+    help: Cow::Borrowed("Gravitational acceleration, downwards"),
     logarithmic: false,
     integer: false,
 };
@@ -69,11 +71,11 @@ pub(crate) const GRAVITY: Param = Param {
 /// trails on, plain colours. Name, summary, step, steps and parameters are blank here:
 /// each scene gives its own (`..super::TRACED`).
 pub(crate) const TRACED: SceneInfo = SceneInfo {
-    name: "",
-    summary: "",
+    name: Cow::Borrowed(""),
+    summary: Cow::Borrowed(""),
     dt: 0.0,
     default_steps: 0,
-    params: &[],
+    params: ParamTable::Static(&[]),
     presets: GRAVITY_PRESETS,
     actions: &[],
     trails: true,
@@ -127,19 +129,20 @@ pub static GRAVITY_PRESETS: &[Preset] = &[
     Preset { name: "Jupiter", help: "g = 24.79 m/s² (at the cloud tops)", values: &[("g", 24.79)] },
 ];
 
-/// Static description of a scene.
+/// Description of a scene: a compiled scene's is a static, a scene file's is part of
+/// the loaded file.
 #[derive(Debug)]
 pub struct SceneInfo {
     /// Name used on the command line and in the Scene menu (the paper's name).
-    pub name: &'static str,
+    pub name: Cow<'static, str>,
     /// One line saying what it shows.
-    pub summary: &'static str,
+    pub summary: Cow<'static, str>,
     /// Physics time step used unless the user picks another (s).
     pub dt: f32,
     /// Steps `simulate` runs unless told otherwise.
     pub default_steps: u32,
     /// The parameter table.
-    pub params: &'static [Param],
+    pub params: ParamTable,
     /// Named sets of parameter values (e.g. ammo types).
     pub presets: &'static [Preset],
     /// Actions the scene offers, with the key that triggers them in the window.
@@ -213,8 +216,8 @@ pub struct CameraHint {
 
 /// A running scene: a world plus the scene's own rules and parameters.
 pub trait Scene: Send {
-    /// The scene's static description.
-    fn info(&self) -> &'static SceneInfo;
+    /// The scene's description.
+    fn info(&self) -> &SceneInfo;
 
     /// The world, for reading.
     fn world(&self) -> &World;
@@ -264,7 +267,7 @@ pub trait Scene: Send {
 
     /// Names of the scene's objects, at the points to write them (the view's labels):
     /// the bob, the launcher, the load. Links are labelled by kind without help.
-    fn labels(&self, _out: &mut Vec<(Vec3, &'static str)>) {}
+    fn labels<'a>(&'a self, _out: &mut Vec<(Vec3, &'a str)>) {}
 
     /// A warning to show under a parameter's slider, given the integrator's step `h`
     /// (s): e.g. a spring's stability number approaching its limit, before it blows up.
@@ -339,19 +342,73 @@ pub trait Scene: Send {
     }
 }
 
-/// A scene in the registry: its description and how to build it.
-pub struct SceneEntry {
-    /// The description.
-    pub info: &'static SceneInfo,
-    /// Builds the scene with the given (already validated) parameter values.
-    pub create: fn(ParamValues) -> Box<dyn Scene>,
+/// A scene in the registry: its description and how to build it. A handle, cheap to
+/// clone: a compiled scene's is two pointers into the binary; a scene file's shares the
+/// loaded file with every clone and every scene built from it, and the file is freed
+/// when the last of them is dropped (a reload or an edit keeps no old copy).
+#[derive(Clone)]
+pub enum SceneEntry {
+    /// A scene compiled into the binary.
+    Compiled {
+        /// The description.
+        info: &'static SceneInfo,
+        /// Builds the scene with the given (already validated) parameter values.
+        create: fn(ParamValues) -> Box<dyn Scene>,
+    },
+    /// A scene loaded from a file.
+    File(Arc<file::Definition>),
 }
 
 impl SceneEntry {
+    /// The description.
+    #[must_use]
+    pub fn info(&self) -> &SceneInfo {
+        match self {
+            Self::Compiled { info, .. } => info,
+            Self::File(definition) => definition.info(),
+        }
+    }
+
+    /// Builds the scene with the given (already validated) parameter values. A scene
+    /// file that cannot be built with them (values reach here only once a build with
+    /// them has worked) is built with its defaults, which were built when it loaded,
+    /// with a warning; [`create_entry`] says why instead.
+    #[must_use]
+    pub fn create(&self, values: ParamValues) -> Box<dyn Scene> {
+        match self {
+            Self::Compiled { create, .. } => create(values),
+            Self::File(definition) => definition.create(values).unwrap_or_else(|error| {
+                log::warn!("{error}; using the defaults");
+                let defaults = ParamValues::defaults(&definition.info().params);
+                definition.create(defaults).expect("the defaults were built at load")
+            }),
+        }
+    }
+
     /// Builds the scene with its default parameters.
     #[must_use]
     pub fn create_default(&self) -> Box<dyn Scene> {
-        (self.create)(ParamValues::defaults(self.info.params))
+        self.create(ParamValues::defaults(&self.info().params))
+    }
+
+    /// Whether `other` is this very entry or a clone of it: the same compiled scene, or
+    /// the same load of a file (a file loaded twice makes two entries).
+    #[must_use]
+    pub fn same(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Self::Compiled { info: a, .. }, Self::Compiled { info: b, .. }) => std::ptr::eq(*a, *b),
+            (Self::File(a), Self::File(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
+}
+
+impl std::fmt::Debug for SceneEntry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Compiled { info, .. } => f.debug_tuple("Compiled").field(&info.name).finish(),
+            Self::File(definition) => f.debug_tuple("File").field(definition).finish(),
+        }
     }
 }
 
@@ -371,17 +428,14 @@ pub static SCENES: &[SceneEntry] = &[
 pub fn find(name: &str) -> Result<&'static SceneEntry, String> {
     let simplify = |s: &str| s.chars().filter(|c| *c != '-' && *c != '_').collect::<String>().to_lowercase();
     let wanted = simplify(name);
-    SCENES
-        .iter()
-        .chain(file::shipped().iter().copied())
-        .find(|entry| simplify(entry.info.name) == wanted)
-        .ok_or_else(|| {
-            format!(
-                "unknown scene '{}'; valid scenes: {}",
-                crate::messages::quote(name),
-                scene_names().join(", ")
-            )
-        })
+    let found = SCENES.iter().chain(file::shipped()).find(|entry| simplify(&entry.info().name) == wanted);
+    found.ok_or_else(|| {
+        format!(
+            "unknown scene '{}'; valid scenes: {}",
+            crate::messages::quote(name),
+            scene_names().join(", ")
+        )
+    })
 }
 
 /// Builds a registered scene with its defaults.
@@ -396,7 +450,7 @@ pub fn create_default(name: &str) -> Box<dyn Scene> {
 /// Names of every scene, in menu order: the compiled ones, then the shipped files.
 #[must_use]
 pub fn scene_names() -> Vec<&'static str> {
-    SCENES.iter().chain(file::shipped().iter().copied()).map(|e| e.info.name).collect()
+    SCENES.iter().chain(file::shipped()).map(|e| &*e.info().name).collect()
 }
 
 /// Builds a scene by name with `KEY=VALUE` assignments applied over its defaults.
@@ -406,8 +460,8 @@ pub fn build(name: &str, assignments: &[String]) -> Result<Box<dyn Scene>, Strin
 
 /// Builds a scene with `KEY=VALUE` assignments applied over its defaults. A file
 /// scene that cannot be built with them says where in the file and why.
-pub fn build_entry(entry: &'static SceneEntry, assignments: &[String]) -> Result<Box<dyn Scene>, String> {
-    let mut values = ParamValues::defaults(entry.info.params);
+pub fn build_entry(entry: &SceneEntry, assignments: &[String]) -> Result<Box<dyn Scene>, String> {
+    let mut values = ParamValues::defaults(&entry.info().params);
     for assignment in assignments {
         values.assign(assignment).map_err(|e| e.to_string())?;
     }
@@ -415,11 +469,11 @@ pub fn build_entry(entry: &'static SceneEntry, assignments: &[String]) -> Result
 }
 
 /// Builds a scene with (already validated) values; a scene file that cannot be built
-/// with them says why (its entry's `create` would fall back to the defaults).
-pub fn create_entry(entry: &'static SceneEntry, values: ParamValues) -> Result<Box<dyn Scene>, String> {
-    match file::definition(entry) {
-        Some(definition) => definition.create(values).map_err(|e| e.to_string()),
-        None => Ok((entry.create)(values)),
+/// with them says why ([`SceneEntry::create`] would fall back to the defaults).
+pub fn create_entry(entry: &SceneEntry, values: ParamValues) -> Result<Box<dyn Scene>, String> {
+    match entry {
+        SceneEntry::Compiled { create, .. } => Ok(create(values)),
+        SceneEntry::File(definition) => definition.create(values).map_err(|e| e.to_string()),
     }
 }
 

@@ -1,17 +1,21 @@
 //! Scene parameter tables and validated values.
 
+use std::borrow::Cow;
 use std::fmt;
+use std::ops::Deref;
+use std::sync::Arc;
 
 use crate::messages::quote;
 
 /// One tunable parameter of a scene. The same entry drives a slider, a `--set` flag
-/// and validation.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// and validation. A compiled scene's texts are borrowed from the binary; a scene
+/// file's are its own, freed with the file.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Param {
     /// Key, as typed after `--set` and shown on the slider.
-    pub name: &'static str,
+    pub name: Cow<'static, str>,
     /// Unit shown next to the value ("" for dimensionless).
-    pub unit: &'static str,
+    pub unit: Cow<'static, str>,
     /// Value at start.
     pub default: f32,
     /// Smallest accepted value.
@@ -19,7 +23,7 @@ pub struct Param {
     /// Largest accepted value.
     pub max: f32,
     /// One line saying what it means.
-    pub help: &'static str,
+    pub help: Cow<'static, str>,
     /// True when a slider should move on a logarithmic scale.
     pub logarithmic: bool,
     /// True for a count (balls, links): the slider moves in whole numbers and shows
@@ -46,7 +50,7 @@ pub enum ParamError {
         /// What was typed.
         key: String,
         /// The valid names.
-        valid: Vec<&'static str>,
+        valid: Vec<String>,
     },
     /// The value is not a finite number.
     NotANumber {
@@ -58,7 +62,7 @@ pub enum ParamError {
     /// The value is outside the parameter's range.
     OutOfRange {
         /// The parameter.
-        key: &'static str,
+        key: String,
         /// The value given.
         value: f32,
         /// Smallest accepted.
@@ -66,12 +70,12 @@ pub enum ParamError {
         /// Largest accepted.
         max: f32,
         /// Unit of the range.
-        unit: &'static str,
+        unit: String,
     },
     /// A whole-number parameter (a count, a 0/1 switch) given a fraction.
     NotWhole {
         /// The parameter.
-        key: &'static str,
+        key: String,
         /// The value given.
         value: f32,
     },
@@ -113,24 +117,53 @@ impl fmt::Display for ParamError {
 
 impl std::error::Error for ParamError {}
 
+/// A scene's parameter table: a compiled scene's, in the binary, or the one a scene
+/// file declared, which its description and every set of values made from it share
+/// (a clone is a pointer; the table goes with the last of them).
+#[derive(Clone, Debug)]
+pub enum ParamTable {
+    /// A compiled scene's.
+    Static(&'static [Param]),
+    /// A scene file's.
+    Shared(Arc<[Param]>),
+}
+
+impl Deref for ParamTable {
+    type Target = [Param];
+
+    fn deref(&self) -> &[Param] {
+        match self {
+            Self::Static(table) => table,
+            Self::Shared(table) => table,
+        }
+    }
+}
+
+impl PartialEq for ParamTable {
+    /// Tables are equal when their parameters are, wherever they are kept.
+    fn eq(&self, other: &Self) -> bool {
+        **self == **other
+    }
+}
+
 /// Values for every parameter of one table, always within range.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamValues {
-    table: &'static [Param],
+    table: ParamTable,
     values: Vec<f32>,
 }
 
 impl ParamValues {
     /// Every parameter at its default.
     #[must_use]
-    pub fn defaults(table: &'static [Param]) -> Self {
-        Self { table, values: table.iter().map(|p| p.default).collect() }
+    pub fn defaults(table: &ParamTable) -> Self {
+        Self { table: table.clone(), values: table.iter().map(|p| p.default).collect() }
     }
 
     /// The table these values belong to.
     #[must_use]
-    pub fn table(&self) -> &'static [Param] {
-        self.table
+    pub fn table(&self) -> &[Param] {
+        &self.table
     }
 
     /// The value of a declared parameter.
@@ -152,15 +185,15 @@ impl ParamValues {
         }
         if value < param.min || value > param.max {
             return Err(ParamError::OutOfRange {
-                key: param.name,
+                key: param.name.to_string(),
                 value,
                 min: param.min,
                 max: param.max,
-                unit: param.unit,
+                unit: param.unit.to_string(),
             });
         }
         if param.integer && value.fract() != 0.0 {
-            return Err(ParamError::NotWhole { key: param.name, value });
+            return Err(ParamError::NotWhole { key: param.name.to_string(), value });
         }
         self.values[index] = value;
         Ok(())
@@ -184,12 +217,15 @@ impl ParamValues {
     }
 
     /// Pairs of (parameter, value) in table order.
-    pub fn iter(&self) -> impl Iterator<Item = (&'static Param, f32)> + '_ {
+    pub fn iter(&self) -> impl Iterator<Item = (&Param, f32)> {
         self.table.iter().zip(self.values.iter().copied())
     }
 
     fn unknown(&self, key: &str) -> ParamError {
-        ParamError::UnknownKey { key: key.to_string(), valid: self.table.iter().map(|p| p.name).collect() }
+        ParamError::UnknownKey {
+            key: key.to_string(),
+            valid: self.table.iter().map(|p| p.name.to_string()).collect(),
+        }
     }
 
     fn position(&self, name: &str) -> Option<usize> {

@@ -5,9 +5,11 @@
 //!
 //! Particle 0 is the bob nearest the pivot, particle 1 the next, and so on.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
-use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
+use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{Constraint, ParticleDesc, ParticleId, PhysicsError, ResolveReport, World};
 
 /// Mass of each bob (kg).
@@ -17,23 +19,23 @@ const BOB_RADIUS: f32 = 0.08;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "links", unit: "", default: 1.0, min: 1.0, max: 5.0, help: "Number of rods in the chain (rounded; 2 is the chaotic double pendulum)", logarithmic: false, integer: true },
-    Param { name: "length", unit: "m", default: 1.0, min: 0.2, max: 3.0, help: "Length of each rod", logarithmic: false, integer: false },
-    Param { name: "angle", unit: "°", default: 90.0, min: -180.0, max: 180.0, help: "Release angle of the chain from straight down (90 = horizontal)", logarithmic: false, integer: false },
-    Param { name: "damping", unit: "", default: 1.0, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("links"), unit: Cow::Borrowed(""), default: 1.0, min: 1.0, max: 5.0, help: Cow::Borrowed("Number of rods in the chain (rounded; 2 is the chaotic double pendulum)"), logarithmic: false, integer: true },
+    Param { name: Cow::Borrowed("length"), unit: Cow::Borrowed("m"), default: 1.0, min: 0.2, max: 3.0, help: Cow::Borrowed("Length of each rod"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("angle"), unit: Cow::Borrowed("°"), default: 90.0, min: -180.0, max: 180.0, help: Cow::Borrowed("Release angle of the chain from straight down (90 = horizontal)"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("damping"), unit: Cow::Borrowed(""), default: 1.0, min: 0.5, max: 1.0, help: Cow::Borrowed("Fraction of velocity kept per second (1 = no damping)"), logarithmic: false, integer: false },
     super::GRAVITY,
 ];
 
 static INFO: SceneInfo = SceneInfo {
-    name: "pendulum",
-    summary: "A chain of 1 to 5 rods from a pivot; two make the chaotic double pendulum",
+    name: Cow::Borrowed("pendulum"),
+    summary: Cow::Borrowed("A chain of 1 to 5 rods from a pivot; two make the chaotic double pendulum"),
     dt: 1.0 / 240.0,
     default_steps: 2400,
-    params: PARAMS,
+    params: ParamTable::Static(PARAMS),
     ..super::TRACED
 };
 
-pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     Box::new(Pendulum::build(params))
@@ -122,7 +124,7 @@ impl Scene for Pendulum {
         self.world.step(dt)
     }
 
-    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+    fn labels<'a>(&'a self, out: &mut Vec<(Vec3, &'a str)>) {
         out.push((pivot(&self.params) + Vec3::Y * 0.25, "pivot"));
         if let Some(&bob) = self.world.particles.positions().first() {
             out.push((bob + Vec3::Y * 0.25, "bob 0"));

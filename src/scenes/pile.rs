@@ -5,10 +5,12 @@
 //! above the ground and fall into a box whose inner walls stand at x, z = ±width/2 on
 //! the ground plane y = 0, open at the top.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
 use super::granular::{self, Material, SplitMix64};
-use super::{CameraHint, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo};
+use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{DEFAULT_ROLLING_RESISTANCE, PhysicsError, ResolveReport, World};
 
 /// Gap between neighbours on the starting grid, as a fraction of the diameter.
@@ -20,27 +22,27 @@ const SEED: u64 = 0x005E_ED0F_911E;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "count", unit: "", default: 2000.0, min: 1.0, max: 200_000.0, help: "Number of spheres (rounded to a whole number)", logarithmic: true, integer: true },
-    Param { name: "radius", unit: "m", default: 0.5, min: 0.05, max: 2.0, help: "Radius of every sphere", logarithmic: false, integer: false },
-    Param { name: "mass", unit: "kg", default: 1.0, min: 0.01, max: 100.0, help: "Mass of every sphere", logarithmic: true, integer: false },
-    Param { name: "width", unit: "m", default: 16.0, min: 1.0, max: 1000.0, help: "Inner width of the box (its walls stand at ±width/2)", logarithmic: true, integer: false },
-    Param { name: "restitution", unit: "", default: 0.0, min: 0.0, max: 1.0, help: "Coefficient of restitution between spheres, walls and ground", logarithmic: false, integer: false },
-    Param { name: "friction", unit: "", default: 0.5, min: 0.0, max: 2.0, help: "Coulomb friction coefficient between spheres, walls and ground", logarithmic: false, integer: false },
-    Param { name: "rolling_resistance", unit: "", default: DEFAULT_ROLLING_RESISTANCE, min: 0.0, max: 1.0, help: "Rolling resistance coefficient: the torque opposing a sphere's roll is at most this times its radius times the normal force", logarithmic: false, integer: false },
-    Param { name: "rolls", unit: "", default: 1.0, min: 0.0, max: 1.0, help: "1: solid spheres that roll (I = 2/5 m r²); 0: the paper's point masses, which slide but never turn", logarithmic: false, integer: true },
+    Param { name: Cow::Borrowed("count"), unit: Cow::Borrowed(""), default: 2000.0, min: 1.0, max: 200_000.0, help: Cow::Borrowed("Number of spheres (rounded to a whole number)"), logarithmic: true, integer: true },
+    Param { name: Cow::Borrowed("radius"), unit: Cow::Borrowed("m"), default: 0.5, min: 0.05, max: 2.0, help: Cow::Borrowed("Radius of every sphere"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("mass"), unit: Cow::Borrowed("kg"), default: 1.0, min: 0.01, max: 100.0, help: Cow::Borrowed("Mass of every sphere"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("width"), unit: Cow::Borrowed("m"), default: 16.0, min: 1.0, max: 1000.0, help: Cow::Borrowed("Inner width of the box (its walls stand at ±width/2)"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("restitution"), unit: Cow::Borrowed(""), default: 0.0, min: 0.0, max: 1.0, help: Cow::Borrowed("Coefficient of restitution between spheres, walls and ground"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("friction"), unit: Cow::Borrowed(""), default: 0.5, min: 0.0, max: 2.0, help: Cow::Borrowed("Coulomb friction coefficient between spheres, walls and ground"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("rolling_resistance"), unit: Cow::Borrowed(""), default: DEFAULT_ROLLING_RESISTANCE, min: 0.0, max: 1.0, help: Cow::Borrowed("Rolling resistance coefficient: the torque opposing a sphere's roll is at most this times its radius times the normal force"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("rolls"), unit: Cow::Borrowed(""), default: 1.0, min: 0.0, max: 1.0, help: Cow::Borrowed("1: solid spheres that roll (I = 2/5 m r²); 0: the paper's point masses, which slide but never turn"), logarithmic: false, integer: true },
     super::GRAVITY,
 ];
 
 static INFO: SceneInfo = SceneInfo {
-    name: "pile",
-    summary: "Spheres dropped into an open box pile up and come to rest",
+    name: Cow::Borrowed("pile"),
+    summary: Cow::Borrowed("Spheres dropped into an open box pile up and come to rest"),
     dt: 1.0 / 60.0,
     default_steps: 600,
-    params: PARAMS,
+    params: ParamTable::Static(PARAMS),
     ..granular::LOOK
 };
 
-pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     Box::new(Pile { world: build_world(&params), params })

@@ -1,12 +1,14 @@
 //! projectile: rounds fired from a launcher, as in the paper (g exaggerated to 20 m/s²,
 //! 200 kg, damping 0.99) with Cyclone's ammo types as presets.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::{
-    ActionInfo, CameraHint, Marker, Param, ParamError, ParamValues, Preset, Scene, SceneAction, SceneEntry,
-    SceneInfo,
+    ActionInfo, CameraHint, Marker, Param, ParamError, ParamTable, ParamValues, Preset, Scene, SceneAction,
+    SceneEntry, SceneInfo,
 };
 use crate::physics::exact::damping_rate;
 use crate::physics::{Drag, ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions, World};
@@ -63,15 +65,15 @@ impl Flight {
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "g", unit: "m/s²", default: 20.0, min: -5.0, max: 50.0, help: "Gravitational acceleration, downwards (negative floats up)", logarithmic: false, integer: false },
-    Param { name: "speed", unit: "m/s", default: 25.0, min: 0.0, max: 200.0, help: "Launch speed of the next round", logarithmic: false, integer: false },
-    Param { name: "angle", unit: "°", default: 45.0, min: -90.0, max: 90.0, help: "Launch elevation above the horizontal", logarithmic: false, integer: false },
-    Param { name: "mass", unit: "kg", default: 200.0, min: 0.1, max: 1000.0, help: "Mass of the next round (matters when rounds collide)", logarithmic: true, integer: false },
-    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity a round keeps per second (1 = no drag)", logarithmic: false, integer: false },
-    Param { name: "height", unit: "m", default: 1.5, min: 0.0, max: 50.0, help: "Height of the launcher above the ground", logarithmic: false, integer: false },
-    Param { name: "k1", unit: "N·s/m", default: 0.0, min: 0.0, max: 100.0, help: "Linear drag of the next round, F = -k1 v (the paper's drag)", logarithmic: false, integer: false },
-    Param { name: "k2", unit: "N·s²/m²", default: 0.0, min: 0.0, max: 10.0, help: "Quadratic drag of the next round, F = -k2 |v| v", logarithmic: false, integer: false },
-    Param { name: "target", unit: "m", default: 30.0, min: 1.0, max: 190.0, help: "Distance of the target on the ground from the launcher", logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("g"), unit: Cow::Borrowed("m/s²"), default: 20.0, min: -5.0, max: 50.0, help: Cow::Borrowed("Gravitational acceleration, downwards (negative floats up)"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("speed"), unit: Cow::Borrowed("m/s"), default: 25.0, min: 0.0, max: 200.0, help: Cow::Borrowed("Launch speed of the next round"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("angle"), unit: Cow::Borrowed("°"), default: 45.0, min: -90.0, max: 90.0, help: Cow::Borrowed("Launch elevation above the horizontal"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("mass"), unit: Cow::Borrowed("kg"), default: 200.0, min: 0.1, max: 1000.0, help: Cow::Borrowed("Mass of the next round (matters when rounds collide)"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("damping"), unit: Cow::Borrowed(""), default: 0.99, min: 0.5, max: 1.0, help: Cow::Borrowed("Fraction of velocity a round keeps per second (1 = no drag)"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("height"), unit: Cow::Borrowed("m"), default: 1.5, min: 0.0, max: 50.0, help: Cow::Borrowed("Height of the launcher above the ground"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("k1"), unit: Cow::Borrowed("N·s/m"), default: 0.0, min: 0.0, max: 100.0, help: Cow::Borrowed("Linear drag of the next round, F = -k1 v (the paper's drag)"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("k2"), unit: Cow::Borrowed("N·s²/m²"), default: 0.0, min: 0.0, max: 10.0, help: Cow::Borrowed("Quadratic drag of the next round, F = -k2 |v| v"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("target"), unit: Cow::Borrowed("m"), default: 30.0, min: 1.0, max: 190.0, help: Cow::Borrowed("Distance of the target on the ground from the launcher"), logarithmic: false, integer: false },
 ];
 
 #[rustfmt::skip]
@@ -91,18 +93,18 @@ static PRESETS: &[Preset] = &[
 static ACTIONS: &[ActionInfo] = &[ActionInfo { label: "Fire", key: "F", action: SceneAction::Fire }];
 
 static INFO: SceneInfo = SceneInfo {
-    name: "projectile",
-    summary: "Rounds fired from a launcher: semi-implicit Euler with gravity and damping",
+    name: Cow::Borrowed("projectile"),
+    summary: Cow::Borrowed("Rounds fired from a launcher: semi-implicit Euler with gravity and damping"),
     dt: 1.0 / 240.0,
     default_steps: 600,
-    params: PARAMS,
+    params: ParamTable::Static(PARAMS),
     presets: PRESETS,
     actions: ACTIONS,
     trails: true,
     color_by_speed: false,
 };
 
-pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let mut world = World::new();
@@ -327,7 +329,7 @@ impl Scene for Projectile {
         }
     }
 
-    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+    fn labels<'a>(&'a self, out: &mut Vec<(Vec3, &'a str)>) {
         out.push((self.launcher() + Vec3::new(0.0, 0.9, 0.0), "launcher"));
         out.push((self.target() + Vec3::new(0.0, 0.5, 0.0), "target"));
         let newest = self.rounds.last().and_then(|&(id, _)| self.world.particles.index(id));

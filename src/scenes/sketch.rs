@@ -498,11 +498,11 @@ mod tests {
     fn built_in_scenes_are_taken_as_copies_with_what_they_leave_out_named() {
         for entry in crate::scenes::SCENES {
             let scene = entry.create_default();
-            let (sketch, left_out) = Sketch::from_world(scene.world(), entry.info.name);
-            assert_eq!(sketch.bodies.len(), scene.world().particles.len(), "{}", entry.info.name);
+            let (sketch, left_out) = Sketch::from_world(scene.world(), &entry.info().name);
+            assert_eq!(sketch.bodies.len(), scene.world().particles.len(), "{}", entry.info().name);
             let text = sketch.text();
-            let loaded = file::load_text(&text, entry.info.name, None);
-            assert!(loaded.is_ok(), "{}: {:?} (left out {left_out:?})", entry.info.name, loaded.err());
+            let loaded = file::load_text(&text, &entry.info().name, None);
+            assert!(loaded.is_ok(), "{}: {:?} (left out {left_out:?})", entry.info().name, loaded.err());
         }
     }
 }

@@ -174,7 +174,7 @@ impl Snapshot {
         let mut snapshot = Self {
             format: FORMAT.into(),
             version: VERSION,
-            scene: scene.info().name.into(),
+            scene: scene.info().name.to_string(),
             scene_file: scene.source().map(|(text, path)| SceneSource {
                 path: path.map(|p| p.display().to_string()),
                 text: text.to_string(),
@@ -281,12 +281,12 @@ impl Snapshot {
 
     /// [`Snapshot::restore`], with the registry entry of the scene (for a scene file,
     /// the entry its embedded text made).
-    pub fn restore_with_entry(&self) -> Result<(&'static SceneEntry, Box<dyn Scene>), String> {
+    pub fn restore_with_entry(&self) -> Result<(SceneEntry, Box<dyn Scene>), String> {
         // The parts' errors can quote the file's text (a name, a kind): one line.
         self.restore_checked().map_err(|e| messages::one_line(&e))
     }
 
-    fn restore_checked(&self) -> Result<(&'static SceneEntry, Box<dyn Scene>), String> {
+    fn restore_checked(&self) -> Result<(SceneEntry, Box<dyn Scene>), String> {
         let entry = match &self.scene_file {
             Some(file) => {
                 let shown = file.path.as_deref().map_or_else(
@@ -299,18 +299,18 @@ impl Snapshot {
                     file.path.as_ref().map(std::path::PathBuf::from),
                 )
                 .map_err(|e| format!("scene_file: {e}"))?;
-                if entry.info.name != self.scene {
+                if entry.info().name != self.scene {
                     return Err(format!(
                         "scene: the snapshot names scene '{}' but its scene file makes '{}'",
                         messages::quote(&self.scene),
-                        messages::quote(entry.info.name)
+                        messages::quote(&entry.info().name)
                     ));
                 }
                 entry
             }
-            None => super::find(&self.scene)?,
+            None => super::find(&self.scene)?.clone(),
         };
-        let mut values = ParamValues::defaults(entry.info.params);
+        let mut values = ParamValues::defaults(&entry.info().params);
         for (name, value) in &self.params {
             values.set(name, *value).map_err(|e| format!("params: {e}"))?;
         }
@@ -336,7 +336,7 @@ impl Snapshot {
                 ));
             }
         }
-        let mut scene = super::create_entry(entry, values).map_err(|e| format!("scene_file: {e}"))?;
+        let mut scene = super::create_entry(&entry, values).map_err(|e| format!("scene_file: {e}"))?;
         // The scene's own objects (the bob, the bridge's deck) must be the world's: the
         // scene's rules act on them by id.
         let built = &scene.world().particles;

@@ -2,10 +2,14 @@
 //! spring-like generator: a free spring between two particles, a bungee, a float in
 //! water and a closed-form stiff spring.
 
+use std::borrow::Cow;
+
 use glam::{DVec3, Vec2, Vec3};
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
-use super::{CameraHint, Marker, Param, ParamError, ParamValues, Scene, SceneEntry, SceneInfo, Water};
+use super::{
+    CameraHint, Marker, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo, Water,
+};
 use crate::physics::exact::{SpringMotion, damping_rate};
 use crate::physics::{
     Buoyancy, ForceId, GroundPlane, ParticleDesc, ParticleId, PhysicsError, ResolveReport, SphereCollisions,
@@ -31,25 +35,25 @@ const RADIUS: f32 = 0.3;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: "k", unit: "N/m", default: 20.0, min: 1.0, max: 500.0, help: "Spring constant of the springs and the bungee", logarithmic: true, integer: false },
-    Param { name: "rest_length", unit: "m", default: 2.0, min: 0.5, max: 4.0, help: "Length at which the springs exert no force", logarithmic: false, integer: false },
-    Param { name: "mass", unit: "kg", default: 1.0, min: 0.1, max: 10.0, help: "Mass of every particle in the scene", logarithmic: true, integer: false },
-    Param { name: "damping", unit: "", default: 0.99, min: 0.5, max: 1.0, help: "Fraction of velocity kept per second (1 = no damping)", logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("k"), unit: Cow::Borrowed("N/m"), default: 20.0, min: 1.0, max: 500.0, help: Cow::Borrowed("Spring constant of the springs and the bungee"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("rest_length"), unit: Cow::Borrowed("m"), default: 2.0, min: 0.5, max: 4.0, help: Cow::Borrowed("Length at which the springs exert no force"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("mass"), unit: Cow::Borrowed("kg"), default: 1.0, min: 0.1, max: 10.0, help: Cow::Borrowed("Mass of every particle in the scene"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("damping"), unit: Cow::Borrowed(""), default: 0.99, min: 0.5, max: 1.0, help: Cow::Borrowed("Fraction of velocity kept per second (1 = no damping)"), logarithmic: false, integer: false },
     super::GRAVITY,
-    Param { name: "stiff_k", unit: "N/m", default: 10_000.0, min: 10.0, max: 1_000_000.0, help: "Stiffness of the closed-form stiff spring (stable at any value)", logarithmic: true, integer: false },
-    Param { name: "stiff_zeta", unit: "", default: 0.05, min: 0.0, max: 2.0, help: "Damping ratio of the stiff spring (0 rings forever, 1 critical); apart from `damping`", logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("stiff_k"), unit: Cow::Borrowed("N/m"), default: 10_000.0, min: 10.0, max: 1_000_000.0, help: Cow::Borrowed("Stiffness of the closed-form stiff spring (stable at any value)"), logarithmic: true, integer: false },
+    Param { name: Cow::Borrowed("stiff_zeta"), unit: Cow::Borrowed(""), default: 0.05, min: 0.0, max: 2.0, help: Cow::Borrowed("Damping ratio of the stiff spring (0 rings forever, 1 critical); apart from `damping`"), logarithmic: false, integer: false },
 ];
 
 static INFO: SceneInfo = SceneInfo {
-    name: "springForces",
-    summary: "A bob on a spring, a free spring, a bungee, buoyancy and a stiff spring",
+    name: Cow::Borrowed("springForces"),
+    summary: Cow::Borrowed("A bob on a spring, a free spring, a bungee, buoyancy and a stiff spring"),
     dt: 1.0 / 240.0,
     default_steps: 1200,
-    params: PARAMS,
+    params: ParamTable::Static(PARAMS),
     ..super::TRACED
 };
 
-pub(super) const ENTRY: SceneEntry = SceneEntry { info: &INFO, create };
+pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create };
 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     Box::new(SpringForces::build(params).expect("parameter ranges keep every particle valid"))
@@ -238,7 +242,7 @@ impl Scene for SpringForces {
         Some(POOL)
     }
 
-    fn labels(&self, out: &mut Vec<(Vec3, &'static str)>) {
+    fn labels<'a>(&'a self, out: &mut Vec<(Vec3, &'a str)>) {
         // The objects first: where labels crowd, the view keeps the earlier ones.
         let p = self.world.particles.positions();
         let named = [(0, "bob"), (1, "free spring"), (3, "bungee"), (4, "float"), (5, "stiff spring")];

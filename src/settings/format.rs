@@ -211,12 +211,12 @@ impl Settings {
     #[must_use]
     pub fn of(lab: &Lab, panel: &PanelLayout, window: [u32; 2]) -> Self {
         let mut settings = Self::of_any(lab, panel, window);
-        let found = scenes::find(&settings.scene).is_ok_and(|entry| std::ptr::eq(entry, lab.entry));
+        let found = scenes::find(&settings.scene).is_ok_and(|entry| entry.same(&lab.entry));
         if settings.scene_file.is_none() && !found {
             let default = scenes::find(DEFAULT_SCENE).expect("the default scene is registered");
             settings.scene = DEFAULT_SCENE.to_string();
             settings.params.clear();
-            settings.physics_rate = 1.0 / default.info.dt;
+            settings.physics_rate = 1.0 / default.info().dt;
             settings.camera.moved = false;
         }
         settings
@@ -229,8 +229,8 @@ impl Settings {
         let camera = lab.camera;
         Self {
             version: VERSION,
-            scene: lab.entry.info.name.to_string(),
-            scene_file: scene_file_of(lab.entry),
+            scene: lab.entry.info().name.to_string(),
+            scene_file: scene_file_of(&lab.entry),
             params: lab.scene.params().iter().map(|(param, value)| (param.name.to_string(), value)).collect(),
             solver: SolverChoice {
                 kind: solver.kind.name().to_string(),
@@ -264,7 +264,7 @@ impl Settings {
     pub fn keeping(kept: &mut Option<Settings>, lab: &Lab, panel: &PanelLayout, window: [u32; 2]) -> Self {
         let mut now = Self::of(lab, panel, window);
         let Some(saved) = kept.as_ref() else { return now };
-        let still_instead = scenes::find(DEFAULT_SCENE).is_ok_and(|instead| std::ptr::eq(instead, lab.entry));
+        let still_instead = scenes::find(DEFAULT_SCENE).is_ok_and(|instead| instead.same(&lab.entry));
         if !still_instead {
             *kept = None;
             return now;
@@ -319,9 +319,9 @@ impl Settings {
             Some(_) => None,
             None => {
                 let entry = scenes::find(&self.scene).map_err(|e| format!("scene: {e}"))?;
-                let mut params = ParamValues::defaults(entry.info.params);
+                let mut params = ParamValues::defaults(&entry.info().params);
                 for (name, value) in &self.params {
-                    params.set(name, *value).map_err(|e| format!("params of {}: {e}", entry.info.name))?;
+                    params.set(name, *value).map_err(|e| format!("params of {}: {e}", entry.info().name))?;
                 }
                 Some(entry)
             }
@@ -404,7 +404,7 @@ impl Settings {
 /// another directory finds it), to open it again by; `None` for a compiled or shipped
 /// scene, which its name finds.
 pub(super) fn scene_file_of(entry: &SceneEntry) -> Option<String> {
-    if scenes::file::shipped().iter().any(|shipped| std::ptr::eq(*shipped, entry)) {
+    if scenes::file::shipped().iter().any(|shipped| shipped.same(entry)) {
         return None;
     }
     let path = scenes::file::definition(entry)?.path()?;

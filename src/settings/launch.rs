@@ -199,9 +199,9 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
     // chose another scene or a snapshot, when the file is not read at all).
     let saved_entry = match (&saved, &resolved) {
         (Some(saved), Some(resolved)) => match &saved.scene_file {
-            None => resolved.entry,
-            Some(path) => match typed_entry {
-                Some(typed) => (scene_file_of(typed).as_ref() == Some(path)).then_some(typed),
+            None => resolved.entry.cloned(),
+            Some(path) => match &typed_entry {
+                Some(typed) => (scene_file_of(typed).as_ref() == Some(path)).then(|| typed.clone()),
                 None if launch.from.is_some() => None,
                 None => scenes::file::load_path(Path::new(path))
                     .map_err(|error| {
@@ -218,11 +218,11 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         },
         _ => None,
     };
-    let entry = match typed_entry.or(saved_entry) {
+    let entry = match typed_entry.or_else(|| saved_entry.clone()) {
         Some(entry) => entry,
-        None => scenes::find(DEFAULT_SCENE)?,
+        None => scenes::find(DEFAULT_SCENE)?.clone(),
     };
-    let same_scene = saved_entry.is_some_and(|saved| std::ptr::eq(saved, entry));
+    let same_scene = saved_entry.is_some_and(|saved| saved.same(&entry));
     // The saved values first, then `--set` over them: the later assignment wins.
     let mut assignments: Vec<String> = Vec::new();
     if let (true, Some(saved)) = (same_scene, &saved) {
@@ -232,12 +232,12 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
     let base = resolved.as_ref().map_or_else(SolverSettings::default, |r| r.solver);
     let solver = launch.solver_over(base);
     let mut layout = PanelLayout::default();
-    let mut lab = match Lab::from_entry(entry, &assignments, solver) {
+    let mut lab = match Lab::from_entry(&entry, &assignments, solver) {
         Ok(lab) => lab,
         // A scene file edited since: the saved values may no longer fit it. It opens
         // with its own (and `--set` still has to fit).
         Err(error) if same_scene && saved.as_ref().is_some_and(|s| s.scene_file.is_some()) => {
-            let lab = Lab::from_entry(entry, &launch.set, solver)?;
+            let lab = Lab::from_entry(&entry, &launch.set, solver)?;
             let path = saved.as_ref().and_then(|s| s.scene_file.as_deref()).unwrap_or_default();
             warning = Some(format!(
                 "particle-lab: the values saved for the scene file {} no longer fit it ({}); opening it \
@@ -256,7 +256,7 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         window = [saved.window.width, saved.window.height];
     }
     if let Some(LinkRate(rate)) = launch.link {
-        lab.physics_rate = rate.unwrap_or(1.0 / lab.entry.info.dt);
+        lab.physics_rate = rate.unwrap_or(1.0 / lab.entry.info().dt);
     }
     let typed = launch.typed();
     let overrides = if typed.is_empty() {

@@ -14,7 +14,7 @@ use super::lab::limits::{HISTORY, PHYSICS_RATE_RANGE};
 use super::lab::records::EnergySample;
 
 /// The one setting the copy has changed.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Change {
     /// Another integrator.
     Integrator(Integrator),
@@ -23,7 +23,7 @@ pub enum Change {
     /// Another physics rate (Hz).
     Rate(f32),
     /// Another value of a scene parameter.
-    Param(&'static str, f32),
+    Param(String, f32),
 }
 
 impl Change {
@@ -61,8 +61,8 @@ impl Change {
                 }
             }
             name => {
-                let Some(param) = entry.info.params.iter().find(|p| p.name == name) else {
-                    let names: Vec<&str> = entry.info.params.iter().map(|p| p.name).collect();
+                let Some(param) = entry.info().params.iter().find(|p| p.name == name) else {
+                    let names: Vec<&str> = entry.info().params.iter().map(|p| &*p.name).collect();
                     return Err(format!(
                         "compare: unknown setting '{}'; valid: integrator, solver, rate, {}",
                         quote(name),
@@ -76,7 +76,7 @@ impl Change {
                         param.min, param.max
                     ));
                 }
-                Ok(Self::Param(param.name, value))
+                Ok(Self::Param(param.name.to_string(), value))
             }
         }
     }
@@ -119,14 +119,14 @@ impl Compare {
         dt: f32,
         change: Change,
     ) -> Result<Self, String> {
-        let mut scene = (entry.create)(params);
+        let mut scene = entry.create(params);
         let mut solver = solver;
         let mut dt = dt;
-        match change {
-            Change::Integrator(integrator) => solver.integrator = integrator,
-            Change::Solver(kind) => solver.kind = kind,
+        match &change {
+            Change::Integrator(integrator) => solver.integrator = *integrator,
+            Change::Solver(kind) => solver.kind = *kind,
             Change::Rate(rate) => dt = 1.0 / rate,
-            Change::Param(name, value) => scene.set_param(name, value).map_err(|e| e.to_string())?,
+            Change::Param(name, value) => scene.set_param(name, *value).map_err(|e| e.to_string())?,
         }
         scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
         let mut compare =
@@ -143,11 +143,11 @@ impl Compare {
         let mut scene = snapshot.restore()?;
         let mut solver = *scene.world().solver();
         let mut dt = snapshot.dt;
-        match change {
-            Change::Integrator(integrator) => solver.integrator = integrator,
-            Change::Solver(kind) => solver.kind = kind,
+        match &change {
+            Change::Integrator(integrator) => solver.integrator = *integrator,
+            Change::Solver(kind) => solver.kind = *kind,
             Change::Rate(rate) => dt = 1.0 / rate,
-            Change::Param(name, value) => scene.set_param(name, value).map_err(|e| e.to_string())?,
+            Change::Param(name, value) => scene.set_param(name, *value).map_err(|e| e.to_string())?,
         }
         if solver != *scene.world().solver() {
             scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;

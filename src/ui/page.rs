@@ -113,7 +113,7 @@ impl Page {
         let fields = [
             ("data-hash", lab.state_hash()),
             ("data-gpu", gpu.to_string()),
-            ("data-scene", lab.entry.info.name.to_string()),
+            ("data-scene", lab.entry.info().name.to_string()),
             ("data-paused", lab.paused.to_string()),
             ("data-params", format!("{{{}}}", params.join(","))),
             ("data-sliders", format!("{{{}}}", sliders.join(","))),

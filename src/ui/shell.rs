@@ -111,8 +111,8 @@ impl LabUi {
     /// is selected (where the eye goes after a click), then run, parameters, energy,
     /// read-outs, compare and, with View → Stats, the stats.
     fn side_panel(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
-        ui.heading(lab.entry.info.name);
-        ui.label(egui::RichText::new(lab.entry.info.summary).small());
+        ui.heading(&*lab.entry.info().name);
+        ui.label(egui::RichText::new(&*lab.entry.info().summary).small());
         if lab.editing() {
             egui::Frame::group(ui.style()).show(ui, |ui| {
                 ui.label(egui::RichText::new("Build").strong());

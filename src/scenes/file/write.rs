@@ -31,19 +31,19 @@ pub fn write(doc: &Document, values: Option<&ParamValues>) -> String {
     scene(&mut out, doc);
     let declared = |name: &str| doc.param.iter().any(|p| p.get_ref().name.get_ref() == name);
     for (p, value) in values.into_iter().flat_map(ParamValues::iter) {
-        if declared(p.name) || value == p.default {
+        if declared(&p.name) || value == p.default {
             continue;
         }
         out.table("param", true);
-        out.key("name", string(p.name));
+        out.key("name", string(&p.name));
         if !p.unit.is_empty() {
-            out.key("unit", string(p.unit));
+            out.key("unit", string(&p.unit));
         }
         out.key("default", float32(value));
         out.key("min", float32(p.min));
         out.key("max", float32(p.max));
         if !p.help.is_empty() {
-            out.key("help", string(p.help));
+            out.key("help", string(&p.help));
         }
         out.flag("logarithmic", p.logarithmic);
         out.flag("integer", p.integer);

@@ -140,17 +140,17 @@ impl Lab {
             editor.gesture = None;
             self.paused = true;
             self.status = "Building again: Play (B) runs it".into();
-            log::info!("builder: back to building {}", self.entry.info.name);
+            log::info!("builder: back to building {}", self.entry.info().name);
             return;
         }
-        let name = format!("{} (copy)", self.entry.info.name);
+        let name = format!("{} (copy)", self.entry.info().name);
         let (sketch, left_out) = Sketch::from_world(self.scene.world(), &name);
         self.status = if left_out.is_empty() {
-            format!("Building: a copy of {}. Play runs it; Ctrl+Z undoes", self.entry.info.name)
+            format!("Building: a copy of {}. Play runs it; Ctrl+Z undoes", self.entry.info().name)
         } else {
-            format!("Building: a copy of {}, without {}", self.entry.info.name, left_out.join(", "))
+            format!("Building: a copy of {}, without {}", self.entry.info().name, left_out.join(", "))
         };
-        log::info!("builder: editing a copy of {}", self.entry.info.name);
+        log::info!("builder: editing a copy of {}", self.entry.info().name);
         self.open_editor(sketch);
     }
 
@@ -184,7 +184,7 @@ impl Lab {
         if let Some(editor) = self.editor.as_mut().filter(|e| e.open) {
             editor.open = false;
             editor.gesture = None;
-            log::info!("builder: play {}", self.entry.info.name);
+            log::info!("builder: play {}", self.entry.info().name);
             self.reset();
             self.paused = false;
             self.status = "Playing. B goes back to building".into();
@@ -201,7 +201,7 @@ impl Lab {
             Ok(entry) => {
                 let camera = (self.camera, self.camera_moved, self.side_view);
                 let editor = self.editor.take();
-                self.switch_scene(entry);
+                self.switch_scene(&entry);
                 self.editor = editor;
                 (self.camera, self.camera_moved, self.side_view) = camera;
                 self.scene_file = None;

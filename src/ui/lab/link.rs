@@ -178,7 +178,7 @@ impl Link {
     /// than [`MAX_LINK`](super::carried::MAX_LINK) is refused in one line.
     pub fn of(lab: &Lab, with_steps: bool) -> Result<String, String> {
         let solver = lab.solver();
-        let name = lab.entry.info.name;
+        let name = &*lab.entry.info().name;
         let carried = lab.scene.source().map(|(text, _)| text).filter(|&text| {
             // Named when the name finds this very text (a built-in has no text).
             let shipped = crate::scenes::find(name).ok().and_then(crate::scenes::file::definition);
@@ -195,7 +195,7 @@ impl Link {
         pairs.push(("solver".into(), solver.kind.name().into()));
         pairs.push(("substeps".into(), solver.substeps.to_string()));
         pairs.push(("integrator".into(), solver.integrator.name().into()));
-        if lab.dt().to_bits() != lab.entry.info.dt.to_bits() {
+        if lab.dt().to_bits() != lab.entry.info().dt.to_bits() {
             pairs.push(("rate".into(), lab.physics_rate.to_string()));
         }
         if with_steps {

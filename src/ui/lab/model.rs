@@ -8,7 +8,7 @@ use web_time::Instant;
 
 use glam::Vec3;
 
-use super::limits::{FRAMING_ASPECT, HISTORY, MSAA_LIMIT, READOUT_INTERVAL};
+use super::limits::{FRAMING_ASPECT, HISTORY, MSAA_LIMIT, PHYSICS_BUDGET, READOUT_INTERVAL};
 use super::records::{EnergySample, Grab, Joined, Requests, Stats};
 use super::watch::Watch;
 use crate::physics::inspect::ConstraintMeter;
@@ -22,8 +22,8 @@ use crate::ui::compare::{Change, Compare};
 pub struct Lab {
     /// The running scene.
     pub scene: Box<dyn Scene>,
-    /// Its registry entry.
-    pub entry: &'static SceneEntry,
+    /// Its registry entry (for a scene file, it keeps the file while it is the lab's).
+    pub entry: SceneEntry,
     /// Physics stopped?
     pub paused: bool,
     /// Simulated seconds per real second.
@@ -104,6 +104,9 @@ pub struct Lab {
     /// The links' states, reused by the once-a-frame check that every figure shown is
     /// finite (`World::first_non_finite`).
     pub(super) finite_scratch: Vec<LinkState>,
+    /// Wall-clock time a frame's physics may take ([`PHYSICS_BUDGET`]); `None` (in
+    /// tests of the clock's arithmetic) for no limit.
+    pub(super) physics_budget: Option<std::time::Duration>,
     /// The builder, while it is open.
     pub editor: Option<super::editing::Editor>,
 }
@@ -122,7 +125,7 @@ impl Lab {
     /// A lab on a registered or loaded scene (a scene file) with `KEY=VALUE` settings
     /// and the given solver.
     pub fn from_entry(
-        entry: &'static SceneEntry,
+        entry: &SceneEntry,
         assignments: &[String],
         solver: SolverSettings,
     ) -> Result<Self, String> {
@@ -131,9 +134,9 @@ impl Lab {
         let mut lab = Self {
             solver,
             camera: OrbitCamera::framing(scene.as_ref()),
-            physics_rate: 1.0 / entry.info.dt,
+            physics_rate: 1.0 / entry.info().dt,
             scene,
-            entry,
+            entry: entry.clone(),
             paused: false,
             time_scale: 1.0,
             accumulator: 0.0,
@@ -164,12 +167,13 @@ impl Lab {
             readouts_taken: None,
             crowded: false,
             msaa_dropped: false,
-            rate_origin: (1.0 / entry.info.dt, entry.info.dt),
+            rate_origin: (1.0 / entry.info().dt, entry.info().dt),
             snapshot_path: "snapshot.json".into(),
             quick_save: None,
             still_since: None,
             finite_scratch: Vec::new(),
             editor: None,
+            physics_budget: Some(PHYSICS_BUDGET),
         };
         lab.apply_scene_view();
         lab.frame_scene();
@@ -192,14 +196,14 @@ impl Lab {
     }
 
     /// Switches to another scene with its default parameters.
-    pub fn switch_scene(&mut self, entry: &'static SceneEntry) {
-        log::info!("scene: {}", entry.info.name);
+    pub fn switch_scene(&mut self, entry: &SceneEntry) {
+        log::info!("scene: {}", entry.info().name);
         // Another scene closes the builder (the builder's own loads keep it).
         self.editor = None;
         self.stop_compare();
-        self.entry = entry;
+        self.entry = entry.clone();
         self.scene = entry.create_default();
-        self.set_dt(entry.info.dt);
+        self.set_dt(entry.info().dt);
         // Follow is the scene's own: a new scene starts without it. The side view stays
         // as ticked, and the new scene is drawn that way.
         self.follow = false;
@@ -212,7 +216,7 @@ impl Lab {
     /// Sets the view toggles a scene has its own defaults for (trails, colour by
     /// speed); the others are the user's and stay as they are.
     pub(super) fn apply_scene_view(&mut self) {
-        let info = self.entry.info;
+        let info = self.entry.info();
         self.view.trails = info.trails;
         self.view.color_by_speed = info.color_by_speed;
     }
@@ -243,9 +247,9 @@ impl Lab {
     /// The scene, the camera (unless the side view was on), the panel and a running
     /// comparison stay.
     pub fn restore_defaults(&mut self) {
-        log::info!("restore defaults: {}", self.entry.info.name);
+        log::info!("restore defaults: {}", self.entry.info().name);
         self.solver = SolverSettings::default();
-        self.physics_rate = 1.0 / self.entry.info.dt;
+        self.physics_rate = 1.0 / self.entry.info().dt;
         self.time_scale = 1.0;
         self.view = ViewOptions::default();
         self.apply_scene_view();
@@ -262,15 +266,15 @@ impl Lab {
         if self.status.is_empty() {
             self.status = format!(
                 "Defaults restored for {}: parameters, solver, integrator, physics rate and view",
-                self.entry.info.name
+                self.entry.info().name
             );
         }
     }
 
     /// Rebuilds the current scene with its current parameters.
     pub fn reset(&mut self) {
-        log::info!("reset: {}", self.entry.info.name);
-        self.scene = (self.entry.create)(self.scene.params().clone());
+        log::info!("reset: {}", self.entry.info().name);
+        self.scene = self.entry.create(self.scene.params().clone());
         self.restart();
     }
 
@@ -322,8 +326,8 @@ impl Lab {
         self.tape_points.clear();
         self.readouts_taken = None;
         self.compare = None;
-        if let Some(change) = self.compare_change {
-            match Compare::new(self.entry, self.scene.params().clone(), self.solver, self.dt(), change) {
+        if let Some(change) = self.compare_change.clone() {
+            match Compare::new(&self.entry, self.scene.params().clone(), self.solver, self.dt(), change) {
                 Ok(compare) => self.compare = Some(compare),
                 Err(error) => {
                     self.compare_change = None;
@@ -346,7 +350,7 @@ impl Lab {
     /// undisturbed. A reset later starts both from the beginning, as
     /// [`Lab::start_compare`] does.
     pub fn branch_compare(&mut self, change: Change) {
-        let branched = self.snapshot().and_then(|snapshot| Compare::branch(&snapshot, change));
+        let branched = self.snapshot().and_then(|snapshot| Compare::branch(&snapshot, change.clone()));
         match branched {
             Ok(compare) => {
                 log::info!("compare from t = {:.3} s: {}", self.scene.world().time(), change.describe());
@@ -372,7 +376,7 @@ impl Lab {
             Ok(()) => {
                 if let Some(compare) = &mut self.compare {
                     // The copy follows every change but the one it is about.
-                    if !matches!(compare.change, Change::Param(changed, _) if changed == name) {
+                    if !matches!(&compare.change, Change::Param(changed, _) if changed == name) {
                         let _ = compare.scene.set_param(name, value);
                         let mut solver = self.solver;
                         compare.apply_to(&mut solver);
@@ -382,7 +386,7 @@ impl Lab {
                 // Some parameters rebuild the world, which then has the default solver.
                 self.scene.world_mut().set_solver(self.solver).expect("validated when chosen");
                 self.readouts_taken = None;
-                log::info!("set {}.{name} = {value}", self.entry.info.name);
+                log::info!("set {}.{name} = {value}", self.entry.info().name);
                 if steps_before > 0 && self.scene.world().steps() == 0 {
                     self.restart();
                     self.status = format!("Changing {name} rebuilt the scene: it starts again from t = 0");
@@ -397,7 +401,9 @@ impl Lab {
     /// Changes a parameter to a value typed in the panel: one beyond the slider's range
     /// is clamped to it, and the status line says so.
     pub fn set_param_typed(&mut self, name: &str, value: f32) {
-        let Some(param) = self.scene.params().table().iter().find(|p| p.name == name) else { return };
+        let Some(param) = self.scene.params().table().iter().find(|p| p.name == name).cloned() else {
+            return;
+        };
         let clamped = value.clamp(param.min, param.max);
         if clamped == value || value.is_nan() {
             self.set_param(name, value);
@@ -413,7 +419,7 @@ impl Lab {
 
     /// Applies a preset of the current scene by name.
     pub fn apply_preset(&mut self, name: &str) {
-        let Some(preset) = self.entry.info.presets.iter().find(|p| p.name == name) else { return };
+        let Some(preset) = self.entry.info().presets.iter().find(|p| p.name == name) else { return };
         for &(key, value) in preset.values {
             self.set_param(key, value);
         }

@@ -7,7 +7,7 @@ use std::path::Path;
 use super::model::Lab;
 use super::watch::Watch;
 use crate::scenes::file::{self, FileError};
-use crate::scenes::{ParamValues, SceneEntry};
+use crate::scenes::{self, ParamValues, SceneEntry};
 
 impl Lab {
     /// Opens a scene file, replacing the running scene and watching the file for
@@ -17,7 +17,7 @@ impl Lab {
         match file::load_path(path) {
             Ok(entry) => {
                 log::info!("scene file opened: {}", path.display());
-                self.switch_scene(entry);
+                self.switch_scene(&entry);
                 self.watch_scene_file();
                 true
             }
@@ -34,7 +34,7 @@ impl Lab {
         match file::load_text(text, name, None) {
             Ok(entry) => {
                 log::info!("scene file opened: {name}");
-                self.switch_scene(entry);
+                self.switch_scene(&entry);
                 self.scene_file = None;
                 self.status = format!("Opened {name}");
                 true
@@ -48,7 +48,7 @@ impl Lab {
 
     /// Starts watching the running scene's file, if it was read from one.
     pub fn watch_scene_file(&mut self) {
-        let Some(path) = file::definition(self.entry).and_then(|d| d.path().map(Path::to_path_buf)) else {
+        let Some(path) = file::definition(&self.entry).and_then(|d| d.path().map(Path::to_path_buf)) else {
             self.scene_file = None;
             return;
         };
@@ -65,7 +65,7 @@ impl Lab {
     pub fn poll_scene_file(&mut self) {
         let Some(watch) = &mut self.scene_file else { return };
         // Another scene was picked since: its file, if any, is not the one watched.
-        let current = file::definition(self.entry);
+        let current = file::definition(&self.entry);
         if current.and_then(|d| d.path()) != Some(watch.path.as_path()) {
             self.scene_file = None;
             return;
@@ -92,12 +92,11 @@ impl Lab {
             }
         };
         let (camera, moved) = (self.camera, self.camera_moved);
-        let kept = kept_values(entry, &self.scene.params().clone());
+        let kept = kept_values(&entry, self.scene.params());
         let watch = self.scene_file.take();
-        self.switch_scene(entry);
+        self.switch_scene(&entry);
         if let Some(values) = kept
-            && let Some(definition) = file::definition(entry)
-            && let Ok(scene) = definition.create(values)
+            && let Ok(scene) = scenes::create_entry(&entry, values)
         {
             self.scene = scene;
             self.reset();
@@ -112,10 +111,10 @@ impl Lab {
     /// The running scene as a scene file, with the sliders' values as its defaults:
     /// a name to save it under (the scene's, made safe for a file name) and the text.
     pub fn scene_file_text(&self) -> Result<(String, String), String> {
-        let text = file::written(self.entry, self.scene.params())?;
+        let text = file::written(&self.entry, self.scene.params())?;
         let stem: String = self
             .entry
-            .info
+            .info()
             .name
             .chars()
             .map(|c| if c.is_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
@@ -154,13 +153,13 @@ impl Lab {
 /// The values a user moved away from the old file's defaults, where the new entry's
 /// table accepts them, over its defaults (an edited default takes effect); `None` when
 /// that is just the defaults.
-fn kept_values(entry: &'static SceneEntry, old: &ParamValues) -> Option<ParamValues> {
-    let mut values = ParamValues::defaults(entry.info.params);
+fn kept_values(entry: &SceneEntry, old: &ParamValues) -> Option<ParamValues> {
+    let mut values = ParamValues::defaults(&entry.info().params);
     for (param, value) in old.iter() {
         if value != param.default {
             // A parameter the new file dropped or narrowed falls back to its default.
-            let _ = values.set(param.name, value);
+            let _ = values.set(&param.name, value);
         }
     }
-    (values != ParamValues::defaults(entry.info.params)).then_some(values)
+    (values != ParamValues::defaults(&entry.info().params)).then_some(values)
 }

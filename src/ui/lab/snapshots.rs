@@ -11,7 +11,7 @@ impl Lab {
     /// scene's camera hint.
     pub fn from_snapshot(snapshot: &Snapshot) -> Result<Self, String> {
         let (entry, scene) = snapshot.restore_with_entry()?;
-        let mut lab = Self::from_entry(entry, &[], snapshot.world.solver())?;
+        let mut lab = Self::from_entry(&entry, &[], snapshot.world.solver())?;
         lab.install(entry, scene, snapshot.dt);
         lab.camera = OrbitCamera::framing(lab.scene.as_ref());
         Ok(lab)
@@ -32,7 +32,7 @@ impl Lab {
     }
 
     /// Makes a restored scene the running one, at time step `dt`.
-    pub(super) fn install(&mut self, entry: &'static SceneEntry, scene: Box<dyn Scene>, dt: f32) {
+    pub(super) fn install(&mut self, entry: SceneEntry, scene: Box<dyn Scene>, dt: f32) {
         self.stop_compare();
         self.entry = entry;
         self.scene = scene;
@@ -76,7 +76,10 @@ impl Lab {
     pub fn snapshot_download(&self) -> Result<(String, String), String> {
         let snapshot = self.snapshot()?;
         let world = self.scene.world();
-        Ok((format!("particle-lab-{}-step{}.json", self.entry.info.name, world.steps()), snapshot.to_json()))
+        Ok((
+            format!("particle-lab-{}-step{}.json", self.entry.info().name, world.steps()),
+            snapshot.to_json(),
+        ))
     }
 
     /// Loads the snapshot at `path`; a bad file leaves the running scene as it was

@@ -22,7 +22,7 @@ impl Default for ComparePanel {
 }
 
 /// The name of the setting a change is about, as the form's menu lists it.
-fn key(change: &Change) -> &'static str {
+fn key(change: &Change) -> &str {
     match change {
         Change::Integrator(_) => "integrator",
         Change::Solver(_) => "solver",
@@ -54,7 +54,7 @@ impl ComparePanel {
             return;
         }
         ui.label("Run a second copy with one setting changed:");
-        let mut draft = self.draft;
+        let mut draft = self.draft.clone();
         let params = lab.scene.params().clone();
         egui::ComboBox::from_id_salt("compare key").selected_text(key(&draft)).show_ui(ui, |ui| {
             let mut options = vec![
@@ -62,7 +62,7 @@ impl ComparePanel {
                 Change::Solver(SolverKind::Paper),
                 Change::Rate(60.0),
             ];
-            options.extend(params.iter().map(|(param, value)| Change::Param(param.name, value)));
+            options.extend(params.iter().map(|(param, value)| Change::Param(param.name.to_string(), value)));
             for option in options {
                 let label = key(&option);
                 if ui.selectable_label(key(&draft) == label, label).clicked() {
@@ -105,14 +105,14 @@ impl ComparePanel {
                 }
             }
         }
-        self.draft = draft;
+        self.draft = draft.clone();
         ui.horizontal(|ui| {
             if ui
                 .button("Run the copy")
                 .on_hover_text("Both the scene and its copy start again from the beginning")
                 .clicked()
             {
-                lab.start_compare(draft);
+                lab.start_compare(draft.clone());
             }
             if ui
                 .button("Branch from now")

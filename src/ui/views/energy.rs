@@ -62,7 +62,7 @@ impl EnergyPanel {
             "Every sample kept, to the current directory"
         };
         if ui.small_button("Export energy as CSV").on_hover_text(hover).clicked() {
-            let name = format!("energy-{}-t{:.0}s.csv", lab.entry.info.name, lab.scene.world().time());
+            let name = format!("energy-{}-t{:.0}s.csv", lab.entry.info().name, lab.scene.world().time());
             #[cfg(target_arch = "wasm32")]
             {
                 lab.status = match crate::ui::page::download(&name, "text/csv", lab.energy_csv().as_bytes()) {

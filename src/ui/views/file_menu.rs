@@ -233,7 +233,7 @@ impl FileMenu {
             crate::ui::page::pick_file(crate::ui::page::FileKind::Snapshot);
             ui.close();
         }
-        let saveable = crate::scenes::file::writable(lab.entry);
+        let saveable = crate::scenes::file::writable(&lab.entry);
         let download = ui
             .add_enabled(saveable.is_ok(), egui::Button::new("Download scene file"))
             .on_hover_text(SAVE_SCENE_HELP)
@@ -324,7 +324,7 @@ impl FileMenu {
         if (ui.button("Open").clicked() || entered) && self.act_typed(Purpose::OpenScene, lab) {
             ui.close();
         }
-        let saveable = crate::scenes::file::writable(lab.entry);
+        let saveable = crate::scenes::file::writable(&lab.entry);
         let save = ui
             .add_enabled(saveable.is_ok(), egui::Button::new("Save scene as…").shortcut_text("Ctrl+Shift+S"))
             .on_hover_text(SAVE_SCENE_HELP)
@@ -378,7 +378,7 @@ impl FileMenu {
     #[cfg(not(target_arch = "wasm32"))]
     pub fn ask(&mut self, purpose: Purpose, lab: &mut Lab) {
         if purpose == Purpose::SaveScene
-            && let Err(why) = crate::scenes::file::writable(lab.entry)
+            && let Err(why) = crate::scenes::file::writable(&lab.entry)
         {
             log::info!("cannot save the scene as a file: {why}");
             lab.status = why;
@@ -769,7 +769,7 @@ mod tests {
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Tab));
         assert_eq!(menu.scene_path, "assets/scenes/chain.toml");
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Enter));
-        assert_eq!(lab.entry.info.name, "chain");
+        assert_eq!(lab.entry.info().name, "chain");
         assert_eq!(menu.prompt, None, "the window closes once the file opened");
     }
 
@@ -809,7 +809,7 @@ mod tests {
         assert_eq!(lab.status, "cannot list no-such-folder/: no such folder");
         assert_eq!(menu.scene_path, "no-such-folder/x");
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Enter));
-        assert_eq!(lab.entry.info.name, "projectile");
+        assert_eq!(lab.entry.info().name, "projectile");
         assert!(lab.status.contains("no-such-folder/x") && !lab.status.contains('\n'), "{}", lab.status);
         assert_eq!(menu.prompt, Some(Purpose::OpenScene), "the window stays for another try");
         frame(&ctx, &mut menu, &mut lab, key(egui::Key::Escape));

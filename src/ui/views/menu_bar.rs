@@ -43,7 +43,7 @@ impl MenuBar {
                 }
             });
             ui.separator();
-            ui.label(egui::RichText::new(lab.entry.info.name).strong());
+            ui.label(egui::RichText::new(&*lab.entry.info().name).strong());
             ui.label(format!("t = {:.2} s", lab.scene.world().time()));
             if lab.paused {
                 ui.colored_label(Color32::from_rgb(240, 190, 60), "paused");

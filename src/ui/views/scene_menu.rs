@@ -30,18 +30,22 @@ impl SceneMenu {
         }
         ui.separator();
         for entry in SCENES {
-            let current = std::ptr::eq(entry, lab.entry);
-            if ui.selectable_label(current, entry.info.name).on_hover_text(entry.info.summary).clicked() {
+            let current = entry.same(&lab.entry);
+            if ui
+                .selectable_label(current, &*entry.info().name)
+                .on_hover_text(&*entry.info().summary)
+                .clicked()
+            {
                 lab.switch_scene(entry);
                 ui.close();
             }
         }
         ui.separator();
-        for &entry in file::shipped() {
+        for entry in file::shipped() {
             let path = |e: &SceneEntry| file::definition(e).map(|d| d.path().map(Path::to_path_buf));
-            let current = lab.entry.info.name == entry.info.name && path(lab.entry) == path(entry);
-            let label = format!("{} (file)", entry.info.name);
-            if ui.selectable_label(current, label).on_hover_text(entry.info.summary).clicked() {
+            let current = lab.entry.info().name == entry.info().name && path(&lab.entry) == path(entry);
+            let label = format!("{} (file)", entry.info().name);
+            if ui.selectable_label(current, label).on_hover_text(&*entry.info().summary).clicked() {
                 match file::definition(entry).and_then(|d| d.path().map(Path::to_path_buf)) {
                     // Read it again: it may have been edited since it was first loaded.
                     Some(path) => {

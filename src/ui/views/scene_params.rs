@@ -13,7 +13,7 @@ use crate::ui::style::WARNING_COLOR;
 #[derive(Debug, Default)]
 pub struct SceneParams {
     /// Each parameter's slider in the last frame: name and rectangle (points).
-    pub sliders: Vec<(&'static str, egui::Rect)>,
+    pub sliders: Vec<(String, egui::Rect)>,
 }
 
 /// Height of the Fire button (points): the one control a projectile lesson presses
@@ -40,19 +40,19 @@ impl SceneParams {
                 .clamping(egui::SliderClamping::Never)
                 .text(label);
             let slider = if param.integer { slider.integer() } else { slider };
-            let response = ui.add(slider).on_hover_text(param.help);
-            self.sliders.push((param.name, response.rect));
+            let response = ui.add(slider).on_hover_text(&*param.help);
+            self.sliders.push((param.name.to_string(), response.rect));
             if response.changed() && edited != value {
-                changes.push((param.name, edited));
+                changes.push((param.name.to_string(), edited));
             }
-            if let Some(warning) = lab.scene.param_warning(param.name, lab.integration_step()) {
+            if let Some(warning) = lab.scene.param_warning(&param.name, lab.integration_step()) {
                 ui.colored_label(WARNING_COLOR, warning);
             }
         }
         for (name, value) in changes {
-            lab.set_param_typed(name, value);
+            lab.set_param_typed(&name, value);
         }
-        let presets = lab.entry.info.presets;
+        let presets = lab.entry.info().presets;
         if !presets.is_empty() {
             ui.label("Presets");
             ui.horizontal_wrapped(|ui| {
@@ -64,7 +64,7 @@ impl SceneParams {
             });
         }
         let others: Vec<_> =
-            lab.entry.info.actions.iter().filter(|action| action.action != SceneAction::Fire).collect();
+            lab.entry.info().actions.iter().filter(|action| action.action != SceneAction::Fire).collect();
         if !others.is_empty() {
             ui.horizontal_wrapped(|ui| {
                 for action in others {
@@ -79,7 +79,7 @@ impl SceneParams {
 
 /// The scene's Fire action, if it has one, as a wide button above the launch sliders.
 fn fire_button(ui: &mut egui::Ui, lab: &mut Lab) {
-    let Some(fire) = lab.entry.info.actions.iter().find(|action| action.action == SceneAction::Fire) else {
+    let Some(fire) = lab.entry.info().actions.iter().find(|action| action.action == SceneAction::Fire) else {
         return;
     };
     let text = RichText::new(format!("{}  ({})", fire.label, fire.key)).size(16.0).strong();

@@ -165,7 +165,7 @@ pub fn view_3d(ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
         paint_builder(ui, lab, rect);
     }
     if lab.scene.world().particles.is_empty()
-        && lab.entry.info.actions.iter().any(|a| a.action == SceneAction::Fire)
+        && lab.entry.info().actions.iter().any(|a| a.action == SceneAction::Fire)
     {
         ui.painter().text(
             rect.center_top() + egui::vec2(0.0, 24.0),

@@ -197,7 +197,7 @@ impl Builder<'_> {
         }
     }
 
-    pub(super) fn links(&mut self, doc: &'static Document) -> Result<(), Located> {
+    pub(super) fn links(&mut self, doc: &Document) -> Result<(), Located> {
         for table in &doc.link {
             let span = table.span();
             let t = table.get_ref();

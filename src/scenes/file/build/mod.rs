@@ -83,7 +83,7 @@ pub struct Built {
     /// Every link, forces first, then rods and cables, as `World::links` lists them.
     pub links: Vec<LinkRecord>,
     /// Named particles and arrays, with the particle to write the name at.
-    pub labels: Vec<(ParticleId, &'static str)>,
+    pub labels: Vec<(ParticleId, String)>,
     /// The starting camera.
     pub camera: CameraHint,
     /// Buoyancy generators, to give them a new `g`.
@@ -116,8 +116,8 @@ const UNIT: Bounds = Bounds { min: 0.0, max: 1.0, text: "0 to 1" };
 const MASS: Bounds = Bounds { min: MIN_MASS as f64, max: MAX_MASS as f64, text: "1e-9 to 1e12 kg" };
 
 /// The particles of one `[[particle]]`, `[[row]]` or `[[grid]]`.
-struct Group {
-    name: Option<&'static str>,
+struct Group<'a> {
+    name: Option<&'a str>,
     /// A `[[particle]]`, not an array (even of one).
     single: bool,
     first: usize,
@@ -173,9 +173,9 @@ struct Builder<'a> {
     world: World,
     gravity: Vec3,
     ids: Vec<ParticleId>,
-    groups: Vec<Group>,
+    groups: Vec<Group<'a>>,
     /// Each named group's index in `groups`.
-    named: HashMap<&'static str, usize>,
+    named: HashMap<&'a str, usize>,
     plans: Vec<LinkPlan>,
     /// Terms evaluated for the members of rows and grids so far, against
     /// [`MAX_EVALUATIONS`].
@@ -183,7 +183,7 @@ struct Builder<'a> {
 }
 
 fn builder<'a>(source: &'a str, params: &'a ParamValues) -> Builder<'a> {
-    let names: Vec<&str> = params.iter().map(|(p, _)| p.name).collect();
+    let names: Vec<&str> = params.iter().map(|(p, _)| &*p.name).collect();
     let values: Vec<f64> = params.iter().map(|(_, v)| f64::from(v)).collect();
     let g_index = names.iter().position(|n| *n == "g");
     Builder {
@@ -204,12 +204,12 @@ fn builder<'a>(source: &'a str, params: &'a ParamValues) -> Builder<'a> {
 }
 
 /// The downward acceleration `[scene] gravity` gives with these values (m/s²).
-pub fn gravity(doc: &'static Document, source: &str, params: &ParamValues) -> Result<f32, Located> {
+pub fn gravity(doc: &Document, source: &str, params: &ParamValues) -> Result<f32, Located> {
     builder(source, params).gravity(doc)
 }
 
 /// Builds the world the document describes with these parameter values.
-pub fn build(doc: &'static Document, source: &str, params: &ParamValues) -> Result<Built, Located> {
+pub fn build(doc: &Document, source: &str, params: &ParamValues) -> Result<Built, Located> {
     let mut b = builder(source, params);
     let g = b.gravity(doc)?;
     // The gravity expression is applied at once on a change of g: not a use elsewhere.
@@ -235,7 +235,7 @@ pub fn build(doc: &'static Document, source: &str, params: &ParamValues) -> Resu
         .groups
         .iter()
         .filter(|group| group.single)
-        .filter_map(|group| Some((b.ids[group.first], group.name?)))
+        .filter_map(|group| Some((b.ids[group.first], group.name?.to_string())))
         .collect();
     let water = water(&b.world, &floats);
     Ok(Built { world: b.world, links, labels, camera, floats, water, g_elsewhere: b.g_elsewhere })

@@ -11,9 +11,9 @@ use crate::messages::clip;
 use crate::physics::ParticleDesc;
 use crate::scenes::file::format::{Document, SNum};
 
-impl Builder<'_> {
+impl<'a> Builder<'a> {
     /// Adds a group of particles, findable by its name from now on.
-    pub(super) fn push_group(&mut self, group: Group) {
+    pub(super) fn push_group(&mut self, group: Group<'a>) {
         if let Some(name) = group.name {
             self.named.insert(name, self.groups.len());
         }
@@ -40,7 +40,7 @@ impl Builder<'_> {
         Ok(())
     }
 
-    pub(super) fn particles(&mut self, doc: &'static Document) -> Result<(), Located> {
+    pub(super) fn particles(&mut self, doc: &'a Document) -> Result<(), Located> {
         for table in &doc.particle {
             let span = table.span();
             let t = table.get_ref();
@@ -98,7 +98,7 @@ impl Builder<'_> {
         Ok(index as usize)
     }
 
-    pub(super) fn rows(&mut self, doc: &'static Document) -> Result<(), Located> {
+    pub(super) fn rows(&mut self, doc: &'a Document) -> Result<(), Located> {
         const I: &[&str] = &["i"];
         for table in &doc.row {
             let span = table.span();
@@ -157,7 +157,7 @@ impl Builder<'_> {
         Ok(())
     }
 
-    pub(super) fn grids(&mut self, doc: &'static Document) -> Result<(), Located> {
+    pub(super) fn grids(&mut self, doc: &'a Document) -> Result<(), Located> {
         const IJ: &[&str] = &["i", "j"];
         for table in &doc.grid {
             let span = table.span();

@@ -9,11 +9,7 @@ use crate::scenes::CameraHint;
 use crate::scenes::file::format::Document;
 
 impl Builder<'_> {
-    pub(super) fn forces(
-        &mut self,
-        doc: &'static Document,
-        g: f32,
-    ) -> Result<Vec<(ForceId, Buoyancy)>, Located> {
+    pub(super) fn forces(&mut self, doc: &Document, g: f32) -> Result<Vec<(ForceId, Buoyancy)>, Located> {
         let mut applications = 0;
         for table in &doc.drag {
             let span = table.span();
@@ -68,7 +64,7 @@ impl Builder<'_> {
         }
         Ok(floats)
     }
-    pub(super) fn surfaces(&mut self, doc: &'static Document) -> Result<(), Located> {
+    pub(super) fn surfaces(&mut self, doc: &Document) -> Result<(), Located> {
         if let Some(ground) = &doc.ground {
             let height = self.compile_or(ground.height.as_ref(), 0.0, &[])?;
             let restitution = self.compile_or(ground.restitution.as_ref(), 0.3, &[])?;
@@ -133,7 +129,7 @@ impl Builder<'_> {
     }
 
     /// The `[camera]` table, with what it leaves out framing every particle.
-    pub(super) fn camera(&mut self, doc: &'static Document) -> Result<CameraHint, Located> {
+    pub(super) fn camera(&mut self, doc: &Document) -> Result<CameraHint, Located> {
         let positions = self.world.particles.positions();
         let (lo, hi) = positions
             .iter()

@@ -10,7 +10,7 @@ use crate::scenes::file::format::{Document, Num, SNum, SVec};
 use crate::scenes::file::number;
 
 impl Builder<'_> {
-    pub(super) fn gravity(&mut self, doc: &'static Document) -> Result<f32, Located> {
+    pub(super) fn gravity(&mut self, doc: &Document) -> Result<f32, Located> {
         match &doc.scene.gravity {
             Some(field) => {
                 let value = self.compile(field, &[])?;
@@ -155,10 +155,10 @@ impl Builder<'_> {
         Ok(x as usize)
     }
 
-    pub(super) fn name(
+    pub(super) fn name<'f>(
         &self,
-        field: Option<&'static toml::Spanned<String>>,
-    ) -> Result<Option<&'static str>, Located> {
+        field: Option<&'f toml::Spanned<String>>,
+    ) -> Result<Option<&'f str>, Located> {
         let Some(field) = field else { return Ok(None) };
         let name = field.get_ref().as_str();
         let valid = !name.is_empty()
