@@ -56,13 +56,19 @@ fn main() -> ExitCode {
         },
         Some(Command::Open(open)) => window(Launch::from_link(&open.link)),
         Some(Command::Export(export)) => match cli::export::export(&export) {
-            Ok(text) => match &export.out {
+            Ok(cli::export::Exported { text, left_out }) => match &export.out {
                 None => {
+                    if !left_out.is_empty() {
+                        eprintln!("particle-lab: note: the file leaves out {}", left_out.join(", "));
+                    }
                     print!("{text}");
                     ExitCode::SUCCESS
                 }
                 Some(path) => match particle_lab::writing::write_atomic(path, text.as_bytes()) {
                     Ok(()) => {
+                        if !left_out.is_empty() {
+                            eprintln!("particle-lab: note: the file leaves out {}", left_out.join(", "));
+                        }
                         println!("wrote {}", particle_lab::messages::path(path));
                         ExitCode::SUCCESS
                     }

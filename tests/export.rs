@@ -126,7 +126,7 @@ fn out_writes_the_file_and_bad_input_is_one_line() {
     assert_eq!(std::fs::read_to_string(&target).expect("written"), stdout(&["export", "--scene", "chain"]));
 
     for (args, expected) in [
-        (vec!["export", "--scene", "projectile"], "built into the program"),
+        (vec!["export", "--from", "/no/such/snapshot.json"], "snapshot.json"),
         (vec!["export", "--scene", "chain", "--set", "links=999"], "out of range"),
         (vec!["export", "--scene", "chain", "--set", "nope=1"], "nope"),
         (vec!["export", "--scene-file", "/no/such/file.toml"], "cannot read it"),
@@ -142,5 +142,69 @@ fn out_writes_the_file_and_bad_input_is_one_line() {
     let out = run(&["export", "--scene", "chain", "--out", dir.to_str().expect("UTF-8")]);
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(String::from_utf8_lossy(&out.stderr).lines().count(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every scene built into the program exports as plain particles and links that open
+/// and run, with a note on stderr naming what the file leaves out (its own rules).
+#[test]
+fn built_in_scenes_export_as_plain_particles_and_links_with_a_note() {
+    let dir = folder("built-in");
+    for entry in particle_lab::scenes::SCENES {
+        let name: &str = &entry.info().name;
+        let out = run(&["export", "--scene", name]);
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let note = String::from_utf8_lossy(&out.stderr);
+        assert!(note.contains("leaves out the rules of"), "{name}: {note}");
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, &out.stdout).unwrap();
+        let path = path.to_str().unwrap();
+        // It opens, and runs.
+        hash_after(&["--scene-file", path], 10);
+        // Exporting the export: no note (a scene file leaves nothing out), the same bytes.
+        let again = run(&["export", "--scene-file", path]);
+        assert!(again.stderr.is_empty(), "{}", String::from_utf8_lossy(&again.stderr));
+        assert_eq!(again.stdout, out.stdout, "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The particles' positions `simulate` prints last.
+fn positions(args: &[&str]) -> Vec<[f64; 3]> {
+    let text = stdout(args);
+    let frame: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    frame["particles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            let x = &p["p"];
+            [0, 1, 2].map(|k| x[k].as_f64().unwrap())
+        })
+        .collect()
+}
+
+/// `export --from` a snapshot: the moment as a new experiment. Run on, the file goes
+/// where the snapshot goes, to within what the format does not hold (the solver's warm
+/// start and the particles' sleep timers, which a new experiment starts without).
+#[test]
+fn a_snapshot_exported_runs_on_as_the_snapshot_does() {
+    let dir = folder("from");
+    for (scene, steps) in [("cradle", "300"), ("pendulum", "150"), ("chain", "200")] {
+        let snapshot = dir.join(format!("{scene}.json"));
+        let snapshot = snapshot.to_str().unwrap();
+        stdout(&["simulate", "--scene", scene, "--steps", steps, "--every", steps, "--save", snapshot]);
+        let file = dir.join(format!("{scene}-now.toml"));
+        let file = file.to_str().unwrap();
+        let out = run(&["export", "--from", snapshot, "--out", file]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let on = positions(&["simulate", "--from", snapshot, "--steps", "120", "--every", "120"]);
+        let copy = positions(&["simulate", "--scene-file", file, "--steps", "120", "--every", "120"]);
+        assert_eq!(on.len(), copy.len(), "{scene}");
+        for (a, b) in on.iter().zip(&copy) {
+            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+            assert!(d < 1e-3, "{scene}: the snapshot went to {a:?}, its export to {b:?}");
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

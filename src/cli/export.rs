@@ -1,13 +1,16 @@
 //! `export`: prints a scene as a scene file (what File → Save scene as… writes), with
-//! the parameters `--set` gives as its defaults.
+//! the parameters `--set` gives as its defaults; a scene built into the program, or
+//! the moment a snapshot holds, as plain particles and links (what the builder's
+//! "Edit a copy" takes).
 
-use crate::scenes::{self, file};
+use crate::scenes::sketch::Sketch;
+use crate::scenes::snapshot::Snapshot;
+use crate::scenes::{self, SceneEntry, file};
 
 /// `particle-lab export`.
 #[derive(Debug, clap::Args)]
 pub struct ExportArgs {
-    /// Scene name (see `particle-lab scenes`): one made from a scene file, such as the
-    /// shipped chain.
+    /// Scene name (see `particle-lab scenes`).
     #[arg(long)]
     pub scene: Option<String>,
     /// Scene file (TOML), instead of --scene.
@@ -17,23 +20,53 @@ pub struct ExportArgs {
     /// parameter's default.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// The moment a snapshot holds, as a new experiment: its particles where they are,
+    /// moving as they move, with their links (instead of --scene / --scene-file).
+    #[arg(long, value_name = "FILE.json", conflicts_with_all = ["scene", "scene_file", "set"])]
+    pub from: Option<std::path::PathBuf>,
     /// Write the file here (replaced whole or not at all) instead of printing it.
     #[arg(long, value_name = "FILE.toml")]
     pub out: Option<std::path::PathBuf>,
 }
 
+/// A written scene file, and what the scene had that the file leaves out.
+#[derive(Debug)]
+pub struct Exported {
+    /// The file's text.
+    pub text: String,
+    /// What a scene file cannot hold and was left out (a scene's own rules, a plate,
+    /// drag): empty when the file holds all of it.
+    pub left_out: Vec<String>,
+}
+
 /// The scene file `args` ask for, or a one-line reason it cannot be made.
-pub fn export(args: &ExportArgs) -> Result<String, String> {
+pub fn export(args: &ExportArgs) -> Result<Exported, String> {
+    if let Some(path) = &args.from {
+        let snapshot = Snapshot::load(path)?;
+        let (entry, scene) = snapshot.restore_with_entry()?;
+        let name = format!("{} at step {}", entry.info().name, scene.world().steps());
+        return Ok(as_sketch(&entry, scene.world(), &name));
+    }
     let entry = file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
-    file::writable(&entry)?;
     let mut values = scenes::ParamValues::defaults(&entry.info().params);
     for assignment in &args.set {
         values.assign(assignment).map_err(|e| e.to_string())?;
     }
     // The values must build (a count a file's rows cannot take is refused here, as
     // `simulate` would refuse it).
-    if let scenes::SceneEntry::File(definition) = &entry {
-        definition.create(values.clone()).map_err(|e| e.to_string())?;
+    let scene = scenes::create_entry(&entry, values.clone())?;
+    if file::writable(&entry).is_ok() {
+        return Ok(Exported { text: file::written(&entry, &values)?, left_out: Vec::new() });
     }
-    file::written(&entry, &values)
+    Ok(as_sketch(&entry, scene.world(), &format!("{} (copy)", entry.info().name)))
+}
+
+/// A scene's world as plain particles and links. A scene built into the program
+/// leaves its own rules behind (what its `step` does besides the world's).
+fn as_sketch(entry: &SceneEntry, world: &crate::physics::World, name: &str) -> Exported {
+    let (sketch, mut left_out) = Sketch::from_world(world, name);
+    if file::definition(entry).is_none() {
+        left_out.insert(0, format!("the rules of '{}' besides its particles and links", entry.info().name));
+    }
+    Exported { text: sketch.text(), left_out }
 }

@@ -275,15 +275,21 @@ pub fn written(entry: &SceneEntry, values: &ParamValues) -> Result<String, Strin
     writable(entry).map(|definition| definition.written(Some(values)))
 }
 
+/// A scene file's text as the writer writes it (its tables and keys in the reference's
+/// order, its header), or why it cannot be read.
+pub fn canonical(text: &str) -> Result<String, String> {
+    let doc: Document = toml::from_str(text).map_err(|e| toml_message(&e))?;
+    Ok(write::write(&doc, None))
+}
+
 /// The file a scene can be written as, or why it cannot be.
 pub fn writable(entry: &SceneEntry) -> Result<&Definition, String> {
     match definition(entry) {
         Some(definition) => Ok(definition),
         None => Err(format!(
-            "'{}' is built into the program, and only scenes made from scene files can be saved as one so far \
-             (open a file, or a shipped one: {})",
-            entry.info().name,
-            shipped().iter().map(|e| e.info().name.to_string()).collect::<Vec<_>>().join(", ")
+            "'{}' is built into the program: Scene → Edit a copy of this scene (B) makes one of its particles \
+             and links that saves as a scene file",
+            entry.info().name
         )),
     }
 }

@@ -362,12 +362,19 @@ impl Sketch {
         }
     }
 
-    /// The sketch as a scene file.
+    /// The sketch as a scene file, as the format's writer writes it (so a sketch saved
+    /// and exported again is the same bytes).
     #[must_use]
     pub fn text(&self) -> String {
-        let mut out = String::from(super::file::HEADER);
-        let _ = write!(out, "# Made in the lab's builder.\n\n[scene]\nname = {}\n", toml_string(&self.name));
-        out.push_str("summary = \"An experiment made in the builder\"\n");
+        let raw = self.raw_text();
+        super::file::canonical(&raw).unwrap_or(raw)
+    }
+
+    /// The sketch's tables, before the writer puts them in its order.
+    fn raw_text(&self) -> String {
+        let mut out = String::new();
+        let _ = write!(out, "[scene]\nname = {}\n", toml_string(&self.name));
+        out.push_str("summary = \"Particles and links, made in the builder or exported\"\n");
         let _ = write!(
             out,
             "\n[[param]]\nname = \"g\"\nunit = \"m/s²\"\ndefault = {}\nmin = 0\nmax = 30\n\
