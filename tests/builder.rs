@@ -244,3 +244,27 @@ fn a_built_in_scene_edited_as_a_copy_runs_and_b_goes_back_to_building() {
     assert!(h.state().lab.editing());
     assert_eq!(h.state().lab.scene.world().steps(), 0, "building shows the experiment as built");
 }
+
+#[test]
+fn a_ramp_drawn_by_hand_carries_a_ball_down_and_off_its_end() {
+    let mut h = harness("projectile");
+    click(&mut h, "Scene");
+    click(&mut h, "New experiment…");
+    // A ramp from (-3, 3) down to (0, 0.5), drawn in the side view; its slope (0.83)
+    // is steeper than its friction (0.5), so a ball slides.
+    click(&mut h, "Wall");
+    drag(&mut h, Vec3::new(-3.0, 3.0, 0.0), Vec3::new(0.0, 0.5, 0.0));
+    let walls: Vec<_> =
+        h.state().lab.scene.world().planes().filter(|p| p.extent.is_some()).copied().collect();
+    assert_eq!(walls.len(), 1, "one finite wall");
+    let extent = walls[0].extent.unwrap();
+    assert!((2.0 * extent.half_along - 3.905).abs() < 0.05, "the ramp is {} m long", 2.0 * extent.half_along);
+    // A ball just above its top.
+    click(&mut h, "Add");
+    click_at(&mut h, Vec3::new(-2.6, 3.0, 0.0));
+    assert_eq!(counts(&h).0, 1);
+    play_and_compare(&mut h, 720);
+    // It slid down, off the end, and onto the ground beyond.
+    let ball = h.state().lab.scene.world().particles.positions()[0];
+    assert!(ball.x > 0.0 && (ball.y - 0.15).abs() < 0.05, "the ball ended at {ball}");
+}

@@ -43,7 +43,8 @@ pub use collision::broad_phase;
 pub use forces::stiff_spring;
 
 pub use collision::{
-    BroadPhase, ContactGenerator, DEFAULT_ROLLING_RESISTANCE, GroundPlane, Plane, Plate, SphereCollisions,
+    BroadPhase, ContactGenerator, DEFAULT_ROLLING_RESISTANCE, Extent, GroundPlane, Plane, Plate,
+    SphereCollisions,
 };
 pub use contact::Contact;
 pub use energy::Energy;

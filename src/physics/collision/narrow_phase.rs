@@ -27,6 +27,24 @@ pub struct Plane {
     /// the normal force (see [`SphereCollisions::rolling_resistance`]).
     #[serde(default)]
     pub rolling_resistance: f32,
+    /// A finite wall's rectangle on the plane; `None`: the whole plane.
+    #[serde(default)]
+    pub extent: Option<Extent>,
+}
+
+/// A rectangle of a plane: a finite wall, or a ramp. A particle touches it while its
+/// centre is on the free side and over the rectangle (its foot on the plane inside
+/// the rectangle); past an edge or behind the wall, it passes.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Extent {
+    /// The rectangle's centre, on the plane (m).
+    pub center: Vec3,
+    /// Unit direction of its first side, in the plane.
+    pub along: Vec3,
+    /// Half its length along `along` (m).
+    pub half_along: f32,
+    /// Half its width across, along `normal × along` (m).
+    pub half_across: f32,
 }
 
 impl Plane {
@@ -39,13 +57,64 @@ impl Plane {
             return Err(PhysicsError::InvalidSetting(format!("plane point must be finite, got {point}")));
         }
         check_surface(restitution, friction, 0.0)?;
-        Ok(Self { normal: unit, offset: unit.dot(point), restitution, friction, rolling_resistance: 0.0 })
+        Ok(Self {
+            normal: unit,
+            offset: unit.dot(point),
+            restitution,
+            friction,
+            rolling_resistance: 0.0,
+            extent: None,
+        })
+    }
+
+    /// The same plane cut to a rectangle `length` by `width` (m) centred on `point`'s
+    /// foot on the plane, its length along `along` (made to lie in the plane). The
+    /// error says which value is unusable.
+    pub fn with_extent(
+        self,
+        point: Vec3,
+        along: Vec3,
+        length: f32,
+        width: f32,
+    ) -> Result<Self, PhysicsError> {
+        let sizes = length.is_finite() && width.is_finite() && length > 0.0 && width > 0.0;
+        if !sizes {
+            return Err(PhysicsError::InvalidSetting(format!(
+                "a wall's size must be two lengths > 0 (m), got {length} by {width}"
+            )));
+        }
+        if !point.is_finite() {
+            return Err(PhysicsError::InvalidSetting(format!("wall centre must be finite, got {point}")));
+        }
+        let in_plane = along - self.normal * self.normal.dot(along);
+        let along = in_plane.try_normalize().ok_or_else(|| {
+            PhysicsError::InvalidSetting(format!(
+                "a wall's direction along must be finite and not along its normal, got {along}"
+            ))
+        })?;
+        let center = point - self.normal * self.distance(point);
+        let extent = Extent { center, along, half_along: 0.5 * length, half_across: 0.5 * width };
+        Ok(Self { extent: Some(extent), ..self })
+    }
+
+    /// Whether a particle centred at `p` is over the plane's part that exists: every
+    /// point for an unbounded plane; for a rectangle, a centre on the free side whose
+    /// foot on the plane falls inside it.
+    #[inline]
+    #[must_use]
+    pub fn covers(&self, p: Vec3) -> bool {
+        let Some(e) = &self.extent else { return true };
+        let d = p - e.center;
+        let across = self.normal.cross(e.along);
+        self.distance(p) >= 0.0
+            && d.dot(e.along).abs() <= e.half_along
+            && d.dot(across).abs() <= e.half_across
     }
 
     /// The horizontal plane `y = height`, free side up.
     #[must_use]
     pub fn ground(height: f32, restitution: f32, friction: f32) -> Self {
-        Self { normal: Vec3::Y, offset: height, restitution, friction, rolling_resistance: 0.0 }
+        Self { normal: Vec3::Y, offset: height, restitution, friction, rolling_resistance: 0.0, extent: None }
     }
 
     /// The same plane with rolling resistance `coefficient` (checked when the plane
@@ -66,7 +135,7 @@ impl Plane {
         let positions = particles.position.iter().zip(&particles.radius);
         for (i, ((&p, &r), &inverse_mass)) in positions.zip(&particles.inverse_mass).enumerate() {
             let penetration = r - self.distance(p);
-            if penetration > 0.0 && inverse_mass > 0.0 {
+            if penetration > 0.0 && inverse_mass > 0.0 && self.covers(p) {
                 out.push(
                     Contact::new(i, None, self.normal, penetration, self.restitution)
                         .with_friction(self.friction),

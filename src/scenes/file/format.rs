@@ -206,7 +206,7 @@ pub const ACCEPTED_KEYS: &[(&str, &[&str])] = &[
     ("drag", &["k1", "k2", "targets"]),
     ("buoyancy", &["particle", "surface", "half_height", "volume", "density"]),
     ("ground", &["height", "restitution", "friction", "rolling_resistance"]),
-    ("wall", &["normal", "point", "restitution", "friction", "rolling_resistance"]),
+    ("wall", &["normal", "point", "size", "along", "restitution", "friction", "rolling_resistance"]),
     ("collisions", &["restitution", "friction", "rolling_resistance"]),
     ("camera", &["target", "distance", "yaw", "pitch"]),
 ];
@@ -462,8 +462,14 @@ table! {
     pub struct WallTable {
         /// Normal, towards the free side.
         pub normal: SVec,
-        /// A point of the plane (m).
+        /// A point of the plane (m); a finite wall's centre.
         pub point: SVec,
+        /// A finite wall's length and width `[l, w]` (m); without it the wall is the
+        /// whole plane.
+        pub size: Option<Spanned<Vec<SNum>>>,
+        /// The direction of a finite wall's length (made to lie in the plane); default
+        /// down its slope, or along x for an upright wall.
+        pub along: Option<SVec>,
         surface_fields;
     }
 }

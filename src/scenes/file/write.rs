@@ -357,6 +357,8 @@ fn wall(out: &mut Writer, w: &WallTable) {
     out.table("wall", true);
     out.key("normal", vector(&w.normal));
     out.key("point", vector(&w.point));
+    out.some("size", w.size.as_ref().map(|size| nums(size.get_ref())));
+    out.some("along", w.along.as_ref().map(vector));
     surface_keys!(out, w);
 }
 
@@ -538,6 +540,8 @@ rolling_resistance = 0.05
 [[wall]]
 normal = [1, 0, 0]
 point = [-5, 0, 0]
+size = [4, "h"]
+along = [0, 1, 0]
 restitution = 0.2
 friction = 0.3
 rolling_resistance = 0.1

@@ -23,6 +23,9 @@ pub enum Tool {
     Add,
     /// Drag from a particle to another, or to empty space for a fixed point, to link them.
     Join,
+    /// Drag a segment to draw a finite wall along it (a ramp in the side view, an
+    /// upright wall on the ground in 3D).
+    Wall,
 }
 
 /// An edit in progress in the view.
@@ -46,6 +49,13 @@ pub enum Gesture {
         /// The plane's normal.
         normal: Vec3,
     },
+    /// Drawing a wall from `from` to `to` (m).
+    Wall {
+        /// Where the drag started.
+        from: Vec3,
+        /// Where the pointer is.
+        to: Vec3,
+    },
 }
 
 /// The builder.
@@ -68,6 +78,8 @@ pub struct Editor {
     pub spring_k: f32,
     /// What the Add tool puts down.
     pub new_body: Body,
+    /// The width of walls the Wall tool draws (m).
+    pub wall_width: f32,
     /// An edit in progress in the view.
     pub gesture: Option<Gesture>,
     /// Building (the scene paused); false while what was built plays, to come back to.
@@ -85,6 +97,7 @@ impl Editor {
             join_kind: JoinKind::Rod,
             spring_k: 50.0,
             new_body: Body { radius: 0.15, ..Body::default() },
+            wall_width: 2.0,
             gesture: None,
             open: true,
         }
@@ -330,6 +343,13 @@ impl Lab {
     /// the view orbits or pans).
     pub fn builder_press(&mut self, pixel: Vec2, viewport: Vec2) -> bool {
         let Some(tool) = self.editor.as_ref().map(|e| e.tool) else { return false };
+        if tool == Tool::Wall {
+            let Some(from) = self.place_point(pixel, viewport, 0.0) else { return false };
+            if let Some(editor) = &mut self.editor {
+                editor.gesture = Some(Gesture::Wall { from, to: from });
+            }
+            return true;
+        }
         let picked = self.pick_body(pixel, viewport);
         let Some(index) = picked else { return false };
         let point = self.editor.as_ref().map_or(Vec3::ZERO, |e| e.sketch().bodies[index].position);
@@ -339,6 +359,7 @@ impl Lab {
         editor.gesture = Some(match tool {
             Tool::Select | Tool::Add => Gesture::Move { index, plane_point: point, normal },
             Tool::Join => Gesture::Join { from: index, to: point, normal },
+            Tool::Wall => unreachable!("the wall tool's press is taken above"),
         });
         true
     }
@@ -347,6 +368,7 @@ impl Lab {
     /// follows it (shown at once, written when let go); a link's loose end follows it.
     pub fn builder_drag(&mut self, pixel: Vec2, viewport: Vec2) {
         let (origin, direction) = self.camera.ray(pixel, viewport);
+        let placed = self.place_point(pixel, viewport, 0.0);
         let Some(editor) = &mut self.editor else { return };
         match &mut editor.gesture {
             Some(Gesture::Move { index, plane_point, normal }) => {
@@ -360,6 +382,11 @@ impl Lab {
             Some(Gesture::Join { from, to, normal }) => {
                 let start = editor.history[editor.at].bodies[*from].position;
                 if let Some(point) = hit_plane(origin, direction, start, *normal) {
+                    *to = point;
+                }
+            }
+            Some(Gesture::Wall { to, .. }) => {
+                if let Some(point) = placed {
                     *to = point;
                 }
             }
@@ -401,6 +428,17 @@ impl Lab {
                 });
                 if let Some(why) = refused {
                     self.status = format!("No link: {why}");
+                }
+            }
+            Gesture::Wall { from, to } => {
+                let to = self.place_point(pixel, viewport, 0.0).unwrap_or(to);
+                let width = self.editor.as_ref().map_or(2.0, |e| e.wall_width);
+                match Sketch::wall_along(from, to, width) {
+                    Some(wall) => self.edit("wall", |sketch, _| {
+                        sketch.walls.push(wall);
+                        true
+                    }),
+                    None => self.status = "No wall: drag further to draw one".into(),
                 }
             }
         }

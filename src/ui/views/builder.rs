@@ -73,8 +73,21 @@ impl BuilderPanel {
             ui.selectable_value(&mut editor.tool, Tool::Join, "Link").on_hover_text(
                 "Drag from a particle to another to link them, or to empty space to hang it from a fixed point",
             );
+            ui.selectable_value(&mut editor.tool, Tool::Wall, "Wall").on_hover_text(
+                "Drag to draw a finite wall: a ramp or a step in the side view, an upright wall on the ground in 3D",
+            );
         });
-        ui.horizontal(|ui| {
+        if editor.tool == Tool::Wall {
+            ui.horizontal(|ui| {
+                ui.label("Walls");
+                ui.add(
+                    egui::DragValue::new(&mut editor.wall_width).range(0.05..=100.0).speed(0.05).suffix(" m"),
+                )
+                .on_hover_text("Width across the drawn line (deep in the side view, high in 3D)");
+                ui.label("wide");
+            });
+        }
+        ui.horizontal_wrapped(|ui| {
             ui.label("Link with");
             for kind in JoinKind::ALL {
                 ui.selectable_value(&mut editor.join_kind, kind, kind.name());
@@ -98,7 +111,43 @@ impl BuilderPanel {
         });
         self.row(ui, lab);
         self.scene(ui, lab);
+        Self::walls(ui, lab);
         self.selection(ui, lab);
+    }
+
+    /// Each wall's size, restitution and friction, and a button to remove it.
+    fn walls(ui: &mut egui::Ui, lab: &mut Lab) {
+        let Some(editor) = &lab.editor else { return };
+        let walls = editor.sketch().walls.clone();
+        for (k, wall) in walls.iter().enumerate() {
+            let mut edited = *wall;
+            let mut remove = false;
+            ui.horizontal(|ui| {
+                let size = wall.size.map_or("unbounded".to_string(), |[l, w]| format!("{l:.2} × {w:.2} m"));
+                ui.label(format!("Wall {k}: {size}"));
+                ui.add(
+                    egui::DragValue::new(&mut edited.restitution).range(0.0..=1.0).speed(0.01).prefix("e "),
+                )
+                .on_hover_text("Restitution");
+                ui.add(egui::DragValue::new(&mut edited.friction).range(0.0..=2.0).speed(0.01).prefix("μ "))
+                    .on_hover_text("Friction");
+                remove = ui.small_button("remove").clicked();
+            });
+            if remove {
+                lab.edit("remove a wall", |sketch, _| {
+                    sketch.walls.remove(k);
+                    true
+                });
+                lab.end_edit();
+                return;
+            }
+            if edited != *wall {
+                lab.edit("wall surface", |sketch, _| {
+                    sketch.walls[k] = edited;
+                    true
+                });
+            }
+        }
     }
 
     /// Make many at once: a row of particles, linked or not.
@@ -109,7 +158,7 @@ impl BuilderPanel {
                 egui::DragValue::new(&mut self.row_spacing).range(0.01..=10.0).speed(0.01).suffix(" m apart"),
             );
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label("its links");
             ui.selectable_value(&mut self.row_link, None, "none");
             for kind in JoinKind::ALL {

@@ -42,12 +42,18 @@ fn paint_builder(ui: &egui::Ui, lab: &Lab, rect: Rect) {
     {
         painter.line_segment([a, b], egui::Stroke::new(2.0, accent));
     }
+    if let Some(crate::ui::lab::Gesture::Wall { from, to }) = editor.gesture
+        && let (Some(a), Some(b)) = (screen(from), screen(to))
+    {
+        painter.line_segment([a, b], egui::Stroke::new(4.0, accent));
+    }
     let hint = match editor.tool {
         crate::ui::lab::Tool::Add => "Building · click to add a particle · drag one to move it",
         crate::ui::lab::Tool::Select => "Building · click to select · drag a particle to move it",
         crate::ui::lab::Tool::Join => {
             "Building · drag from a particle to another (or to empty space) to link"
         }
+        crate::ui::lab::Tool::Wall => "Building · drag to draw a wall or a ramp",
     };
     painter.text(
         rect.center_top() + egui::vec2(0.0, 12.0),

@@ -98,7 +98,7 @@ impl SoftStep {
         let bodies = particles.inverse_mass.iter().zip(&self.margin);
         for (i, (((&p, &r), (&w, &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
             let separation = plane.distance(p) - r;
-            if w > 0.0 && !asleep && separation < margin {
+            if w > 0.0 && !asleep && separation < margin && plane.covers(p) {
                 let surface = (plane.restitution, plane.friction, plane.rolling_resistance);
                 self.fresh_keys.push(key(i as u32, NONE));
                 self.fresh.push(still_contact(particles, i, w, plane.normal, separation, surface));

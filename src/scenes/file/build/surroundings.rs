@@ -104,6 +104,33 @@ impl Builder<'_> {
                 "rolling_resistance",
                 NON_NEGATIVE,
             )?);
+            let plane = match &wall.size {
+                None => plane,
+                Some(size) => {
+                    let items = size.get_ref();
+                    if items.len() != 2 {
+                        return Err(Located::at(
+                            &size.span(),
+                            format!("expected two lengths [length, width] (m), found {}", items.len()),
+                        ));
+                    }
+                    let (length, width) = (self.compile(&items[0], &[])?, self.compile(&items[1], &[])?);
+                    let length = self.eval(&length, &[], "the wall's length", POSITIVE)?;
+                    let width = self.eval(&width, &[], "the wall's width", POSITIVE)?;
+                    let along = match &wall.along {
+                        Some(along) => {
+                            let along = self.compile_vec(along, &[])?;
+                            self.eval_vec(&along, &[], "along")?
+                        }
+                        None => crate::scenes::walls::slope_direction(plane.normal),
+                    };
+                    let point = self.eval_vec(&point, &[], "point")?;
+                    let at = wall.along.as_ref().map_or(size.span(), |a| a.span());
+                    plane
+                        .with_extent(point, along, length, width)
+                        .map_err(|e| Located::at(&at, e.to_string()))?
+                }
+            };
             self.world
                 .add_contact_generator(plane)
                 .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?;
