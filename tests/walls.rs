@@ -92,11 +92,15 @@ fn a_wall_is_only_over_its_rectangle_and_on_its_free_side() {
 #[test]
 fn a_bad_wall_size_is_one_line_at_its_place() {
     for (size, expected) in [("[3]", "expected two lengths"), ("[3, -1]", "width"), ("[0, 1]", "length")] {
-        let text = format!("{}", ramp(false, 0.0)) + &format!("size = {size}\n");
-        let error = file::load_text(&text, "ramp.toml", None).err().expect("refused").to_string();
+        let text = ramp(false, 0.0) + &format!("size = {size}\n");
+        let Err(error) = file::load_text(&text, "ramp.toml", None) else { panic!("{size} was accepted") };
+        let error = error.to_string();
         assert!(error.starts_with("ramp.toml:") && error.contains(expected), "{size}: {error}");
     }
     let text = ramp(true, 0.0) + "along = [0.5, 1, 0]\n";
-    let error = file::load_text(&text, "ramp.toml", None).err().expect("refused").to_string();
+    let Err(error) = file::load_text(&text, "ramp.toml", None) else {
+        panic!("along the normal was accepted")
+    };
+    let error = error.to_string();
     assert!(error.contains("along"), "{error}");
 }
