@@ -61,7 +61,9 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
         lab.frame_scene();
         log::info!("opened snapshot {} at step {}", path.display(), lab.scene.world().steps());
     }
-    // A link's `steps=N`: N steps at once, then paused there, as the page does.
+    // A link's view and camera, then its `steps=N`: N steps at once, then paused
+    // there, as the page does.
+    launch.view.apply(&mut lab);
     if let Some(steps) = launch.steps {
         lab.run_steps_recorded(steps);
         lab.paused = true;

@@ -77,6 +77,7 @@ pub fn start() {
         problems.push(warning.trim_start_matches("particle-lab: ").to_string());
     }
     let settings::Opened { mut lab, layout, window, store, .. } = opened;
+    link.view.apply(&mut lab);
     link.run_steps(&mut lab);
     if !problems.is_empty() {
         lab.status = problems.join("; ");

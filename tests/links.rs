@@ -341,3 +341,43 @@ fn settings_saved_on_a_carried_scene_open_again_on_the_default_scene() {
     assert_eq!(again.lab.entry.info().name, "projectile");
     assert_eq!(again.lab.time_scale, 0.5, "the rest kept");
 }
+
+/// Issue 38: a link carries the view (side or 3D) and the camera. The link of a lab
+/// in the side view with its camera moved opens a lab in the side view with the same
+/// camera; `link --view side` makes such a link; bad values are one line.
+#[test]
+fn a_link_carries_the_view_and_the_camera() {
+    let (_, first) = open_link("?scene=pendulum").unwrap();
+    let mut lab = settings::open(&first, Store::in_dir(&scratch("view-a"))).unwrap().lab;
+    lab.set_side_view(true);
+    lab.camera.target = glam::Vec3::new(0.25, 1.5, -0.5);
+    lab.camera.distance = 6.5;
+    lab.camera_moved = true;
+    let query = Link::of(&lab, false).unwrap();
+    assert!(query.contains("&view=side"), "{query}");
+    assert!(query.contains("&camera=0.25,1.5,-0.5,6.5,"), "{query}");
+    let (link, again) = open_link(&query).unwrap();
+    let mut copy = settings::open(&again, Store::in_dir(&scratch("view-b"))).unwrap().lab;
+    assert!(!copy.side_view);
+    link.view.apply(&mut copy);
+    assert!(copy.side_view && copy.camera_moved);
+    let (a, b) = (lab.camera, copy.camera);
+    assert!(a.target.distance(b.target) < 1e-6 && (a.distance - b.distance).abs() < 1e-6, "{a:?} {b:?}");
+    assert!((a.yaw - b.yaw).abs() < 1e-5 && (a.pitch - b.pitch).abs() < 1e-5, "{a:?} {b:?}");
+    assert_eq!(a.orthographic, b.orthographic, "the side view's camera is parallel");
+
+    let (out, err, code) = binary(&["link", "--scene", "pendulum", "--view", "side"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.trim().ends_with("&view=side"), "{out}");
+    let (out, _, _) = binary(&["link", "--scene", "pendulum"]);
+    assert!(out.trim().ends_with("&view=3d"), "{out}");
+    let (_, err, code) = binary(&["link", "--scene", "pendulum", "--view", "top"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("side or 3d") && err.lines().count() == 1, "{err}");
+    for bad in
+        ["view=top", "camera=1,2,3", "camera=0,0,0,-1,0,0", "camera=0,0,0,5,0,120", "camera=a,b,c,d,e,f"]
+    {
+        let error = Link::parse(&pairs(&format!("?scene=pendulum&{bad}"))).unwrap_err();
+        assert!(error.contains("invalid value") && !error.contains('\n'), "{bad}: {error}");
+    }
+}

@@ -330,21 +330,6 @@ fn a_scene_files_wall_is_drawn_in_3d_and_in_the_side_view() {
         // width.
         let (left, right) = different.iter().fold((u32::MAX, 0), |(l, r), &(x, _)| (l.min(x), r.max(x)));
         assert!(right - left > size[0] / 2, "{view:?}: the wall spans x {left} to {right} only");
-        // A finite wall is drawn as its rectangle: a short ramp changes fewer columns
-        // than the unbounded one, and some.
-        let short = dir.join("short.toml");
-        std::fs::write(&short, format!("{ball}{ramp}size = [1, 1]\n")).unwrap();
-        let (with_short, _) = frame(&short, "short.png");
-        let columns = |image: &[u8]| {
-            let changed =
-                |x: u32| (0..size[1]).any(|y| differs(pixel(&bare, size, x, y), pixel(image, size, x, y), 8));
-            (0..size[0]).filter(|&x| changed(x)).count()
-        };
-        let (short_columns, long_columns) = (columns(&with_short), columns(&with_wall));
-        assert!(
-            short_columns > 10 && short_columns * 2 < long_columns,
-            "{view:?}: the 1 m wall changed {short_columns} columns, the unbounded one {long_columns}"
-        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }

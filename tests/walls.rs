@@ -104,3 +104,33 @@ fn a_bad_wall_size_is_one_line_at_its_place() {
     let error = error.to_string();
     assert!(error.contains("along"), "{error}");
 }
+
+/// A finite wall is drawn as its rectangle: every line the view draws for it (the
+/// scene's outlines, which the renderer draws in both views and in `render`) lies on
+/// its plane and within its rectangle; an unbounded wall's patch reaches beyond.
+#[test]
+fn a_finite_wall_is_drawn_as_its_rectangle() {
+    for (finite, within) in [(true, true), (false, false)] {
+        let entry = file::load_text(&ramp(finite, 0.0), "ramp", None).unwrap();
+        let scene = entry.create_default();
+        let mut lines = Vec::new();
+        scene.outlines(&mut lines);
+        assert!(!lines.is_empty(), "the wall is drawn");
+        let plane = *scene.world().planes().find(|p| p.normal != glam::Vec3::Y).unwrap();
+        // The ramp's rectangle, worked out from the file: centred on (-1.5, 2.25, 0),
+        // 3.3541 m down the slope, 2 m along z.
+        let down = glam::Vec3::new(1.0, -0.5, 0.0).normalize();
+        let centre = glam::Vec3::new(-1.5, 2.25, 0.0);
+        let inside = |p: glam::Vec3| {
+            let d = p - centre;
+            d.dot(down).abs() <= 3.3541 / 2.0 + 1e-3 && d.z.abs() <= 1.0 + 1e-3
+        };
+        for &(a, b) in &lines {
+            for p in [a, b] {
+                assert!(plane.distance(p).abs() < 1e-3, "{p} is off the wall's plane");
+            }
+        }
+        let all_inside = lines.iter().all(|&(a, b)| inside(a) && inside(b));
+        assert_eq!(all_inside, within, "finite {finite}: lines {lines:?}");
+    }
+}

@@ -16,6 +16,9 @@ pub struct LinkArgs {
     /// Physics steps the page runs at once before it pauses, as `simulate --steps N`.
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
+    /// How the page shows it: side (the 2D side view) or 3d; without it, 3d.
+    #[arg(long, value_name = "side|3d")]
+    pub view: Option<String>,
     /// The web page's address to put in front (for example
     /// https://example.org/particle-lab/); without it the link starts at its `?` or
     /// `#`, to follow the page's address.
@@ -37,6 +40,11 @@ pub fn link(args: &LinkArgs) -> Result<String, String> {
     let entry = args.choice.entry()?;
     let solver = args.choice.solver.settings()?;
     let mut lab = Lab::from_entry(&entry, &args.choice.set, solver)?;
+    match args.view.as_deref() {
+        None | Some("3d") => {}
+        Some("side") => lab.set_side_view(true),
+        Some(other) => return Err(format!("invalid value '{other}' for '--view': side or 3d")),
+    }
     if let Some(steps) = args.steps {
         if steps > MAX_STEPS {
             return Err(format!("--steps {steps} is out of range; valid range: 0 to {MAX_STEPS}"));

@@ -43,6 +43,8 @@ pub struct Launch {
     /// Opened from a link: its physics rate (`rate=HZ`, else the scene's own) wins over
     /// a saved one.
     pub link: Option<LinkRate>,
+    /// A link's `view=` and `camera=`, applied once the lab is open.
+    pub view: crate::ui::lab::LinkView,
 }
 
 /// The physics rate a link opens at: its own `rate=HZ`, or (`None`) the scene's.
@@ -70,6 +72,7 @@ impl Launch {
         launch.link = link.names_experiment().then_some(LinkRate(link.rate));
         launch.scene_text = link.scene_text;
         launch.steps = link.steps;
+        launch.view = link.view;
         Ok(launch)
     }
 
@@ -114,6 +117,7 @@ impl Launch {
             scene_text: None,
             steps: None,
             link: None,
+            view: crate::ui::lab::LinkView::default(),
         })
     }
 

@@ -4,7 +4,8 @@
 //! checked by the same parser (`settings::Launch::from_args`), and refused with the same
 //! one-line messages, as those flags typed. Besides the command line's keys a link has the page's own: `steps=N`
 //! runs N physics steps at once and pauses there (a link can show a moment, and a
-//! test can compare it with `simulate --steps N`), and `gpu=webgl2` leaves WebGPU out.
+//! test can compare it with `simulate --steps N`), `view=side|3d` and `camera=…` say how
+//! it is looked at, and `gpu=webgl2` leaves WebGPU out.
 //! [`Link::of`] writes the link of what is on screen. A scene file that is not shipped
 //! travels in the link itself (`#file=…`, see [`carried`](super::carried)), so a link to
 //! a teacher's own experiment is never dead.
@@ -12,8 +13,20 @@
 use super::model::Lab;
 
 /// The keys a link may have: the window's flags, and the page's own.
-const LINK_KEYS: &[&str] =
-    &["scene", "set", "solver", "integrator", "substeps", "fresh", "steps", "gpu", "file"];
+const LINK_KEYS: &[&str] = &[
+    "scene",
+    "set",
+    "solver",
+    "integrator",
+    "substeps",
+    "fresh",
+    "steps",
+    "gpu",
+    "file",
+    "rate",
+    "view",
+    "camera",
+];
 
 /// How the page names a scene file carried in a link, in its messages.
 pub const CARRIED_NAME: &str = "the link's scene file";
@@ -34,6 +47,58 @@ pub struct Link {
     /// this rate or the scene's own, never at one saved in the settings, so that it
     /// shows the same experiment everywhere.
     pub rate: Option<f32>,
+    /// `view=side|3d` and `camera=…`: how the experiment is looked at.
+    pub view: LinkView,
+}
+
+/// How a link has the experiment looked at: the side view or 3D, and where the camera
+/// is (`camera=x,y,z,distance,yaw,pitch`: the point looked at and the distance in
+/// metres, the turn and elevation in degrees); without them, the scene's own framing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LinkView {
+    /// `view=side` (true) or `view=3d` (false).
+    pub side: Option<bool>,
+    /// `camera=…`.
+    pub camera: Option<[f32; 6]>,
+}
+
+impl LinkView {
+    /// Looks at `lab`'s experiment as the link says (after it was opened and framed).
+    pub fn apply(&self, lab: &mut Lab) {
+        if let Some(side) = self.side {
+            lab.set_side_view(side);
+        }
+        if let Some([x, y, z, distance, yaw, pitch]) = self.camera {
+            lab.camera.target = glam::Vec3::new(x, y, z);
+            lab.camera.distance = distance;
+            lab.camera.yaw = yaw.to_radians();
+            lab.camera.pitch = pitch.to_radians();
+            lab.camera_moved = true;
+        }
+    }
+
+    /// Reads `camera=x,y,z,distance,yaw,pitch`.
+    fn camera(value: &str) -> Result<[f32; 6], String> {
+        let fail = || {
+            format!(
+                "invalid value '{}' for 'camera': six numbers x,y,z,distance,yaw,pitch (m, m, m, m > 0, degrees, \
+                 degrees)",
+                crate::messages::clip(value, 60)
+            )
+        };
+        let numbers: Vec<f32> = value
+            .split(',')
+            .map(|n| n.trim().parse::<f32>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| fail())?;
+        let camera: [f32; 6] = numbers.try_into().map_err(|_| fail())?;
+        let usable = camera.iter().all(|n| n.is_finite())
+            && camera[3] > 0.0
+            && camera[3] < 1e7
+            && camera[5].abs() <= 90.0
+            && camera[..3].iter().all(|n| n.abs() < 1e7);
+        if usable { Ok(camera) } else { Err(fail()) }
+    }
 }
 
 impl Link {
@@ -69,6 +134,14 @@ impl Link {
                         })?;
                     link.rate = Some(rate);
                 }
+                "view" => {
+                    link.view.side = Some(match value.as_str() {
+                        "side" => true,
+                        "3d" => false,
+                        _ => return Err(format!("invalid value '{value}' for 'view': side or 3d")),
+                    });
+                }
+                "camera" => link.view.camera = Some(LinkView::camera(value)?),
                 key if LINK_KEYS.contains(&key) => link.args.push(format!("--{key}={value}")),
                 _ => {
                     return Err(format!(
@@ -145,12 +218,13 @@ fn decode(text: &str) -> Result<String, String> {
     String::from_utf8(out).map_err(|_| "the link's text is not UTF-8".to_string())
 }
 
-/// Percent-encodes `text` for a query string: letters, digits and `-._~` stay, `=` too
-/// (a `set` value's own `=` reads better unescaped and decodes the same).
+/// Percent-encodes `text` for a query string: letters, digits and `-._~` stay, `=` and
+/// `,` too (a `set` value's own `=` and the camera's commas read better unescaped and
+/// decode the same).
 fn encode(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for byte in text.bytes() {
-        if byte.is_ascii_alphanumeric() || b"-._~=".contains(&byte) {
+        if byte.is_ascii_alphanumeric() || b"-._~=,".contains(&byte) {
             out.push(byte as char);
         } else {
             out.push_str(&format!("%{byte:02X}"));
@@ -200,6 +274,14 @@ impl Link {
         }
         if with_steps {
             pairs.push(("steps".into(), lab.scene.world().steps().to_string()));
+        }
+        pairs.push(("view".into(), if lab.side_view { "side" } else { "3d" }.into()));
+        if lab.camera_moved {
+            let c = lab.camera;
+            let numbers =
+                [c.target.x, c.target.y, c.target.z, c.distance, c.yaw.to_degrees(), c.pitch.to_degrees()];
+            let text: Vec<String> = numbers.iter().map(f32::to_string).collect();
+            pairs.push(("camera".into(), text.join(",")));
         }
         let query: Vec<String> = pairs.iter().map(|(k, v)| format!("{k}={}", encode(v))).collect();
         let link = format!("{}{}", if carried.is_some() { "#" } else { "?" }, query.join("&"));

@@ -31,6 +31,6 @@ pub use editing::{Editor, Gesture, Tool, UNDO_LIMIT};
 pub use forces::{Spin, round_scale};
 pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;
-pub use link::{CARRIED_NAME, Link};
+pub use link::{CARRIED_NAME, Link, LinkView};
 pub use model::Lab;
 pub use records::{EnergyBars, EnergySample, Grab, Purpose, Requests, Stats};

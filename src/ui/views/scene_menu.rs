@@ -1,5 +1,5 @@
-//! The Scene menu: a new experiment or a copy to edit in the builder, the compiled
-//! scenes, then the shipped scene files.
+//! The Scene menu: the compiled scenes, the shipped scene files, then the builder's
+//! items (a new experiment, a copy of this one to edit).
 
 use std::path::Path;
 
@@ -14,21 +14,6 @@ pub struct SceneMenu;
 impl SceneMenu {
     /// Draws the menu's items; picking one switches the lab to it.
     pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
-        let new = ui
-            .button("New experiment…")
-            .on_hover_text("Build one of your own: an empty scene with the ground");
-        if new.clicked() {
-            lab.edit_new();
-            ui.close();
-        }
-        let copy = ui
-            .add_enabled(!lab.editing(), egui::Button::new("Edit a copy of this scene").shortcut_text("B"))
-            .on_hover_text("Open the builder on this scene's particles and links, as they start");
-        if copy.clicked() {
-            lab.edit_copy();
-            ui.close();
-        }
-        ui.separator();
         for entry in SCENES {
             let current = entry.same(&lab.entry);
             if ui
@@ -55,6 +40,21 @@ impl SceneMenu {
                 }
                 ui.close();
             }
+        }
+        ui.separator();
+        let new = ui
+            .button("New experiment…")
+            .on_hover_text("Build one of your own: an empty scene with the ground");
+        if new.clicked() {
+            lab.edit_new();
+            ui.close();
+        }
+        let copy = ui
+            .add_enabled(!lab.editing(), egui::Button::new("Edit a copy of this scene").shortcut_text("B"))
+            .on_hover_text("Open the builder on this scene's particles and links, as they start");
+        if copy.clicked() {
+            lab.edit_copy();
+            ui.close();
         }
     }
 }
