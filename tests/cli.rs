@@ -250,13 +250,13 @@ fn simulate_writes_csv_with_the_same_numbers_as_json() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("step,t,id,x,y,z,vx,vy,vz,r,m,kinetic,potential,dissipated,work,removed,error")
+        Some("step,t,id,x,y,z,vx,vy,vz,r,m,kinetic,potential,dissipated,constraint,work,removed,error")
     );
     let rows: Vec<Vec<f64>> =
         lines.map(|l| l.split(',').map(|field| field.parse::<f64>().unwrap_or(f64::NAN)).collect()).collect();
     // The bridge has 12 particles; steps 0, 10, 20 and 30 are printed.
     assert_eq!(rows.len(), 12 * 4);
-    assert!(rows.iter().all(|r| r.len() == 17));
+    assert!(rows.iter().all(|r| r.len() == 18));
     let json = json_lines(&run(&base));
     let last = &json[3];
     let row = rows.iter().find(|r| r[0] == 30.0 && r[2] == 5.0).unwrap();
@@ -265,8 +265,9 @@ fn simulate_writes_csv_with_the_same_numbers_as_json() {
         assert_eq!(row[3 + axis], particle["p"][axis].as_f64().unwrap(), "position of particle 5");
     }
     assert_eq!(row[13], last["energy"]["dissipated"].as_f64().unwrap());
-    assert_eq!(row[15], last["energy"]["removed"].as_f64().unwrap());
-    assert_eq!(row[16], last["energy"]["error"].as_f64().unwrap());
+    assert_eq!(row[14], last["energy"]["constraint"].as_f64().unwrap());
+    assert_eq!(row[16], last["energy"]["removed"].as_f64().unwrap());
+    assert_eq!(row[17], last["energy"]["error"].as_f64().unwrap());
 }
 
 /// A message names no source file or crate path.

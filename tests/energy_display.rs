@@ -36,7 +36,7 @@ fn the_cradles_gravity_is_measured_from_where_its_balls_hang() {
     }
     // The plot's potential is measured from the same height.
     let sample = lab.energy.back().unwrap();
-    assert!(sample.potential < 2.0, "{sample:?}");
+    assert!(sample.energy.potential < 2.0, "{sample:?}");
 }
 
 #[test]
@@ -58,6 +58,31 @@ fn spring_forces_bars_show_the_bob_until_the_scene_is_asked_for() {
     let scene = lab.energy_bars();
     assert_eq!(scene.subject, "the scene");
     assert!(bar(&scene, "dissipated") > 100.0, "the stiff spring's damping: {scene:?}");
+}
+
+#[test]
+fn the_pendulums_bars_show_its_rods_error_as_the_constraint_bar_and_the_budget_level() {
+    // The pendulum: no dissipated bar (nothing dissipates), a constraint bar that
+    // is the world's constraint term, and a budget bar (total + dissipated + constraint
+    // + removed - work) that stays at the start's total, to the integrator's error; the
+    // plot's samples carry the same term.
+    let mut lab = Lab::new("pendulum", &[]).unwrap();
+    lab.paused = true;
+    let total = |bars: &EnergyBars| bar(bars, "kinetic") + bar(bars, "gravity") + bar(bars, "elastic");
+    let start = total(&lab.energy_bars());
+    let mut swung = 0.0f32;
+    for _ in 0..600 {
+        lab.run_steps(1);
+        let bars = lab.energy_bars();
+        let e = lab.scene.world().energy();
+        assert_eq!(bar(&bars, "dissipated"), 0.0, "{bars:?}");
+        assert_eq!(bar(&bars, "constraint"), e.constraint, "{bars:?}");
+        assert!((bar(&bars, "budget") - start).abs() < 1e-4, "{bars:?}, start {start} J");
+        let sample = lab.energy.back().unwrap();
+        assert_eq!(sample.energy.constraint, e.constraint);
+        swung = swung.max(e.constraint.abs());
+    }
+    assert!(swung > 1e-4, "the rods' error is shown: up to {swung} J");
 }
 
 #[test]

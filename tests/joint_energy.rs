@@ -61,7 +61,7 @@
 //! - The secant rate for the rods' change of length, pinning the cloth elsewhere, and
 //!   the joints' damping ratio (0.3 to 10) made no difference; the loss was steady
 //!   (cloth 94% at 2 s, 77% at 4 s, 34% at 10 s) and booked by the ledger as the
-//!   constraints' dissipation.
+//!   constraints' work (now the constraint term: the solver's error, not a loss).
 //!
 //! Swing energy is measured against the rest state found independently, as before.
 

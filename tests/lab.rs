@@ -275,7 +275,7 @@ fn the_energy_history_exports_as_csv() {
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::remove_file(&path).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("t,kinetic,potential,total,dissipated,work,removed,error"));
+    assert_eq!(lines.next(), Some("t,kinetic,potential,total,dissipated,constraint,work,removed,error"));
     let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
     assert_eq!(rows.len(), lab.energy.len());
     let last = rows.last().unwrap();

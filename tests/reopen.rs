@@ -58,7 +58,7 @@ fn seen(scene: &dyn Scene, dt: f32) -> (u64, Vec<u32>, u64, Vec<(String, String)
         bits.extend(v.to_array().map(f32::to_bits));
     }
     let e = world.energy();
-    bits.extend([e.kinetic, e.potential, e.dissipated, e.work, e.error].map(f32::to_bits));
+    bits.extend([e.kinetic, e.potential, e.dissipated, e.constraint, e.work, e.error].map(f32::to_bits));
     (world.state_hash(), bits, world.steps(), scene.readouts(dt))
 }
 

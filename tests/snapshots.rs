@@ -54,7 +54,7 @@ fn fingerprint(scene: &dyn Scene) -> (u64, Vec<u32>) {
     }
     bits.extend(world.links().iter().map(|l| l.tension.to_bits()));
     let e = world.energy();
-    bits.extend([e.kinetic, e.potential, e.dissipated, e.work, e.error].map(f32::to_bits));
+    bits.extend([e.kinetic, e.potential, e.dissipated, e.constraint, e.work, e.error].map(f32::to_bits));
     bits.push(world.steps() as u32);
     (world.state_hash(), bits)
 }

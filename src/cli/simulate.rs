@@ -125,7 +125,8 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
 }
 
 /// Header of `simulate --format csv`.
-pub const CSV_HEADER: &str = "step,t,id,x,y,z,vx,vy,vz,r,m,kinetic,potential,dissipated,work,removed,error";
+pub const CSV_HEADER: &str =
+    "step,t,id,x,y,z,vx,vy,vz,r,m,kinetic,potential,dissipated,constraint,work,removed,error";
 
 /// Runs `simulate`, writing one JSON object (or CSV rows) per printed step.
 pub fn simulate(
@@ -262,14 +263,18 @@ struct EnergyJson {
     #[serde(skip_serializing_if = "Option::is_none")]
     rotational: Option<f32>,
     potential: f32,
-    /// Taken out since step 0 (damping, drag, contacts and links), cumulative (J).
+    /// Lost since step 0 (damping, drag, inelastic bounces, friction), cumulative (J);
+    /// never decreases.
     dissipated: f32,
+    /// Taken out since step 0 by the constraint solve's corrections (negative: put in),
+    /// cumulative (J): the solver's error.
+    constraint: f32,
     /// Put in from outside the steps since step 0, cumulative (J).
     work: f32,
     /// Carried out by particles removed since step 0, cumulative (J).
     removed: f32,
-    /// kinetic + potential + dissipated + removed - work, minus its value at step 0: the
-    /// integrator's error (J).
+    /// kinetic + potential + dissipated + constraint + removed - work, minus its value at
+    /// step 0: the integrator's error (J).
     error: f32,
 }
 
@@ -310,7 +315,7 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
         let mass = if p.inverse_masses()[i] > 0.0 { p.mass(i).to_string() } else { String::new() };
         writeln!(
             out,
-            "{step},{t},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{},{}",
+            "{step},{t},{},{},{},{},{},{},{},{},{mass},{},{},{},{},{},{},{}",
             p.ids()[i].0,
             x.x,
             x.y,
@@ -322,6 +327,7 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
             e.kinetic,
             e.potential,
             e.dissipated,
+            e.constraint,
             e.work,
             e.removed,
             e.error
@@ -419,6 +425,7 @@ fn write_state(
             rotational: p.any_rolling().then_some(energy.rotational),
             potential: energy.potential,
             dissipated: energy.dissipated,
+            constraint: energy.constraint,
             work: energy.work,
             removed: energy.removed,
             error: energy.error,

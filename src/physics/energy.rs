@@ -3,7 +3,8 @@
 //! made of.
 //!
 //! Imports particles and forces; the world books each step here, the solvers book what
-//! they take out on the particles' `dissipated` tally.
+//! they take out on the particles' `dissipated` tally (losses, never negative) and what
+//! their corrections change on its `constraint` tally (either sign).
 
 use crate::physics::forces::ForceRegistry;
 use crate::physics::ids::ParticleId;
@@ -11,9 +12,10 @@ use crate::physics::particles::{Particles, tree_sum};
 
 /// The energy budget of a world (J).
 ///
-/// `kinetic + potential + dissipated + removed - work` would stay at its value before
-/// the first step if the integrator were exact; `error` is how far it is from that,
-/// which is the integrator's (and the solver's numerical) error, shown as such.
+/// `kinetic + potential + dissipated + constraint + removed - work` would stay at its
+/// value before the first step if the integrator were exact; `error` is how far it is
+/// from that, which is the integrator's error, shown as such. The solver's error has a
+/// line of its own, [`constraint`](Self::constraint).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energy {
     /// `Σ ½ m v²` over movable particles, plus `Σ ½ I ω²` over the spheres that roll.
@@ -26,10 +28,19 @@ pub struct Energy {
     /// The gravitational part of `potential`; the rest is elastic (springs, bungees,
     /// stiff springs) and buoyancy's.
     pub gravitational: f32,
-    /// Taken out since the first step, cumulative: by damping, drag, a damped stiff
-    /// spring, contacts and links (inelastic bounces, friction, the solver's pushes),
-    /// and what was left when particles fell asleep.
+    /// Taken out since the first step, cumulative, by what loses energy in the physics:
+    /// damping, drag, a damped stiff spring, inelastic bounces (restitution below 1, a
+    /// cable jerked taut), friction and rolling resistance, and what was left when
+    /// particles fell asleep. Each is a loss (>= 0), so this total never decreases.
     pub dissipated: f32,
+    /// Taken out since the first step by the constraint solve's own corrections,
+    /// cumulative (negative: put in): what moving rods, cables and contacts back to
+    /// their geometry (position projection, the soft solver's pushes out of overlaps
+    /// and its relax pass) and stopping the velocity gravity's kick builds up along them
+    /// changed, beyond the losses booked as dissipated. Ideal links and contacts do no
+    /// work, so this is the solver's error, as `error` is the integrator's: it swings
+    /// about zero on a rigid pendulum and grows with the step.
+    pub constraint: f32,
     /// Put in from outside the step since the first step, cumulative: anything that
     /// changed the energy between steps (dragging with the mouse, changing g or a mass).
     pub work: f32,
@@ -38,8 +49,8 @@ pub struct Energy {
     /// when it was removed. A round of the projectile that lands and goes takes its
     /// energy with it; it is neither lost nor an error.
     pub removed: f32,
-    /// `kinetic + potential + dissipated + removed - work` minus its value before the
-    /// first step.
+    /// `kinetic + potential + dissipated + constraint + removed - work` minus its value
+    /// before the first step.
     pub error: f32,
 }
 
@@ -52,6 +63,10 @@ pub(crate) struct Ledger {
     pub(crate) last: f64,
     /// See [`Energy::dissipated`].
     pub(crate) dissipated: f64,
+    /// See [`Energy::constraint`]. Absent from a snapshot saved before it had a line
+    /// of its own (it was booked with `dissipated` then): 0.
+    #[serde(default)]
+    pub(crate) constraint: f64,
     /// See [`Energy::work`].
     pub(crate) work: f64,
     /// See [`Energy::removed`].
@@ -65,7 +80,8 @@ impl Ledger {
     pub(crate) fn energy(&self, (kinetic, gravitational, stored): (f64, f64, f64)) -> Energy {
         let potential = gravitational + stored;
         let start = self.start.unwrap_or(kinetic + potential);
-        let error = kinetic + potential + self.dissipated + self.removed - self.work - start;
+        let error =
+            kinetic + potential + self.dissipated + self.constraint + self.removed - self.work - start;
         // `+ 0.0` turns a negative zero (an empty sum) into zero: no figure reads "-0".
         Energy {
             kinetic: kinetic as f32 + 0.0,
@@ -73,6 +89,7 @@ impl Ledger {
             potential: potential as f32 + 0.0,
             gravitational: gravitational as f32 + 0.0,
             dissipated: self.dissipated as f32 + 0.0,
+            constraint: self.constraint as f32 + 0.0,
             work: self.work as f32 + 0.0,
             removed: self.removed as f32 + 0.0,
             error: error as f32 + 0.0,
@@ -81,7 +98,9 @@ impl Ledger {
 
     /// Whether every running total is a finite number (a loaded ledger must be).
     pub(crate) fn is_finite(&self) -> bool {
-        [self.start.unwrap_or(0.0), self.last, self.dissipated, self.work].iter().all(|x| x.is_finite())
+        [self.start.unwrap_or(0.0), self.last, self.dissipated, self.constraint, self.work, self.removed]
+            .iter()
+            .all(|x| x.is_finite())
     }
 }
 

@@ -214,6 +214,25 @@ impl Integration {
         set_state(particles, moves, |i| (x[i], moving[i]));
     }
 
+    /// Each particle's velocity without this step's kick, while the particles hold their
+    /// moving velocities (between [`predict`](Self::predict) and [`finish`](Self::finish)):
+    /// the moving velocity less what the integrator adds to the velocity over the step
+    /// (`end - start`), into `out` by dense index. It is the velocity the constraints
+    /// would see if no force had acted this step, in the frame they work in: for
+    /// semi-implicit Euler the start velocity, for the others the moving velocity less a
+    /// whole kick. A resting contact stops the kick's share of its closing speed every
+    /// step; measured from this velocity it stops nothing (see `solver/soft/losses.rs`).
+    pub(crate) fn kick_free_velocities(&self, particles: &Particles, out: &mut Vec<Vec3>) {
+        out.clear();
+        out.extend_from_slice(&particles.velocity);
+        let kicks = self.end.iter().zip(&self.start_velocity);
+        for ((v, (&end, &start)), _) in
+            out.iter_mut().zip(kicks).zip(&self.moves).filter(|(_, moves)| **moves)
+        {
+            *v -= end - start;
+        }
+    }
+
     /// After the constraints have changed the moving velocities (and positions have
     /// moved by them): gives each particle its end velocity plus the same change.
     pub(crate) fn finish(&self, particles: &mut Particles) {

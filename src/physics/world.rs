@@ -210,11 +210,13 @@ impl World {
             Some(_) => self.ledger.work += now - self.ledger.last,
         }
         self.particles.dissipated = 0.0;
+        self.particles.constraint = 0.0;
         self.last_report = match self.solver.kind {
             SolverKind::Soft => self.step_soft(dt),
             SolverKind::Paper => self.step_paper(dt),
         };
         self.ledger.dissipated += self.particles.dissipated;
+        self.ledger.constraint += self.particles.constraint;
         self.particles.turn(dt);
         self.ledger.last = self.mechanical_energy();
         self.time += f64::from(dt);
@@ -627,6 +629,7 @@ impl World {
             ("rotational energy", e.rotational),
             ("potential energy", e.potential),
             ("dissipated energy", e.dissipated),
+            ("constraint solve's error", e.constraint),
             ("work done", e.work),
             ("energy removed", e.removed),
             ("integrator's error", e.error),

@@ -19,6 +19,8 @@ pub const TOTAL_COLOR: Color32 = Color32::from_rgb(220, 220, 220);
 pub const REMOVED_COLOR: Color32 = Color32::from_rgb(150, 150, 110);
 /// The budget's remainder, the integrator's error.
 pub const ERROR_COLOR: Color32 = Color32::from_rgb(110, 210, 120);
+/// The constraint solve's error: what its corrections took out or put in.
+pub const CONSTRAINT_COLOR: Color32 = Color32::from_rgb(90, 200, 210);
 /// A warning in the panel (a clamped value, a physics that cannot keep up).
 pub const WARNING_COLOR: Color32 = Color32::from_rgb(240, 170, 60);
 

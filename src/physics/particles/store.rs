@@ -58,9 +58,14 @@ pub struct Particles {
     pub(super) damping_dt: f32,
     /// Sleep state, per particle: see [`Sleep`].
     pub(crate) sleep: Vec<Sleep>,
-    /// Energy taken out by drag, damped springs and damping since the world last read
-    /// it (J); see [`Energy::dissipated`](super::energy::Energy::dissipated).
+    /// Energy taken out by drag, damped springs, damping and the solvers' losses since
+    /// the world last read it (J); see
+    /// [`Energy::dissipated`](crate::physics::energy::Energy::dissipated).
     pub(crate) dissipated: f64,
+    /// Energy taken out (negative: put in) by the solvers' corrections since the world
+    /// last read it (J); see [`Energy::constraint`](crate::physics::energy::Energy::constraint).
+    #[serde(default)]
+    pub(crate) constraint: f64,
     /// Dense index -> id.
     pub(super) ids: Vec<ParticleId>,
     /// Id -> dense index, or `DEAD`.
@@ -93,6 +98,7 @@ impl Particles {
             damping_dt: 0.0,
             sleep: Vec::with_capacity(n),
             dissipated: 0.0,
+            constraint: 0.0,
             ids: Vec::with_capacity(n),
             slots: Vec::with_capacity(n),
         }
@@ -187,9 +193,10 @@ impl Particles {
                 return fail("only a movable particle at rest can be asleep");
             }
         }
-        if !(self.damping_dt.is_finite() && self.damping_dt >= 0.0 && self.dissipated.is_finite()) {
+        let tallies = self.dissipated.is_finite() && self.constraint.is_finite();
+        if !(self.damping_dt.is_finite() && self.damping_dt >= 0.0 && tallies) {
             return Err(PhysicsError::InvalidParticle(
-                "damping step or dissipated energy is not finite".into(),
+                "damping step, dissipated or constraint energy is not finite".into(),
             ));
         }
         Ok(())

@@ -58,8 +58,12 @@ impl Lab {
                     ("gravity", e.gravitational + shift),
                     ("elastic", e.potential - e.gravitational),
                     ("dissipated", e.dissipated),
+                    ("constraint", e.constraint),
                     ("removed", e.removed),
-                    ("budget", e.kinetic + e.potential + shift + e.dissipated + e.removed - e.work),
+                    (
+                        "budget",
+                        e.kinetic + e.potential + shift + e.dissipated + e.constraint + e.removed - e.work,
+                    ),
                 ]
             }
         };
@@ -68,17 +72,18 @@ impl Lab {
     }
 
     /// The energy history (every sample kept, not only the plotted window) as CSV:
-    /// `t,kinetic,potential,total,dissipated,work,removed,error`, in J.
+    /// `t,kinetic,potential,total,dissipated,constraint,work,removed,error`, in J.
     #[must_use]
     pub fn energy_csv(&self) -> String {
         use std::fmt::Write;
-        let mut out = String::from("t,kinetic,potential,total,dissipated,work,removed,error\n");
-        for s in &self.energy {
-            let total = s.kinetic + s.potential;
+        let mut out = String::from("t,kinetic,potential,total,dissipated,constraint,work,removed,error\n");
+        for sample in &self.energy {
+            let e = &sample.energy;
+            let total = e.kinetic + e.potential;
             let _ = writeln!(
                 out,
-                "{},{},{},{total},{},{},{},{}",
-                s.t, s.kinetic, s.potential, s.dissipated, s.work, s.removed, s.error
+                "{},{},{},{total},{},{},{},{},{}",
+                sample.t, e.kinetic, e.potential, e.dissipated, e.constraint, e.work, e.removed, e.error
             );
         }
         out

@@ -338,13 +338,14 @@ mod tests {
         let shown = lab.energy.iter().filter(|s| s.t >= newest.t - REST_DELAY);
         for sample in shown {
             let same = |a: f32, b: f32| a.to_bits() == b.to_bits();
+            let (t, sample, newest) = (sample.t, sample.energy, newest.energy);
             assert!(
                 same(sample.kinetic, newest.kinetic)
                     && same(sample.potential, newest.potential)
+                    && same(sample.constraint, newest.constraint)
                     && same(sample.error, newest.error)
                     && same(sample.removed, newest.removed),
-                "the plot still moves at t = {}",
-                sample.t
+                "the plot still moves at t = {t}"
             );
         }
         // Still at rest while it runs on.

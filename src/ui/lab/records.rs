@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use crate::physics::{LinkEnd, LinkState, ParticleId, World};
+use crate::physics::{Energy, LinkEnd, LinkState, ParticleId, World};
 use crate::scenes::Scene;
 
 /// Timing figures for the stats block.
@@ -30,20 +30,9 @@ pub struct Stats {
 pub struct EnergySample {
     /// Simulated time (s).
     pub t: f64,
-    /// Kinetic energy (J).
-    pub kinetic: f32,
-    /// Potential energy (J).
-    pub potential: f32,
-    /// Its gravitational part (J).
-    pub gravitational: f32,
-    /// Dissipated since the start, cumulative (J).
-    pub dissipated: f32,
-    /// Put in from outside since the start, cumulative (J).
-    pub work: f32,
-    /// Carried out by removed particles since the start, cumulative (J).
-    pub removed: f32,
-    /// The budget's remainder: the integrator's error (J).
-    pub error: f32,
+    /// The world's energy budget then (J), its gravitational energy measured from the
+    /// scene's reference height (see [`Scene::gravity_reference`]).
+    pub energy: Energy,
     /// Distance from the scene's exact answer (m), NaN where it has none.
     pub exact_error: f32,
 }
@@ -59,13 +48,11 @@ impl EnergySample {
             scene.gravity_reference().map_or(0.0, |(height, _)| world.gravity_reference_shift(height));
         Self {
             t: world.time(),
-            kinetic: energy.kinetic,
-            potential: energy.potential + shift,
-            gravitational: energy.gravitational + shift,
-            dissipated: energy.dissipated,
-            work: energy.work,
-            removed: energy.removed,
-            error: energy.error,
+            energy: Energy {
+                potential: energy.potential + shift,
+                gravitational: energy.gravitational + shift,
+                ..energy
+            },
             exact_error: scene.exact_error().unwrap_or(f32::NAN),
         }
     }
@@ -79,8 +66,8 @@ pub struct EnergyBars {
     pub subject: String,
     /// Where gravitational energy is zero ("the ground (y = 0)").
     pub reference: String,
-    /// Kinetic, gravitational, elastic and, for the scene, dissipated, removed and the
-    /// budget; for a particle, its total.
+    /// Kinetic, gravitational, elastic and, for the scene, dissipated, the constraint
+    /// term, removed and the budget; for a particle, its total.
     pub bars: Vec<(&'static str, f32)>,
 }
 

@@ -1,5 +1,6 @@
 //! The Energy section: the plot of kinetic, potential and total energy with the
-//! budget's remainder (the integrator's error), the distance from the exact answer
+//! constraint solve's error and the budget's remainder (the integrator's error), the
+//! distance from the exact answer
 //! where the scene has one, the bars (PhET's energy chart), and the CSV export.
 
 use std::collections::VecDeque;
@@ -11,8 +12,8 @@ use crate::ui::lab::{EnergySample, Lab};
 use crate::ui::paint;
 use crate::ui::plot::{self, Curve, PlotAreas};
 use crate::ui::style::{
-    DISSIPATED_COLOR, ELASTIC_COLOR, ERROR_COLOR, GRAVITY_COLOR, KINETIC_COLOR, LEGEND_SIZE, REMOVED_COLOR,
-    TOTAL_COLOR, dimmed, joules, srgb,
+    CONSTRAINT_COLOR, DISSIPATED_COLOR, ELASTIC_COLOR, ERROR_COLOR, GRAVITY_COLOR, KINETIC_COLOR,
+    LEGEND_SIZE, REMOVED_COLOR, TOTAL_COLOR, dimmed, joules, srgb,
 };
 
 /// Seconds of simulated time the plots show (and scale to): a transient at the start
@@ -26,14 +27,25 @@ pub const PLOT_HEIGHT: f32 = 90.0;
 type Series = (&'static str, Color32, fn(&EnergySample) -> f32);
 
 /// The energy plot's curves.
-const SERIES: [Series; 5] = [
-    ("kinetic", KINETIC_COLOR, |s| s.kinetic),
-    ("potential", GRAVITY_COLOR, |s| s.potential),
-    ("total", TOTAL_COLOR, |s| s.kinetic + s.potential),
-    ("removed", REMOVED_COLOR, |s| s.removed),
-    // What the budget leaves over: total + dissipated - work, less its start.
-    ("integrator error", ERROR_COLOR, |s| s.error),
+const SERIES: [Series; 6] = [
+    ("kinetic", KINETIC_COLOR, |s| s.energy.kinetic),
+    ("potential", GRAVITY_COLOR, |s| s.energy.potential),
+    ("total", TOTAL_COLOR, |s| s.energy.kinetic + s.energy.potential),
+    ("removed", REMOVED_COLOR, |s| s.energy.removed),
+    // What the constraint solve's corrections took out (negative: put in).
+    ("constraint error", CONSTRAINT_COLOR, |s| s.energy.constraint),
+    // What the budget leaves over: total + dissipated + constraint + removed - work,
+    // less its start.
+    ("integrator error", ERROR_COLOR, |s| s.energy.error),
 ];
+
+/// What the plot's legend says of each curve when hovered.
+const SERIES_HELP: &str = "Kinetic, potential and total energy of the scene; 'removed': what particles \
+    carried out when they left it; 'constraint error': what the constraint solve's corrections took \
+    out (negative: put in), such as a rod moved back to its length or an overlap pushed apart, which \
+    ideal links and contacts would not (it swings about zero on a rigid pendulum and grows with the \
+    step); 'integrator error': what the budget leaves over, total + dissipated + constraint error + \
+    removed − work put in, less its start.";
 
 /// The compared copy's two curves, in the colour of its ghosts and a dimmer twin.
 #[must_use]
@@ -97,7 +109,7 @@ impl EnergyPanel {
         }
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new("Last 10 s:").strong()).on_hover_text(format!(
-                "Potential energy's gravitational part is measured from {}.",
+                "{SERIES_HELP} Potential energy's gravitational part is measured from {}.",
                 lab.gravity_from().1
             ));
             for (name, color) in &legend {
@@ -115,8 +127,9 @@ impl EnergyPanel {
             .collect();
         if let Some(compare) = &lab.compare {
             let shown = || compare.energy.iter().filter(|s| s.t >= since);
-            curves.push((copy_total, shown().map(|s| (s.t, s.kinetic + s.potential)).collect()));
-            curves.push((copy_error, shown().map(|s| (s.t, s.error)).collect()));
+            curves
+                .push((copy_total, shown().map(|s| (s.t, s.energy.kinetic + s.energy.potential)).collect()));
+            curves.push((copy_error, shown().map(|s| (s.t, s.energy.error)).collect()));
         }
         self.plot = Some(plot::line_plot(ui, &curves, PLOT_HEIGHT, joules));
     }
@@ -161,22 +174,27 @@ fn bar_color(name: &str) -> Color32 {
         "gravity" => GRAVITY_COLOR,
         "elastic" => ELASTIC_COLOR,
         "dissipated" => DISSIPATED_COLOR,
+        "constraint" => CONSTRAINT_COLOR,
         "removed" => REMOVED_COLOR,
         _ => TOTAL_COLOR,
     }
 }
 
-/// PhET's energy bar chart: kinetic, gravitational, elastic, dissipated, removed and the
-/// budget (total + dissipated + removed − work put in, which stays level), for the whole
+/// PhET's energy bar chart: kinetic, gravitational, elastic, dissipated, the constraint
+/// term, removed and the budget (total + dissipated + constraint + removed − work put
+/// in, which stays level), for the whole
 /// scene or one particle (the selected one, else the scene's focus, springForces' bob),
 /// without dissipation, which the world tracks only in total.
 fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
     let chart = lab.energy_bars();
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(format!("Energy bars: {}", chart.subject)).strong()).on_hover_text(format!(
-            "Gravitational energy is measured from {}; elastic includes buoyancy's. 'removed' is what \
-             particles carried out when they left the scene. The budget bar, total + dissipated + \
-             removed − work put in, stays level when the budget balances.",
+            "Gravitational energy is measured from {}; elastic includes buoyancy's. 'dissipated' is what \
+             damping, drag, inelastic bounces, friction and rolling resistance took out: it only grows. \
+             'constraint' is what the constraint solve's corrections took out (negative: put in), such \
+             as a rod moved back to its length: the solver's error, beside the integrator's. 'removed' \
+             is what particles carried out when they left the scene. The budget bar, total + \
+             dissipated + constraint + removed − work put in, stays level when the budget balances.",
             chart.reference
         ));
         let particle = lab.selected.is_some() || lab.scene.energy_focus().is_some();
@@ -187,11 +205,24 @@ fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
         }
     });
     ui.label(RichText::new(format!("gravity from {}", chart.reference)).size(LEGEND_SIZE));
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 116.0), Sense::hover());
+    // The names go below the bars, on two rows, every other one raised, when one row
+    // has no room for them (seven bars in a narrow panel).
+    let width = ui.available_width();
+    let slot = width / chart.bars.len() as f32;
+    let name_font = egui::FontId::proportional(11.0);
+    let widest = chart
+        .bars
+        .iter()
+        .map(|(name, _)| {
+            ui.painter().layout_no_wrap(name.to_string(), name_font.clone(), Color32::GRAY).size().x
+        })
+        .fold(0.0, f32::max);
+    let rows = if widest + 4.0 > slot { 2.0 } else { 1.0 };
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 116.0), Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 2.0, Color32::from_gray(20));
-    // Room for a value above and a name below each bar.
-    let (top, bottom) = (rect.top() + 15.0, rect.bottom() - 16.0);
+    // Room for a value above and the names below each bar.
+    let (top, bottom) = (rect.top() + 15.0, rect.bottom() - 2.0 - 14.0 * rows);
     let heights = chart.heights(bottom - top);
     let low = heights.iter().copied().fold(0.0, f32::min);
     let zero = bottom + low;
@@ -199,7 +230,6 @@ fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
         [egui::pos2(rect.left(), zero), egui::pos2(rect.right(), zero)],
         Stroke::new(1.0, Color32::GRAY),
     );
-    let slot = rect.width() / chart.bars.len() as f32;
     for (k, ((name, value), height)) in chart.bars.iter().zip(&heights).enumerate() {
         let x = rect.left() + slot * (k as f32 + 0.5);
         let (y0, y1) = (zero.min(zero - height), zero.max(zero - height));
@@ -215,11 +245,12 @@ fn energy_bars(ui: &mut egui::Ui, lab: &mut Lab) {
             egui::FontId::monospace(9.5),
             Color32::GRAY,
         );
+        let raised = if rows > 1.0 && k % 2 == 1 { 14.0 } else { 0.0 };
         painter.text(
-            egui::pos2(x, rect.bottom() - 1.0),
+            egui::pos2(x, rect.bottom() - 1.0 - raised),
             egui::Align2::CENTER_BOTTOM,
             *name,
-            egui::FontId::proportional(11.0),
+            name_font.clone(),
             bar_color(name),
         );
     }

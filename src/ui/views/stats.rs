@@ -48,6 +48,7 @@ impl StatsPanel {
         rows.push(("kinetic energy", format!("{} J", fixed(energy.kinetic, 2))));
         rows.push(("potential energy", format!("{} J", fixed(energy.potential, 2))));
         rows.push(("dissipated", format!("{} J", fixed(energy.dissipated, 2))));
+        rows.push(("constraint error", format!("{} J", signed(energy.constraint, 3))));
         rows.push(("work put in", format!("{} J", fixed(energy.work, 2))));
         rows.push(("removed with particles", format!("{} J", fixed(energy.removed, 2))));
         rows.push(("integrator error", format!("{} J", signed(energy.error, 3))));

@@ -24,12 +24,13 @@ impl SoftStep {
     /// (`c` = 0) simply `a` times the height. The bounce leaves with the speed whose
     /// shadow energy is `e²` times the one it came with, so a ball dropped on the
     /// ground returns to `e²` of its height at any step (tests/truth.rs).
-    pub(super) fn impacts(&mut self, particles: &mut Particles, h: f32, threshold: f32) {
+    ///
+    /// Returns what the bounces lost (J, >= 0): for each, the effective mass times the
+    /// shadow energy it came with less the one it leaves with, `(1 - e²)` of it (see
+    /// [`Impact::leaving_speed`]); 0 for `e = 1`. The change of each particle's velocity
+    /// is kept in `bounced`, for the contacts' own bookkeeping after the solve.
+    pub(super) fn impacts(&mut self, particles: &mut Particles, h: f32, threshold: f32) -> f64 {
         let (v, v0, w) = (&particles.velocity, &self.substep_velocity, &particles.inverse_mass);
-        let closing = |a: u32, b: u32, n: Vec3, v: &[Vec3]| {
-            let vb = if b == NONE { Vec3::ZERO } else { v[b as usize] };
-            -(v[a as usize] - vb).dot(n)
-        };
         self.impacts.clear();
         // Generation order (by generator, then by pair), so the result is the same
         // however the contacts were coloured.
@@ -71,9 +72,10 @@ impl SoftStep {
             });
         }
         if self.impacts.is_empty() {
-            return;
+            return 0.0;
         }
         let v = &mut particles.velocity;
+        let mut lost = 0.0;
         for _ in 0..MAX_IMPACT_SWEEPS {
             let mut bounced = false;
             for impact in &self.impacts {
@@ -81,25 +83,74 @@ impl SoftStep {
                 if c <= threshold || impact.gap >= c * h {
                     continue;
                 }
-                let leaving = impact.leaving_speed(c, h);
+                let (leaving, shadow_lost) = impact.leaving_speed(c, h);
                 let p = impact.normal * (impact.mass * (leaving + c));
-                v[impact.a as usize] += p * w[impact.a as usize];
+                let change = p * w[impact.a as usize];
+                v[impact.a as usize] += change;
+                self.bounced.push((impact.a, change));
                 if impact.b != NONE {
-                    v[impact.b as usize] -= p * w[impact.b as usize];
+                    let change = p * w[impact.b as usize];
+                    v[impact.b as usize] -= change;
+                    self.bounced.push((impact.b, -change));
                 }
+                lost += f64::from(impact.mass) * f64::from(shadow_lost);
                 bounced = true;
             }
             if !bounced {
                 break;
             }
         }
+        lost
+    }
+
+    /// What the cables without restitution lose this substep when they are jerked taut
+    /// (J, >= 0): the solve stops them dead, which takes the shadow energy they came
+    /// with, as a bounce with `e = 0` would (see [`impacts`](Self::impacts); the same
+    /// threshold tells a jerk from a cable that stays taut). Nothing is moved here.
+    pub(super) fn jerked_cables(&self, particles: &Particles, h: f32, threshold: f32) -> f64 {
+        let (v, v0) = (&particles.velocity, &self.substep_velocity);
+        let mut lost = 0.0;
+        for link in self.links.iter().filter(|link| !link.rigid && link.restitution == 0.0) {
+            let (u, length, _) = link.geometry(&particles.position, |i| v[i]);
+            let c = closing(link.a, link.b, -u, v);
+            let gap = link.length - length;
+            if c <= threshold || gap >= c * h {
+                continue;
+            }
+            let acceleration = (c - closing(link.a, link.b, -u, v0)) / h;
+            let jerk = Impact {
+                a: link.a,
+                b: link.b,
+                normal: -u,
+                gap,
+                restitution: 0.0,
+                mass: link.mass,
+                closing_acceleration: acceleration,
+            };
+            lost += f64::from(link.mass) * f64::from(jerk.leaving_speed(c, h).1);
+        }
+        lost
     }
 }
 
+/// How fast `a` and `b` (or `a` and a fixed plane, `b` = [`NONE`]) close along `n`, the
+/// way `a` is pushed, with velocities `v` (m/s).
+fn closing(a: u32, b: u32, n: Vec3, v: &[Vec3]) -> f32 {
+    let vb = if b == NONE { Vec3::ZERO } else { v[b as usize] };
+    -(v[a as usize] - vb).dot(n)
+}
+
 impl Impact {
-    /// Separating speed after the bounce of a pair closing at `c` (m/s); see
+    /// Separating speed after the bounce of a pair closing at `c` (m/s), and the shadow
+    /// energy per unit effective mass the bounce takes (J/kg, >= 0); see
     /// [`SoftStep::impacts`]. The pair then moves off from `gap` this substep.
-    fn leaving_speed(&self, c: f32, h: f32) -> f32 {
+    ///
+    /// The shadow energy is what semi-implicit Euler conserves; the bounce keeps `e²` of
+    /// it, so `1 - e²` of it is lost, none at `e = 1`. It is the loss the budget books:
+    /// the kinetic energy the bounce changes differs from it by the integrator's own
+    /// `a h c` correction, which is not a loss (it is booked with the constraint's
+    /// error), and at the top of the next flight the height shows exactly this loss.
+    fn leaving_speed(&self, c: f32, h: f32) -> (f32, f32) {
         let (a, e, gap) = (self.closing_acceleration, self.restitution, self.gap.max(0.0));
         // Shadow energy per unit effective mass on the way in, measured from contact.
         let arriving = a * gap + 0.5 * c * c - 0.5 * a * h * c;
@@ -107,6 +158,7 @@ impl Impact {
         // substep: its shadow energy is a·gap + u²/2 + a·h·u/2.
         let kinetic = (e * e * arriving - a * gap).max(0.0);
         let half = 0.5 * a * h;
-        -half + (half * half + 2.0 * kinetic).sqrt()
+        let leaving = -half + (half * half + 2.0 * kinetic).sqrt();
+        (leaving, (arriving - (a * gap + kinetic)).max(0.0))
     }
 }

@@ -32,13 +32,15 @@
 //! One file per stage, as Box2D v3 keeps them: `step.rs` (the order above, and the
 //! energy the constraints add), `collide.rs` (1), `color.rs` (2), `batch.rs` (the
 //! coloured contacts four by four, lane by lane), `passes.rs` (a pass over the colours
-//! on every thread) and `shared.rs` (the memory those threads share), in each substep `impact.rs` (the bounces), `solve.rs` (warm
-//! start, contacts and links) and `contact.rs` (one contact's impulse),
-//! `link_network/` (the exact link solve: `mod.rs` the network, `shake.rs` its two
-//! solves, `envelope.rs` its direct solver, `taut.rs` particles a taut path of links
-//! holds still), `warm.rs` (4,
-//! and the memory a snapshot saves), `sleep.rs` (islands falling asleep and waking),
-//! `awake.rs` (the pool's threads kept ready through a step).
+//! on every thread) and `shared.rs` (the memory those threads share), in each substep
+//! `impact.rs` (the bounces, and what they lose), `solve.rs` (warm start, contacts and
+//! links) and `contact.rs` (one contact's impulse), `losses.rs` (what of the
+//! constraints' work the contacts' impulses took, dissipated; the rest is the
+//! constraint term), `link_network/` (the exact link solve: `mod.rs` the network,
+//! `shake.rs` its two solves, `envelope.rs` its direct solver, `taut.rs` particles a
+//! taut path of links holds still), `warm.rs` (4, and the memory a snapshot saves),
+//! `sleep.rs` (islands falling asleep and waking), `awake.rs` (the pool's threads kept
+//! ready through a step).
 //! This file holds the data every stage shares.
 
 mod awake;
@@ -49,6 +51,7 @@ mod color;
 mod contact;
 mod impact;
 mod link_network;
+mod losses;
 mod passes;
 mod shared;
 mod sleep;
@@ -247,6 +250,22 @@ pub struct SoftStep {
     /// Angular velocities at the start of the substep, kept while spheres roll
     /// (energy budget).
     substep_spin: Vec<Vec3>,
+    /// Velocities the contacts' work is measured from, when they are not
+    /// `substep_velocity` (energy budget, see `losses.rs`): an integrator's kick-free
+    /// velocities, or the start velocities with the impact stage's bounces added.
+    reference: Vec<Vec3>,
+    /// Each change of velocity the impact stage made this substep: (particle, change).
+    bounced: Vec<(u32, Vec3)>,
+    /// The contacts' work is measured from `reference` this substep, not from
+    /// `substep_velocity`.
+    own_reference: bool,
+    /// Velocities as the constraints got them this substep, for integrators other than
+    /// semi-implicit Euler (whose are `kicked`): the moving velocities (energy budget).
+    moving: Vec<Vec3>,
+    /// Each particle's change of velocity this substep that no contact made (bounces,
+    /// links), while `noting` (energy budget, see `losses.rs`).
+    changes: Vec<Vec3>,
+    noting: bool,
     /// Per chunk of sphere pairs: its contacts (see `SoftStep::collide_spheres`).
     pair_chunks: Vec<collide::PairChunk>,
     /// Per particle: asleep at the start of this collide pass.
@@ -258,6 +277,19 @@ pub struct SoftStep {
     island_timer: Vec<f32>,
     /// The exact solve of rods and cables (`link_network/`), with its cached network.
     network: link_network::LinkNetwork,
+}
+
+/// Where a stage that changes velocities, but is not a contact's solve, notes each
+/// particle's change of velocity (by dense index) for the energy budget: the links and
+/// the impact stage (see `losses.rs`). `None`: nothing needs them.
+type Changes<'a> = Option<&'a mut [Vec3]>;
+
+/// Adds `change` to particle `i`'s noted change of velocity, if changes are noted.
+#[inline]
+fn note(changes: &mut Changes<'_>, i: u32, change: Vec3) {
+    if let Some(changes) = changes {
+        changes[i as usize] += change;
+    }
 }
 
 /// Per-substep constants handed to every contact (Box2D's step context).

@@ -5,7 +5,7 @@
 use super::contact::{Bodies, contact_terms, solve_batches, warm_start_batches};
 use super::passes::for_each_batch;
 use super::shared::SharedVelocities;
-use super::{Context, NONE, SoftLink, SoftStep};
+use super::{Changes, Context, NONE, SoftLink, SoftStep, note};
 use crate::physics::links::direction_or_zero;
 use crate::physics::particles::Particles;
 use glam::Vec3;
@@ -25,14 +25,19 @@ impl SoftStep {
         }
         let w = &particles.inverse_mass;
         let velocities = &mut particles.velocity;
+        let mut changes = self.noting.then_some(&mut self.changes[..]);
         for link in &self.links {
             // Warm start along the link's start-of-step direction is close enough; the
             // solve corrects it on the exact geometry.
             let (u, _, _) = link.geometry(&particles.position, |i| velocities[i]);
             let p = u * link.impulse * if link.rigid { 1.0 } else { -1.0 };
-            velocities[link.a as usize] += p * w[link.a as usize];
+            let change = p * w[link.a as usize];
+            velocities[link.a as usize] += change;
+            note(&mut changes, link.a, change);
             if link.b != NONE {
-                velocities[link.b as usize] -= p * w[link.b as usize];
+                let change = p * w[link.b as usize];
+                velocities[link.b as usize] -= change;
+                note(&mut changes, link.b, -change);
             }
         }
     }
@@ -46,18 +51,19 @@ impl SoftStep {
         for_each_batch(&mut self.batches, &self.batch_starts, &self.shares, |run, one_colour| {
             solve_batches(run, one_colour, bodies, contacts);
         });
+        let mut changes = self.noting.then_some(&mut self.changes[..]);
         if self.network.exact() {
             // The shake with position feedback, the projection in the relax pass.
             if joints.use_bias {
-                self.network.shake(&mut self.links, particles, joints.h);
+                self.network.shake(&mut self.links, particles, joints.h, changes);
             } else {
-                self.network.project(&mut self.links, particles, joints.h);
+                self.network.project(&mut self.links, particles, joints.h, changes);
             }
             return;
         }
         let w = &particles.inverse_mass;
         for link in &mut self.links {
-            link.solve(&particles.position, &mut particles.velocity, w, joints);
+            link.solve(&particles.position, &mut particles.velocity, w, joints, changes.as_deref_mut());
         }
     }
 }
@@ -76,7 +82,14 @@ impl SoftLink {
         (u, length, (velocity(self.a as usize) - vb).dot(u))
     }
 
-    fn solve(&mut self, positions: &[Vec3], velocities: &mut [Vec3], w: &[f32], context: Context) {
+    fn solve(
+        &mut self,
+        positions: &[Vec3],
+        velocities: &mut [Vec3],
+        w: &[f32],
+        context: Context,
+        mut changes: Changes<'_>,
+    ) {
         let (u, length, vrel) = self.geometry(positions, |i| velocities[i]);
         let applied = if self.rigid {
             // Bilateral: drive C = length - rest to zero; a negative impulse pulls.
@@ -102,9 +115,13 @@ impl SoftLink {
             self.impulse = total;
             -applied
         };
-        velocities[self.a as usize] += u * (applied * w[self.a as usize]);
+        let change = u * (applied * w[self.a as usize]);
+        velocities[self.a as usize] += change;
+        note(&mut changes, self.a, change);
         if self.b != NONE {
-            velocities[self.b as usize] -= u * (applied * w[self.b as usize]);
+            let change = u * (applied * w[self.b as usize]);
+            velocities[self.b as usize] -= change;
+            note(&mut changes, self.b, -change);
         }
     }
 }

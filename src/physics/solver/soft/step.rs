@@ -96,9 +96,21 @@ impl SoftStep {
         // integrator's separate moving and end velocities.
         let semi_implicit = integrator == Integrator::SemiImplicitEuler && !forces.has_closed_form();
         let mut constraint_work = 0.0;
+        // Of that work, what the physics loses (bounces, cables jerked taut: >= 0) and
+        // the work of the contacts' impulses, summed over the substeps (see `losses.rs`).
+        let (mut lost, mut contact_work) = (0.0, 0.0);
+        let touching = !self.batches.is_empty();
+        // The changes of velocity the contacts do not make are noted while anything else
+        // can make them (bounces, links).
+        self.noting = touching && (bouncy || !self.links.is_empty());
+        let jerky = self.links.iter().any(|l| !l.rigid && l.restitution == 0.0);
         // Spheres that roll: the contacts change their spin as well (nothing else does).
         let rolling = constrained && particles.any_rolling();
         for _ in 0..substeps {
+            if self.noting {
+                self.changes.clear();
+                self.changes.resize(particles.len(), Vec3::ZERO);
+            }
             if semi_implicit {
                 particles.clear_forces();
                 forces.apply(particles, h);
@@ -124,10 +136,21 @@ impl SoftStep {
                     copy(&mut self.substep_spin, &particles.angular_velocity, copying);
                 }
                 self.integration.predict(integrator, particles, forces, h);
+                if touching {
+                    copy(&mut self.moving, &particles.velocity, copying);
+                    self.integration.kick_free_velocities(particles, &mut self.reference);
+                }
             }
             let before = if constrained && !semi_implicit { particles.kinetic_energy() } else { 0.0 };
+            self.bounced.clear();
             if bouncy {
-                self.impacts(particles, h, settings.restitution_threshold);
+                lost += self.impacts(particles, h, settings.restitution_threshold);
+            }
+            if jerky {
+                lost += self.jerked_cables(particles, h, settings.restitution_threshold);
+            }
+            if touching {
+                self.prepare_reference(semi_implicit);
             }
             self.warm_start(particles);
             self.solve(particles, contact_context, joint_context);
@@ -146,14 +169,21 @@ impl SoftStep {
             }
             particles.integrate_positions(h, &mut self.delta, parallel);
             self.solve(particles, relax, relax);
-            if constrained {
+            if touching {
+                let (kinetic, work) = self.relaxed(particles, semi_implicit, rolling);
+                constraint_work += kinetic - before_relax;
+                contact_work += work;
+            } else if constrained {
                 constraint_work += particles.kinetic_energy() - before_relax;
             }
             if !semi_implicit {
                 self.integration.finish(particles);
             }
         }
-        particles.dissipated -= constraint_work;
+        // The losses are dissipated; the rest of the constraints' work is their error.
+        let dissipated = lost + (-contact_work).max(0.0);
+        particles.dissipated += dissipated;
+        particles.constraint -= constraint_work + dissipated;
         self.unbatch();
         self.store(h, link_tension);
         let max_penetration = self.deepest_overlap();
@@ -166,6 +196,25 @@ impl SoftStep {
         let asleep = if settings.sleep { particles.asleep_count() } else { 0 };
         let pair_budget_hit = scratch.pair_budget_hit;
         SoftReport { contacts: self.contacts.len(), max_penetration, asleep, pair_budget_hit }
+    }
+
+    /// The velocities the contacts' work is measured from this substep, after the relax
+    /// pass (see `losses.rs`): those it began with (semi-implicit Euler's start velocities, the
+    /// other integrators' kick-free velocities, see
+    /// [`Integration::kick_free_velocities`](crate::physics::integrator::Integration)),
+    /// with the impact stage's bounces added, since the stage books those itself.
+    /// The bounces are noted among the changes the contacts did not make.
+    fn prepare_reference(&mut self, semi_implicit: bool) {
+        if !self.bounced.is_empty() {
+            if semi_implicit {
+                self.reference.clone_from(&self.substep_velocity);
+            }
+            for &(i, change) in &self.bounced {
+                self.reference[i as usize] += change;
+                self.changes[i as usize] += change;
+            }
+        }
+        self.own_reference = !semi_implicit || !self.bounced.is_empty();
     }
 
     /// Work done by the contacts and links in a substep's impact stage and solve (J),

@@ -61,7 +61,7 @@ use glam::{DVec3, Vec3};
 use envelope::{Envelope, reverse_cuthill_mckee};
 use taut::TautPaths;
 
-use super::{NONE, SoftLink};
+use super::{Changes, NONE, SoftLink, note};
 use crate::physics::particles::Particles;
 use crate::physics::solver::settings::SolverSettings;
 
@@ -386,9 +386,11 @@ impl LinkNetwork {
     }
 
     /// Stops the particles a taut path holds (see `taut.rs`).
-    pub(super) fn hold(&self, particles: &mut Particles) {
+    pub(super) fn hold(&self, particles: &mut Particles, mut changes: Changes<'_>) {
         for &i in &self.held_list {
-            particles.velocity[i as usize] = Vec3::ZERO;
+            let v = &mut particles.velocity[i as usize];
+            note(&mut changes, i, -*v);
+            *v = Vec3::ZERO;
         }
     }
 
@@ -400,10 +402,13 @@ impl LinkNetwork {
         }
     }
 
-    /// Writes `v` back to the particles.
-    fn store(&self, particles: &mut Particles) {
+    /// Writes `v` back to the particles, and what that changes of their velocities to
+    /// `changes`.
+    fn store(&self, particles: &mut Particles, mut changes: Changes<'_>) {
         for (v, &i) in self.v.iter().zip(&self.particle_of) {
-            particles.velocity[i as usize] = v.as_vec3();
+            let (new, old) = (v.as_vec3(), &mut particles.velocity[i as usize]);
+            note(&mut changes, i, new - *old);
+            *old = new;
         }
     }
 

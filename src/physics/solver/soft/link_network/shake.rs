@@ -4,7 +4,7 @@
 
 use super::{LinkNetwork, MAX_DAMPED, MAX_HALVINGS, MAX_ITERATIONS, MAX_ROUNDS, NEARLY, SLOW, TOLERANCE};
 use crate::physics::particles::Particles;
-use crate::physics::solver::soft::{NONE, SoftLink};
+use crate::physics::solver::soft::{Changes, NONE, SoftLink};
 
 impl LinkNetwork {
     /// Before the drift: impulses along the links' start directions such that after
@@ -16,8 +16,9 @@ impl LinkNetwork {
         links: &mut [SoftLink],
         particles: &mut Particles,
         h: f32,
+        mut changes: Changes<'_>,
     ) {
-        self.hold(particles);
+        self.hold(particles, changes.as_deref_mut());
         if !self.exact {
             return;
         }
@@ -92,7 +93,7 @@ impl LinkNetwork {
                 }
             }
         }
-        self.store(particles);
+        self.store(particles, changes);
         for link in links.iter_mut() {
             link.impulse = 0.0;
         }
@@ -119,8 +120,9 @@ impl LinkNetwork {
         links: &mut [SoftLink],
         particles: &mut Particles,
         h: f32,
+        mut changes: Changes<'_>,
     ) {
-        self.hold(particles);
+        self.hold(particles, changes.as_deref_mut());
         if !self.exact || (self.shaken < self.substeps && !self.correcting) {
             return;
         }
@@ -159,7 +161,7 @@ impl LinkNetwork {
                 break;
             }
         }
-        self.store(particles);
+        self.store(particles, changes);
         for (slot, &mu) in self.slots.iter().zip(&self.lambda) {
             links[slot.link as usize].impulse += (if slot.rigid { mu } else { -mu }) as f32;
         }
