@@ -268,3 +268,28 @@ fn a_ramp_drawn_by_hand_carries_a_ball_down_and_off_its_end() {
     let ball = h.state().lab.scene.world().particles.positions()[0];
     assert!(ball.x > 0.0 && (ball.y - 0.15).abs() < 0.05, "the ball ended at {ball}");
 }
+
+/// In 3D a click puts a particle on the ground near the point looked at, and where the
+/// ground under the pointer is far off (towards the horizon, or above it) on the plane
+/// through that point: never hundreds of metres away, out of sight.
+#[test]
+fn in_3d_a_click_never_puts_a_particle_out_by_the_horizon() {
+    let mut h = harness("pendulum");
+    key(&mut h, Modifiers::NONE, Key::B);
+    assert!(h.state().lab.editing() && !h.state().lab.side_view);
+    let view = h.state().view;
+    for k in 1..10 {
+        let at = Pos2::new(view.center().x + 40.0, view.top() + view.height() * k as f32 / 10.0);
+        let before = counts(&h).0;
+        h.hover_at(at);
+        h.run_steps(1);
+        press(&h, at, true);
+        press(&h, at, false);
+        h.run_steps(2);
+        let lab = &h.state().lab;
+        assert_eq!(counts(&h).0, before + 1, "a click at {at:?} added one");
+        let placed = *lab.scene.world().particles.positions().last().unwrap();
+        let reach = particle_lab::ui::lab::NEAR_GROUND * lab.camera.distance + 1e-3;
+        assert!(placed.distance(lab.camera.target) <= reach, "a click at {at:?} put it at {placed}");
+    }
+}

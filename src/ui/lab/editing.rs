@@ -14,6 +14,11 @@ use crate::scenes::sketch::{Body, End, JoinKind, Sketch};
 /// Most edits kept to undo.
 pub const UNDO_LIMIT: usize = 200;
 
+/// How far from the point looked at (in camera distances) a click in 3D may put a
+/// particle on the ground; further off (towards the horizon) it goes on the plane
+/// through that point instead.
+pub const NEAR_GROUND: f32 = 2.0;
+
 /// What a press in the view does while building.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Tool {
@@ -323,13 +328,20 @@ impl Lab {
 
     /// Where a click at `pixel` puts a new particle of radius `radius`: in the side
     /// view on its plane (z = 0); in 3D on the ground under the pointer (resting on
-    /// it). `None` where the pointer looks at no such point.
+    /// it), or, where the ground under the pointer is far off (near the horizon, or
+    /// above it), on the plane through the point looked at, facing the camera. `None`
+    /// where the pointer looks at no such point.
     #[must_use]
     pub fn place_point(&self, pixel: Vec2, viewport: Vec2, radius: f32) -> Option<Vec3> {
         let (origin, direction) = self.camera.ray(pixel, viewport);
-        let (point, normal) =
-            if self.side_view { (Vec3::ZERO, Vec3::Z) } else { (Vec3::new(0.0, radius, 0.0), Vec3::Y) };
-        hit_plane(origin, direction, point, normal)
+        if self.side_view {
+            return hit_plane(origin, direction, Vec3::ZERO, Vec3::Z);
+        }
+        let target = self.camera.target;
+        let near = |p: &Vec3| p.distance(target) <= NEAR_GROUND * self.camera.distance;
+        hit_plane(origin, direction, Vec3::new(0.0, radius, 0.0), Vec3::Y).filter(near).or_else(|| {
+            hit_plane(origin, direction, target, (self.camera.eye() - target).normalize_or_zero())
+        })
     }
 
     /// The normal of the plane a particle moves on under the pointer: the side

@@ -27,7 +27,7 @@ mod tape;
 mod watch;
 
 pub use crate::physics::inspect::CONSTRAINT_FORCE;
-pub use editing::{Editor, Gesture, Tool, UNDO_LIMIT};
+pub use editing::{Editor, Gesture, NEAR_GROUND, Tool, UNDO_LIMIT};
 pub use forces::{Spin, round_scale};
 pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;
