@@ -102,7 +102,7 @@ impl Page {
     /// After each frame drawn: the state element gets what changed of the world's step
     /// and hash, the scene, its parameters and where their sliders are (CSS pixels: a
     /// test drags them there), and the first frame takes the loading message away.
-    pub fn frame_drawn(&mut self, lab: &mut Lab, sliders: &[(&str, egui::Rect)], gpu: &str) {
+    pub fn frame_drawn(&mut self, lab: &mut Lab, sliders: &[(String, egui::Rect)], gpu: &str) {
         let step = lab.scene.world().steps();
         let params: Vec<String> =
             lab.scene.params().iter().map(|(param, value)| format!("\"{}\":{value}", param.name)).collect();

@@ -183,7 +183,10 @@ check(gzipped <= 4 * 1024 * 1024, 'the wasm is at most 4 MB gzipped',
 // The File menu's items, as the menu lays them out at this size (the first column of
 // the menu, a row each: see its screenshot in docs/guide.md, "Pictures").
 const FILE_MENU = { open: [20, 12] };
-const FILE_ITEMS = { openScene: [67, 39], downloadSnapshot: [74, 62], openSnapshot: [67, 85], copyLink: [43, 172] };
+const FILE_ITEMS = {
+  openScene: [67, 39], downloadSnapshot: [74, 62], openSnapshot: [67, 85], downloadScene: [74, 108],
+  copyLink: [43, 195],
+};
 
 async function fileItem(page, item) {
   await click(page, ...FILE_MENU.open);
@@ -247,6 +250,13 @@ async function files(page) {
   await sceneChooser.setFiles(join(root, 'assets', 'scenes', 'chain.toml'));
   const opened = await waitFor(page, () => document.getElementById('state').dataset.scene === 'chain');
   check(opened, 'Open scene file opens chain.toml', (await state(page)).status);
+  // Download scene file: the scene as `export` writes it.
+  const sceneDownload = await menuEvent(page, 'downloadScene', 'download');
+  const written = readFileSync(await sceneDownload.path(), 'utf8');
+  const exported = execFileSync(binary, ['export', '--scene-file', join(root, 'assets', 'scenes', 'chain.toml')],
+    { encoding: 'utf8' });
+  check(sceneDownload.suggestedFilename() === 'chain.toml' && written === exported,
+    'Download scene file gives the file export writes', `${sceneDownload.suggestedFilename()}, ${written.length} vs ${exported.length} bytes`);
   const broken = join(dirname(path), 'broken.toml');
   writeFileSync(broken, '[scene]\nname = "broken"\n[[particle]]\nposition = [0, "up", 0]\n');
   const badChooser = await menuEvent(page, 'openScene', 'filechooser');
