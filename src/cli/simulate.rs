@@ -198,7 +198,8 @@ pub fn simulate(
             match plan.format {
                 StateFormat::Json => {
                     let forces = plan.forces.then_some(constraint.as_slice());
-                    write_state(&mut line, first + step, t, scene.world(), &mut links, forces)?;
+                    let readouts = scene.readout_values(plan.dt);
+                    write_state(&mut line, first + step, t, scene.world(), &mut links, forces, &readouts)?;
                     line.push(b'\n');
                 }
                 StateFormat::Csv => write_csv_rows(&mut line, first + step, t, scene.world())?,
@@ -279,7 +280,7 @@ struct EnergyJson {
 }
 
 #[derive(Serialize)]
-struct StateJson {
+struct StateJson<'a> {
     step: u64,
     t: f64,
     /// [`World::state_hash`] as 16 hex digits: equal hashes at a step, equal runs.
@@ -289,6 +290,23 @@ struct StateJson {
     contacts: usize,
     resolver: ResolverJson,
     energy: EnergyJson,
+    /// The scene's read-outs by key, the numbers its panel shows; one that does not
+    /// exist yet at this step (a measured period before a full swing) is absent.
+    readouts: ReadoutsJson<'a>,
+}
+
+/// Read-outs as one JSON object, in the panel's order (a map would sort them).
+struct ReadoutsJson<'a>(&'a [(&'static str, f64)]);
+
+impl Serialize for ReadoutsJson<'_> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (key, value) in self.0 {
+            map.serialize_entry(key, value)?;
+        }
+        map.end()
+    }
 }
 
 #[derive(Serialize)]
@@ -336,9 +354,9 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
     Ok(())
 }
 
-/// The state as one JSON object; `t` is the time printed (s). With `forces` (what
-/// contacts and links did over the last step, by particle), each particle gets its
-/// forces and their sum.
+/// The state as one JSON object with the scene's read-outs; `t` is the time printed
+/// (s). With `forces` (what contacts and links did over the last step, by particle),
+/// each particle gets its forces and their sum.
 fn write_state(
     out: &mut Vec<u8>,
     step: u64,
@@ -346,6 +364,7 @@ fn write_state(
     world: &World,
     links: &mut Vec<LinkState>,
     forces: Option<&[(ParticleId, Vec3)]>,
+    readouts: &[(&'static str, f64)],
 ) -> io::Result<()> {
     let p = &world.particles;
     let measured: Option<std::collections::HashMap<ParticleId, Vec3>> =
@@ -430,6 +449,7 @@ fn write_state(
             removed: energy.removed,
             error: energy.error,
         },
+        readouts: ReadoutsJson(readouts),
     };
     serde_json::to_writer(out, &state).map_err(io::Error::other)
 }
@@ -448,7 +468,7 @@ mod tests {
         world.add_particle(desc).unwrap();
         world.add_particle(ParticleDesc { immovable: true, position: Vec3::X, ..desc }).unwrap();
         let mut line = Vec::new();
-        write_state(&mut line, 0, 0.0, &world, &mut Vec::new(), None).unwrap();
+        write_state(&mut line, 0, 0.0, &world, &mut Vec::new(), None, &[]).unwrap();
         let state: serde_json::Value = serde_json::from_slice(&line).unwrap();
         let particles = state["particles"].as_array().unwrap();
         assert_eq!(particles[0]["m"].as_f64(), Some(2.5));
