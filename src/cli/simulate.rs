@@ -295,14 +295,16 @@ struct StateJson<'a> {
     readouts: ReadoutsJson<'a>,
 }
 
-/// Read-outs as one JSON object, in the panel's order (a map would sort them).
+/// Read-outs as one JSON object, in the panel's order (a map would sort them). One
+/// that is not a finite number (the lowest point of no particles) is left out rather
+/// than printed as `null`: no number of a frame is ever `null`.
 struct ReadoutsJson<'a>(&'a [(&'static str, f64)]);
 
 impl Serialize for ReadoutsJson<'_> {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        let mut map = serializer.serialize_map(Some(self.0.len()))?;
-        for (key, value) in self.0 {
+        let mut map = serializer.serialize_map(None)?;
+        for (key, value) in self.0.iter().filter(|(_, value)| value.is_finite()) {
             map.serialize_entry(key, value)?;
         }
         map.end()
