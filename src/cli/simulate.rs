@@ -480,4 +480,15 @@ mod tests {
         assert_eq!(particles[0].get("fixed"), None, "a movable particle says nothing of it");
         assert!(!String::from_utf8(line).unwrap().contains("null"), "no number is printed as null");
     }
+
+    #[test]
+    fn read_outs_keep_the_panels_order_and_leave_out_what_is_not_a_number() {
+        let world = World::new();
+        let readouts =
+            [("period_s", 2.5), ("lowest_m", f64::INFINITY), ("flow_kg_s", 0.125), ("ratio", f64::NAN)];
+        let mut line = Vec::new();
+        write_state(&mut line, 0, 0.0, &world, &mut Vec::new(), None, &readouts).unwrap();
+        let text = String::from_utf8(line).unwrap();
+        assert!(text.ends_with(r#""readouts":{"period_s":2.5,"flow_kg_s":0.125}}"#), "{text}");
+    }
 }

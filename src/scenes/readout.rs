@@ -43,3 +43,25 @@ impl Readout {
         self
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_f32_read_out_keeps_its_shortest_decimal() {
+        let row = Readout::new("peak", "1.10 m").with("peak_m", 1.1).with("flow_kg_s", 0.1 + 0.2);
+        // A bare widening would give 1.100000023841858; the decimal reads back as the f32.
+        assert_ne!(f64::from(1.1_f32), 1.1);
+        assert_eq!(row.values[0], ("peak_m", 1.1));
+        assert_eq!(row.values[1].1 as f32, 0.1_f32 + 0.2);
+        assert_eq!(row.values[1].1.to_string(), (0.1_f32 + 0.2).to_string());
+    }
+
+    #[test]
+    fn a_read_out_that_is_not_a_number_stays_so() {
+        let row = Readout::new("lowest", "").with("lowest_m", f32::INFINITY).with("ratio", f32::NAN);
+        assert_eq!(row.values[0].1, f64::INFINITY);
+        assert!(row.values[1].1.is_nan());
+    }
+}
