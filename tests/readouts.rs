@@ -76,6 +76,19 @@ fn projectile_predictions_are_the_closed_forms_and_its_range_is_where_the_round_
     // And the measured flight is the predicted one, to semi-implicit Euler's error.
     assert!(close(must(now, "range_m"), ground, 0.005), "{} against {ground}", now["readouts"]);
     assert_eq!(must(now, "rounds_in_flight"), 0.0);
+
+    // Off its exact path: the round against the parabola from the launcher, fired at 0 s.
+    for frame in run[..landed].iter().step_by(40) {
+        let t = frame["t"].as_f64().expect("a time");
+        let [x, y, z] = vector(&particles(frame)[0]["p"]);
+        let (ex, ey) = (vx * t, h + vy * t - g * t * t / 2.0);
+        let off = ((x - ex).powi(2) + (y - ey).powi(2) + z * z).sqrt();
+        assert!(
+            (must(frame, "exact_path_error_m") - off).abs() < 1e-4,
+            "{} against {off}",
+            frame["readouts"]
+        );
+    }
     assert_eq!(must(first, "rounds_in_flight"), particles(first).len() as f64);
 }
 
@@ -193,6 +206,25 @@ fn the_piles_read_outs_are_its_spheres_speeds_and_positions() {
             })
             .count();
         assert_eq!(must(frame, "outside_box"), outside as f64);
+        // The deepest overlap, of a pair or of a sphere and the floor or a wall, over
+        // every pair (the scene finds its pairs with the broad phase).
+        let spots: Vec<([f64; 3], f64)> =
+            spheres.iter().map(|p| (vector(&p["p"]), p["r"].as_f64().expect("a radius"))).collect();
+        let mut deepest = 0.0_f64;
+        for (i, &([x, y, z], r)) in spots.iter().enumerate() {
+            for gap in [y, half - x, x + half, half - z, z + half] {
+                deepest = deepest.max(r - gap);
+            }
+            for &(q, s) in &spots[i + 1..] {
+                let apart = ((x - q[0]).powi(2) + (y - q[1]).powi(2) + (z - q[2]).powi(2)).sqrt();
+                deepest = deepest.max(r + s - apart);
+            }
+        }
+        assert!(
+            (must(frame, "deepest_overlap_m") - deepest).abs() < 1e-5,
+            "{} against {deepest}",
+            frame["readouts"]
+        );
     }
 }
 
@@ -206,6 +238,8 @@ fn the_hourglass_counts_its_grains_and_its_flows_are_beverloo_and_the_counts() {
     };
     let grain = &particles(&run[0])[0];
     let (r, m) = (grain["r"].as_f64().unwrap(), grain["m"].as_f64().unwrap());
+    // The default opening, 1.4 m, in grain diameters.
+    assert!(close(must(&run[0], "opening_grains"), 1.4 / (2.0 * r), 1e-6), "{}", run[0]["readouts"]);
     for (i, frame) in run.iter().enumerate() {
         assert_eq!(must(frame, "grains"), particles(frame).len() as f64);
         assert_eq!(must(frame, "grains_through"), through(frame) as f64, "at step {}", frame["step"]);
