@@ -184,7 +184,11 @@ fn every_read_out_of_every_scene_is_in_the_cli_reference() {
         let mut seen = BTreeSet::new();
         for step in 0..=steps {
             if step % 30 == 0 {
-                seen.extend(scene.readouts(dt).into_iter().map(|(label, _)| label.trim().to_string()));
+                for row in scene.readout_rows(dt) {
+                    seen.insert(row.label.trim().to_string());
+                    // Each number's key, as `simulate` prints it, in the same section.
+                    seen.extend(row.values.iter().map(|(key, _)| key.to_string()));
+                }
             }
             if step < steps {
                 scene.step(dt).unwrap();
@@ -196,7 +200,10 @@ fn every_read_out_of_every_scene_is_in_the_cli_reference() {
             }
         }
     }
-    assert!(missing.is_empty(), "docs/cli.md lacks, under each scene's heading, the read-outs: {missing:#?}");
+    assert!(
+        missing.is_empty(),
+        "docs/cli.md lacks, under each scene's heading, the read-outs or their keys: {missing:#?}"
+    );
 }
 
 #[test]

@@ -198,7 +198,8 @@ pub fn simulate(
             match plan.format {
                 StateFormat::Json => {
                     let forces = plan.forces.then_some(constraint.as_slice());
-                    write_state(&mut line, first + step, t, scene.world(), &mut links, forces)?;
+                    let readouts = scene.readout_values(plan.dt);
+                    write_state(&mut line, first + step, t, scene.world(), &mut links, forces, &readouts)?;
                     line.push(b'\n');
                 }
                 StateFormat::Csv => write_csv_rows(&mut line, first + step, t, scene.world())?,
@@ -279,7 +280,7 @@ struct EnergyJson {
 }
 
 #[derive(Serialize)]
-struct StateJson {
+struct StateJson<'a> {
     step: u64,
     t: f64,
     /// [`World::state_hash`] as 16 hex digits: equal hashes at a step, equal runs.
@@ -289,6 +290,25 @@ struct StateJson {
     contacts: usize,
     resolver: ResolverJson,
     energy: EnergyJson,
+    /// The scene's read-outs by key, the numbers its panel shows; one that does not
+    /// exist yet at this step (a measured period before a full swing) is absent.
+    readouts: ReadoutsJson<'a>,
+}
+
+/// Read-outs as one JSON object, in the panel's order (a map would sort them). One
+/// that is not a finite number (the lowest point of no particles) is left out rather
+/// than printed as `null`: no number of a frame is ever `null`.
+struct ReadoutsJson<'a>(&'a [(&'static str, f64)]);
+
+impl Serialize for ReadoutsJson<'_> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(None)?;
+        for (key, value) in self.0.iter().filter(|(_, value)| value.is_finite()) {
+            map.serialize_entry(key, value)?;
+        }
+        map.end()
+    }
 }
 
 #[derive(Serialize)]
@@ -336,9 +356,9 @@ fn write_csv_rows(out: &mut Vec<u8>, step: u64, t: f64, world: &World) -> io::Re
     Ok(())
 }
 
-/// The state as one JSON object; `t` is the time printed (s). With `forces` (what
-/// contacts and links did over the last step, by particle), each particle gets its
-/// forces and their sum.
+/// The state as one JSON object with the scene's read-outs; `t` is the time printed
+/// (s). With `forces` (what contacts and links did over the last step, by particle),
+/// each particle gets its forces and their sum.
 fn write_state(
     out: &mut Vec<u8>,
     step: u64,
@@ -346,6 +366,7 @@ fn write_state(
     world: &World,
     links: &mut Vec<LinkState>,
     forces: Option<&[(ParticleId, Vec3)]>,
+    readouts: &[(&'static str, f64)],
 ) -> io::Result<()> {
     let p = &world.particles;
     let measured: Option<std::collections::HashMap<ParticleId, Vec3>> =
@@ -430,6 +451,7 @@ fn write_state(
             removed: energy.removed,
             error: energy.error,
         },
+        readouts: ReadoutsJson(readouts),
     };
     serde_json::to_writer(out, &state).map_err(io::Error::other)
 }
@@ -448,7 +470,7 @@ mod tests {
         world.add_particle(desc).unwrap();
         world.add_particle(ParticleDesc { immovable: true, position: Vec3::X, ..desc }).unwrap();
         let mut line = Vec::new();
-        write_state(&mut line, 0, 0.0, &world, &mut Vec::new(), None).unwrap();
+        write_state(&mut line, 0, 0.0, &world, &mut Vec::new(), None, &[]).unwrap();
         let state: serde_json::Value = serde_json::from_slice(&line).unwrap();
         let particles = state["particles"].as_array().unwrap();
         assert_eq!(particles[0]["m"].as_f64(), Some(2.5));
@@ -457,5 +479,16 @@ mod tests {
         assert_eq!(particles[1]["fixed"], serde_json::Value::Bool(true));
         assert_eq!(particles[0].get("fixed"), None, "a movable particle says nothing of it");
         assert!(!String::from_utf8(line).unwrap().contains("null"), "no number is printed as null");
+    }
+
+    #[test]
+    fn read_outs_keep_the_panels_order_and_leave_out_what_is_not_a_number() {
+        let world = World::new();
+        let readouts =
+            [("period_s", 2.5), ("lowest_m", f64::INFINITY), ("flow_kg_s", 0.125), ("ratio", f64::NAN)];
+        let mut line = Vec::new();
+        write_state(&mut line, 0, 0.0, &world, &mut Vec::new(), None, &readouts).unwrap();
+        let text = String::from_utf8(line).unwrap();
+        assert!(text.ends_with(r#""readouts":{"period_s":2.5,"flow_kg_s":0.125}}"#), "{text}");
     }
 }

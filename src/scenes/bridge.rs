@@ -173,14 +173,17 @@ impl Scene for Bridge {
         CameraHint { target: Vec3::new(0.0, 3.2, 0.0), distance: 14.0, yaw: 0.55, pitch: 0.32 }
     }
 
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let p = &self.world.particles;
         let lowest = p.position.iter().map(|v| v.y).fold(f32::INFINITY, f32::min);
         let fastest = p.velocity.iter().map(|v| v.length()).fold(0.0, f32::max);
+        let penetration = self.world.last_report().max_penetration;
         vec![
-            ("lowest deck point".into(), format!("{lowest:.3} m")),
-            ("fastest particle".into(), format!("{fastest:.4} m/s")),
-            ("max penetration left".into(), format!("{:.5} m", self.world.last_report().max_penetration)),
+            Readout::new("lowest deck point", format!("{lowest:.3} m")).with("lowest_m", lowest),
+            Readout::new("fastest particle", format!("{fastest:.4} m/s")).with("fastest_m_s", fastest),
+            Readout::new("max penetration left", format!("{penetration:.5} m"))
+                .with("max_penetration_m", penetration),
         ]
     }
 }

@@ -126,7 +126,8 @@ impl Scene for Cradle {
         CameraHint { target: Vec3::new(0.0, TOP - 0.6, 0.0), distance: 3.6, yaw: 0.0, pitch: 0.08 }
     }
 
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let (balls, lifted) = counts(&self.params);
         let asked = self.params.get("lifted").round() as usize;
         let lifted_text = if asked > lifted {
@@ -137,6 +138,13 @@ impl Scene for Cradle {
         // The speed the lifted balls reach at the bottom, √(2 g L (1 - cos θ)).
         let (g, angle) = (self.params.get("g"), self.params.get("angle").to_radians());
         let arriving = (2.0 * g * CABLE * (1.0 - angle.cos())).sqrt();
-        vec![("lifted".into(), lifted_text), ("speed at the bottom".into(), format!("{arriving:.3} m/s"))]
+        vec![
+            Readout::new("lifted", lifted_text)
+                .with("lifted", lifted as f32)
+                .with("balls", balls as f32)
+                .with("lifted_asked", asked as f32),
+            Readout::new("speed at the bottom", format!("{arriving:.3} m/s"))
+                .with("speed_at_bottom_predicted_m_s", arriving),
+        ]
     }
 }

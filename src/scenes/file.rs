@@ -695,14 +695,18 @@ impl Scene for FileScene {
         }
     }
 
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let world = &self.built.world;
+        let (particles, links) = (world.particles.len(), self.built.links.len());
         let mut out = vec![
-            ("file".into(), self.definition.shown.clone()),
-            ("particles, links".into(), format!("{}, {}", world.particles.len(), self.built.links.len())),
+            Readout::new("file", self.definition.shown.clone()),
+            Readout::new("particles, links", format!("{particles}, {links}"))
+                .with("particles", particles as f32)
+                .with("links", links as f32),
         ];
         if self.torn > 0 || self.built.links.iter().any(|l| l.tear.is_some()) {
-            out.push(("links torn".into(), self.torn.to_string()));
+            out.push(Readout::new("links torn", self.torn.to_string()).with("links_torn", self.torn as f32));
         }
         out
     }

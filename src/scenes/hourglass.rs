@@ -344,24 +344,34 @@ impl Scene for Hourglass {
         Some((-self.shape.depth, "the basin's floor"))
     }
 
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let shape = &self.shape;
         let through = grains_through(&self.world);
+        let grains = self.world.particles.len();
         let beverloo = shape.beverloo(self.packing, self.params.get("g"));
+        let opening = shape.orifice / (2.0 * shape.radius);
         let mut rows = vec![
-            ("opening / grain".into(), format!("{:.1} diameters", shape.orifice / (2.0 * shape.radius))),
-            ("grains through".into(), format!("{through} of {}", self.world.particles.len())),
-            ("bed packing".into(), format!("{:.3}", self.packing)),
-            ("Beverloo's flow".into(), format!("{beverloo:.4} kg/s")),
+            Readout::new("opening / grain", format!("{opening:.1} diameters"))
+                .with("opening_grains", opening),
+            Readout::new("grains through", format!("{through} of {grains}"))
+                .with("grains_through", through as f32)
+                .with("grains", grains as f32),
+            Readout::new("bed packing", format!("{:.3}", self.packing)).with("packing", self.packing),
+            Readout::new("Beverloo's flow", format!("{beverloo:.4} kg/s")).with("beverloo_kg_s", beverloo),
         ];
         match self.flow() {
             Some(flow) => {
-                rows.push(("flow (last 1 s)".into(), format!("{flow:.4} kg/s")));
+                rows.push(Readout::new("flow (last 1 s)", format!("{flow:.4} kg/s")).with("flow_kg_s", flow));
                 if beverloo > 0.0 {
-                    rows.push(("flow / Beverloo".into(), format!("{:.3}", flow / beverloo)));
+                    let ratio = flow / beverloo;
+                    rows.push(
+                        Readout::new("flow / Beverloo", format!("{ratio:.3}"))
+                            .with("flow_over_beverloo", ratio),
+                    );
                 }
             }
-            None => rows.push(("flow (last 1 s)".into(), "measuring…".into())),
+            None => rows.push(Readout::new("flow (last 1 s)", "measuring…")),
         }
         rows
     }

@@ -34,6 +34,7 @@ mod params;
 mod pendulum;
 pub mod pile;
 mod projectile;
+pub mod readout;
 pub mod sketch;
 pub mod snapshot;
 mod spring_forces;
@@ -49,6 +50,7 @@ pub use serde_json::value::RawValue;
 use crate::physics::{PhysicsError, ResolveReport, World};
 
 pub use params::{Param, ParamError, ParamTable, ParamValues, Preset};
+pub use readout::Readout;
 
 /// How far one key press moves the bridge's load, in load coordinates (m).
 pub const LOAD_STEP: f32 = 0.1;
@@ -257,9 +259,20 @@ pub trait Scene: Send {
         0.0
     }
 
-    /// Named read-outs for the panel, e.g. a spring's stability number at `dt`.
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    /// The read-outs at the integrator's step `dt` (s): each panel row with the numbers
+    /// it shows, e.g. a spring's stability number ω·dt. `simulate` prints the numbers.
+    fn readout_rows(&self, _dt: f32) -> Vec<Readout> {
         Vec::new()
+    }
+
+    /// The read-outs as the panel writes them: (label, text) per row.
+    fn readouts(&self, dt: f32) -> Vec<(String, String)> {
+        self.readout_rows(dt).into_iter().map(|row| (row.label.to_string(), row.text)).collect()
+    }
+
+    /// The read-outs' numbers by key, in the panel's order, as `simulate` prints them.
+    fn readout_values(&self, dt: f32) -> Vec<(&'static str, f64)> {
+        self.readout_rows(dt).into_iter().flat_map(|row| row.values).collect()
     }
 
     /// Edges to draw that are not links (m): the outline of a box's walls.

@@ -141,15 +141,21 @@ impl Scene for Pendulum {
         }
     }
 
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let energy = self.world.energy();
-        let now = energy.kinetic + energy.potential;
+        let change = energy.kinetic + energy.potential - self.start_energy;
         let (length, g) = (self.params.get("length"), self.params.get("g"));
-        let mut out = vec![("energy since release".into(), format!("{:+.3} J", now - self.start_energy))];
+        let mut out = vec![
+            Readout::new("energy since release", format!("{change:+.3} J")).with("energy_change_j", change),
+        ];
         if links(&self.params) == 1 && g > 0.0 {
             // Small swings only; a release far from the bottom swings more slowly.
             let period = 2.0 * std::f32::consts::PI * (length / g).sqrt();
-            out.push(("period of small swings 2π√(L/g)".into(), format!("{period:.3} s")));
+            out.push(
+                Readout::new("period of small swings 2π√(L/g)", format!("{period:.3} s"))
+                    .with("period_predicted_s", period),
+            );
         }
         out
     }

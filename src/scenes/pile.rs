@@ -237,14 +237,20 @@ impl Scene for Pile {
         CameraHint { target, distance: width * 1.9 + start_height * 0.5, yaw: 0.6, pitch: 0.45 }
     }
 
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let quality = quality(&self.world, self.params.get("width"));
+        let spheres = self.world.particles.len();
         vec![
-            ("spheres".into(), self.world.particles.len().to_string()),
-            ("median speed".into(), format!("{:.4} m/s", quality.median_speed)),
-            ("fastest sphere".into(), format!("{:.3} m/s", quality.max_speed)),
-            ("deepest overlap".into(), format!("{:.4} m", quality.deepest_overlap)),
-            ("outside the box".into(), quality.escaped.to_string()),
+            Readout::new("spheres", spheres.to_string()).with("spheres", spheres as f32),
+            Readout::new("median speed", format!("{:.4} m/s", quality.median_speed))
+                .with("median_speed_m_s", quality.median_speed),
+            Readout::new("fastest sphere", format!("{:.3} m/s", quality.max_speed))
+                .with("fastest_m_s", quality.max_speed),
+            Readout::new("deepest overlap", format!("{:.4} m", quality.deepest_overlap))
+                .with("deepest_overlap_m", quality.deepest_overlap),
+            Readout::new("outside the box", quality.escaped.to_string())
+                .with("outside_box", quality.escaped as f32),
         ]
     }
 }

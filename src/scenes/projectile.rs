@@ -424,10 +424,14 @@ impl Scene for Projectile {
         self.ghosts.last().and_then(|ghost| ghost.error(&self.world))
     }
 
-    fn readouts(&self, _dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let (g, v, h) = (self.params.get("g"), self.params.get("speed"), self.params.get("height"));
         let angle = self.params.get("angle").to_radians();
-        let mut out = vec![("rounds in flight".into(), self.rounds.len().to_string())];
+        let flying = self.rounds.len();
+        let mut out = vec![
+            Readout::new("rounds in flight", flying.to_string()).with("rounds_in_flight", flying as f32),
+        ];
         let target = self.target();
         if let Some(flight) = self.flights.iter().rev().find(|f| f.landing.is_some()) {
             let (t, p) = flight.landing.expect("found by its landing");
@@ -437,26 +441,41 @@ impl Scene for Projectile {
             } else {
                 format!("miss, {:.2} m {}", off.abs(), if off > 0.0 { "long" } else { "short" })
             };
-            out.push(("last landing".into(), verdict));
-            out.push((
-                "  its range, flight time".into(),
-                format!("{:.2} m in {t:.2} s", p.x - flight.launch.1.x),
-            ));
+            let hit = if flight.hit(target) == Some(true) { 1.0 } else { 0.0 };
+            out.push(
+                Readout::new("last landing", verdict).with("hit", hit).with("landing_off_target_m", off),
+            );
+            let range = p.x - flight.launch.1.x;
+            out.push(
+                Readout::new("  its range, flight time", format!("{range:.2} m in {t:.2} s"))
+                    .with("range_m", range)
+                    .with_f64("flight_time_s", t),
+            );
         }
         if let Some(error) = self.exact_error() {
-            out.push(("newest round from its exact path".into(), format!("{:.1} mm", error * 1000.0)));
+            out.push(
+                Readout::new("newest round from its exact path", format!("{:.1} mm", error * 1000.0))
+                    .with("exact_path_error_m", error),
+            );
         }
         if g > 0.0 {
             let (vx, vy) = (v * angle.cos(), v * angle.sin());
-            out.push(("peak (no drag)".into(), format!("{:.2} m", h + vy.max(0.0).powi(2) / (2.0 * g))));
-            out.push((
-                "range to the ground (no drag)".into(),
-                format!("{:.2} m", ground_range(vx, vy, h, g)),
-            ));
+            let peak = h + vy.max(0.0).powi(2) / (2.0 * g);
+            out.push(Readout::new("peak (no drag)", format!("{peak:.2} m")).with("peak_predicted_m", peak));
+            let ground = ground_range(vx, vy, h, g);
+            out.push(
+                Readout::new("range to the ground (no drag)", format!("{ground:.2} m"))
+                    .with("range_predicted_m", ground),
+            );
             // Back at launch height only if it went up first.
-            let level =
-                if vy > 0.0 { format!("{:.2} m", 2.0 * vx * vy / g) } else { "never comes back up".into() };
-            out.push(("range at launch height (no drag)".into(), level));
+            let level = if vy > 0.0 {
+                let level = 2.0 * vx * vy / g;
+                Readout::new("range at launch height (no drag)", format!("{level:.2} m"))
+                    .with("range_level_predicted_m", level)
+            } else {
+                Readout::new("range at launch height (no drag)", "never comes back up")
+            };
+            out.push(level);
         }
         out
     }

@@ -313,28 +313,38 @@ impl Scene for SpringForces {
         self.ghost.as_ref().and_then(|ghost| ghost.error(&self.world))
     }
 
-    fn readouts(&self, dt: f32) -> Vec<(String, String)> {
+    fn readout_rows(&self, dt: f32) -> Vec<super::Readout> {
+        use super::Readout;
         let (k, mass) = (self.params.get("k"), self.params.get("mass"));
         let omega = (k / mass).sqrt();
         let stiff_omega = (self.params.get("stiff_k") / mass).sqrt();
         let verdict = |w: f32| if w * dt < 2.0 { "stable" } else { "would explode explicitly" };
         let bob_y = self.world.particles.index(self.bob).map_or(0.0, |i| self.world.particles.position[i].y);
+        let predicted = std::f32::consts::TAU / omega;
+        let measured = match self.stopwatch.2 {
+            Some(period) => {
+                Readout::new("bob's period, measured", format!("{period:.3} s")).with_f64("period_s", period)
+            }
+            None => Readout::new("bob's period, measured", "timing…"),
+        };
+        let error = match self.exact_error() {
+            Some(e) => Readout::new("bob from its exact path", format!("{:.2} mm", e * 1000.0))
+                .with("exact_path_error_m", e),
+            None => Readout::new("bob from its exact path", "—"),
+        };
         vec![
-            ("spring period 2π√(m/k)".into(), format!("{:.3} s", std::f32::consts::TAU / omega)),
-            (
-                "bob's period, measured".into(),
-                self.stopwatch.2.map_or("timing…".into(), |period| format!("{period:.3} s")),
-            ),
-            ("spring ω·dt (explicit limit 2)".into(), format!("{:.3} ({})", omega * dt, verdict(omega))),
-            (
-                "stiff spring ω·dt".into(),
+            Readout::new("spring period 2π√(m/k)", format!("{predicted:.3} s"))
+                .with("period_predicted_s", predicted),
+            measured,
+            Readout::new("spring ω·dt (explicit limit 2)", format!("{:.3} ({})", omega * dt, verdict(omega)))
+                .with("omega_dt", omega * dt),
+            Readout::new(
+                "stiff spring ω·dt",
                 format!("{:.2} ({}; solved exactly)", stiff_omega * dt, verdict(stiff_omega)),
-            ),
-            ("bob height".into(), format!("{bob_y:.3} m")),
-            (
-                "bob from its exact path".into(),
-                self.exact_error().map_or("—".into(), |e| format!("{:.2} mm", e * 1000.0)),
-            ),
+            )
+            .with("stiff_omega_dt", stiff_omega * dt),
+            Readout::new("bob height", format!("{bob_y:.3} m")).with("bob_height_m", bob_y),
+            error,
         ]
     }
 }

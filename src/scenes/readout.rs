@@ -1,0 +1,67 @@
+//! A scene's read-outs: the rows the panel shows, each with the numbers it was
+//! formatted from, which `simulate` prints. One source for both, so the panel never
+//! shows a figure the command line cannot give.
+
+/// One row of the panel's Read-outs section and the numbers behind its text.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Readout {
+    /// What the panel writes on the left: "bob's period, measured".
+    pub label: &'static str,
+    /// What it writes on the right, formatted from `values`: "1.234 s". A row may be
+    /// text alone ("timing…") while its number does not exist yet.
+    pub text: String,
+    /// The row's numbers, each under a stable snake_case key that ends in its unit
+    /// (`period_s`, `flow_kg_s`; counts and ratios have none), as `simulate` prints
+    /// them: unrounded, in the precision the scene computed them in.
+    pub values: Vec<(&'static str, f64)>,
+}
+
+impl Readout {
+    /// A row with no numbers yet: add them with [`Readout::with`].
+    #[must_use]
+    pub fn new(label: &'static str, text: impl Into<String>) -> Self {
+        Self { label, text: text.into(), values: Vec::new() }
+    }
+
+    /// The row with one more number, computed in f32, under `key`. It is kept as the
+    /// f64 nearest the f32's shortest decimal, so 1.1 prints as 1.1, not as the
+    /// 1.100000023841858 a bare widening gives, and reads back to the same f32.
+    #[must_use]
+    pub fn with(self, key: &'static str, value: f32) -> Self {
+        let widened = if value.is_finite() {
+            value.to_string().parse().expect("an f32's decimal is an f64's")
+        } else {
+            f64::from(value)
+        };
+        self.with_f64(key, widened)
+    }
+
+    /// The row with one more number, computed in f64, under `key`.
+    #[must_use]
+    pub fn with_f64(mut self, key: &'static str, value: f64) -> Self {
+        self.values.push((key, value));
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_f32_read_out_keeps_its_shortest_decimal() {
+        let row = Readout::new("peak", "1.10 m").with("peak_m", 1.1).with("flow_kg_s", 0.1 + 0.2);
+        // A bare widening would give 1.100000023841858; the decimal reads back as the f32.
+        assert_ne!(f64::from(1.1_f32), 1.1);
+        assert_eq!(row.values[0], ("peak_m", 1.1));
+        assert_eq!(row.values[1].1 as f32, 0.1_f32 + 0.2);
+        assert_eq!(row.values[1].1.to_string(), (0.1_f32 + 0.2).to_string());
+    }
+
+    #[test]
+    fn a_read_out_that_is_not_a_number_stays_so() {
+        let row = Readout::new("lowest", "").with("lowest_m", f32::INFINITY).with("ratio", f32::NAN);
+        assert_eq!(row.values[0].1, f64::INFINITY);
+        assert!(row.values[1].1.is_nan());
+    }
+}
