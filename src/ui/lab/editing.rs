@@ -1,5 +1,5 @@
-//! The builder's state and edits: a [`Sketch`] with its history (undo, redo), the tool
-//! in hand, the selection, and the gestures in the view (add a particle where the
+//! The builder's edits, on its state (`builder_state`): a [`Sketch`] with its history
+//! (undo, redo), the tool in hand, the selection, and the gestures in the view (add a particle where the
 //! pointer is, drag one to move it, drag from one to another to link them). Every
 //! edit writes the sketch as a scene file and loads it as the running scene, paused,
 //! so that what is built is exactly what Play runs, Reset returns to, Save writes and
@@ -7,131 +7,10 @@
 
 use glam::{Vec2, Vec3};
 
+use super::builder_state::{Editor, Gesture, NEAR_GROUND, Tool, UNDO_LIMIT};
 use super::model::Lab;
 use crate::scenes::file;
 use crate::scenes::sketch::{Body, End, JoinKind, Sketch};
-
-/// Most edits kept to undo.
-pub const UNDO_LIMIT: usize = 200;
-
-/// How far from the point looked at (in camera distances) a click in 3D may put a
-/// particle on the ground; further off (towards the horizon) it goes on the plane
-/// through that point instead.
-pub const NEAR_GROUND: f32 = 2.0;
-
-/// What a press in the view does while building.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Tool {
-    /// Click selects; drag a particle to move it.
-    Select,
-    /// Click puts a new particle there.
-    Add,
-    /// Drag from a particle to another, or to empty space for a fixed point, to link them.
-    Join,
-    /// Drag a segment to draw a finite wall along it (a ramp in the side view, an
-    /// upright wall on the ground in 3D).
-    Wall,
-}
-
-/// An edit in progress in the view.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Gesture {
-    /// Moving particle `index` on the plane through `plane_point` facing `normal`.
-    Move {
-        /// The particle.
-        index: usize,
-        /// A point of the plane it moves on.
-        plane_point: Vec3,
-        /// The plane's normal.
-        normal: Vec3,
-    },
-    /// Linking from particle `from`; the pointer is at `to` (m).
-    Join {
-        /// The first end.
-        from: usize,
-        /// Where the pointer is, on the plane through `from` facing the camera.
-        to: Vec3,
-        /// The plane's normal.
-        normal: Vec3,
-    },
-    /// Drawing a wall from `from` to `to` (m).
-    Wall {
-        /// Where the drag started.
-        from: Vec3,
-        /// Where the pointer is.
-        to: Vec3,
-    },
-}
-
-/// The builder.
-#[derive(Clone, Debug)]
-pub struct Editor {
-    /// Every state of the sketch kept, oldest first.
-    history: Vec<Sketch>,
-    /// The one shown: `history[at]`.
-    at: usize,
-    /// What the last edit changed, so that a slider dragged through many values
-    /// is one step to undo.
-    last_change: Option<&'static str>,
-    /// The tool in hand.
-    pub tool: Tool,
-    /// The selected particle.
-    pub selected: Option<usize>,
-    /// The kind of link the Join tool makes.
-    pub join_kind: JoinKind,
-    /// The spring constant of new springs and bungees (N/m).
-    pub spring_k: f32,
-    /// What the Add tool puts down.
-    pub new_body: Body,
-    /// The width of walls the Wall tool draws (m).
-    pub wall_width: f32,
-    /// An edit in progress in the view.
-    pub gesture: Option<Gesture>,
-    /// Building (the scene paused); false while what was built plays, to come back to.
-    open: bool,
-}
-
-impl Editor {
-    fn new(sketch: Sketch) -> Self {
-        Self {
-            history: vec![sketch],
-            at: 0,
-            last_change: None,
-            tool: Tool::Add,
-            selected: None,
-            join_kind: JoinKind::Rod,
-            spring_k: 50.0,
-            new_body: Body { radius: 0.15, ..Body::default() },
-            wall_width: 2.0,
-            gesture: None,
-            open: true,
-        }
-    }
-
-    /// The sketch as it stands.
-    #[must_use]
-    pub fn sketch(&self) -> &Sketch {
-        &self.history[self.at]
-    }
-
-    /// Whether there is an edit to undo.
-    #[must_use]
-    pub fn can_undo(&self) -> bool {
-        self.at > 0
-    }
-
-    /// Whether there is an undone edit to redo.
-    #[must_use]
-    pub fn can_redo(&self) -> bool {
-        self.at + 1 < self.history.len()
-    }
-
-    /// Edits kept to undo.
-    #[must_use]
-    pub fn undo_depth(&self) -> usize {
-        self.at
-    }
-}
 
 impl Lab {
     /// Whether the builder is open.

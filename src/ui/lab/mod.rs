@@ -5,12 +5,13 @@
 //! `grab` (dragging and picking), `forces` (the inspector's forces and the arrows'
 //! scale), `framing` (the camera: framing, side view, follow), `bars` (energy bars), `tape`,
 //! `snapshots`, `scene_file` (open and hot-reload a scene file, with `watch`), `editing`
-//! (the builder: a sketch, its history and the gestures that edit it), `link`
+//! (the builder's edits and gestures, on its state in the leaf `builder_state`), `link`
 //! (a web page's query string as the window's command line, and the link of what is on
 //! screen); and two leaves every room may read, `limits` (the constants) and
 //! `records` (plain data). Only this facade re-exports; no room imports it.
 
 mod bars;
+mod builder_state;
 pub mod carried;
 mod clock;
 mod editing;
@@ -27,7 +28,7 @@ mod tape;
 mod watch;
 
 pub use crate::physics::inspect::CONSTRAINT_FORCE;
-pub use editing::{Editor, Gesture, NEAR_GROUND, Tool, UNDO_LIMIT};
+pub use builder_state::{Editor, Gesture, NEAR_GROUND, Tool, UNDO_LIMIT};
 pub use forces::{Spin, round_scale};
 pub use grab::{mouse_pull, mouse_pull_joined};
 pub use limits::*;

@@ -108,7 +108,7 @@ pub struct Lab {
     /// tests of the clock's arithmetic) for no limit.
     pub(super) physics_budget: Option<std::time::Duration>,
     /// The builder, while it is open.
-    pub editor: Option<super::editing::Editor>,
+    pub editor: Option<super::builder_state::Editor>,
 }
 
 impl Lab {
