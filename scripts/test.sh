@@ -20,6 +20,9 @@ if [ ${#missing[@]} -gt 0 ]; then
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+# No circle of imports among the source files (STYLE.md: rooms import one way).
+python3 scripts/imports.py
+
 # Every target: unit, integration and end-to-end tests, and the benchmarks once each
 # in test mode (so they are known to build and run).
 cargo test --release --all-targets
