@@ -45,7 +45,7 @@ pub fn export(args: &ExportArgs) -> Result<Exported, String> {
         let snapshot = Snapshot::load(path)?;
         let (entry, scene) = snapshot.restore_with_entry()?;
         let name = format!("{} at step {}", entry.info().name, scene.world().steps());
-        return Ok(as_sketch(&entry, scene.world(), &name));
+        return Ok(as_sketch(&entry, scene.as_ref(), &name, snapshot.dt));
     }
     let entry = file::choose(args.scene.as_deref(), args.scene_file.as_deref())?;
     let mut values = scenes::ParamValues::defaults(&entry.info().params);
@@ -58,15 +58,30 @@ pub fn export(args: &ExportArgs) -> Result<Exported, String> {
     if file::writable(&entry).is_ok() {
         return Ok(Exported { text: file::written(&entry, &values)?, left_out: Vec::new() });
     }
-    Ok(as_sketch(&entry, scene.world(), &format!("{} (copy)", entry.info().name)))
+    Ok(as_sketch(&entry, scene.as_ref(), &format!("{} (copy)", entry.info().name), entry.info().dt))
 }
 
-/// A scene's world as plain particles and links. A scene built into the program
-/// leaves its own rules behind (what its `step` does besides the world's).
-fn as_sketch(entry: &SceneEntry, world: &crate::physics::World, name: &str) -> Exported {
-    let (sketch, mut left_out) = Sketch::from_world(world, name);
+/// A scene as a sketch: its particles, links, forces, surroundings and launcher. A
+/// scene built into the program leaves behind what only its code does (see
+/// [`own_rules`]).
+fn as_sketch(entry: &SceneEntry, scene: &dyn scenes::Scene, name: &str, dt: f32) -> Exported {
+    let (mut sketch, mut left_out) = Sketch::from_scene(scene, name);
+    sketch.dt = Some(dt);
     if file::definition(entry).is_none() {
-        left_out.insert(0, format!("the rules of '{}' besides its particles and links", entry.info().name));
+        left_out.insert(0, own_rules(&entry.info().name));
     }
     Exported { text: sketch.text(), left_out }
+}
+
+/// What a scene built into the program does that its copy does not: its sliders
+/// (the copy keeps the values they had, and g, and a launcher's speed and angle),
+/// presets and read-outs, and any rule of its own.
+fn own_rules(name: &str) -> String {
+    let rule = match name {
+        "bridge" => ", and its movable load (the load's mass stays where it is)",
+        "hourglass" => ", among them the flow gauges beside Beverloo's law",
+        "springForces" => ", among them the bob's stopwatch and exact twin",
+        _ => "",
+    };
+    format!("the sliders, presets and read-outs of '{name}'{rule}")
 }

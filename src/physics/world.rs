@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::collision::{BroadPhase, ContactGenerator, Plane, Scratch};
+use super::collision::{BroadPhase, ContactGenerator, Plane, Plate, Scratch};
 use super::contact::Contact;
 use super::energy::{self, Energy, Ledger};
 pub use super::error::MAX_TIME_STEP;
@@ -134,6 +134,14 @@ impl World {
     pub fn planes(&self) -> impl Iterator<Item = &Plane> + '_ {
         self.contact_generators.iter().filter_map(|(_, generator)| match generator {
             ContactGenerator::Plane(plane) => Some(plane),
+            _ => None,
+        })
+    }
+
+    /// The plates with an opening (an hourglass's floor), in the order they were added.
+    pub fn plates(&self) -> impl Iterator<Item = &Plate> + '_ {
+        self.contact_generators.iter().filter_map(|(_, generator)| match generator {
+            ContactGenerator::Plate(plate) => Some(plate),
             _ => None,
         })
     }

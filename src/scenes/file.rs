@@ -142,12 +142,13 @@ use self::build::{Built, Handle, Located};
 use self::format::Document;
 pub use self::format::{ACCEPTED_KEYS, accepted_keys};
 pub use self::write::{HEADER, float32, string as toml_string};
+use super::launcher::Launcher;
 use super::{
-    CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo,
-    Water,
+    CameraHint, GRAVITY_PRESETS, Param, ParamError, ParamTable, ParamValues, Scene, SceneAction, SceneEntry,
+    SceneInfo, Water,
 };
 use crate::messages::{self, clip, quote};
-use crate::physics::{LinkState, PhysicsError, ResolveReport, World};
+use crate::physics::{LinkState, ParticleId, PhysicsError, ResolveReport, World};
 use crate::reading;
 
 /// The scenes shipped in `assets/scenes/`, built into the binary so the Scene menu has
@@ -386,7 +387,7 @@ fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<SceneE
         default_steps: steps,
         params: ParamTable::Shared(params.into()),
         presets: if has_g { GRAVITY_PRESETS } else { &[] },
-        actions: &[],
+        actions: if doc.launcher.is_some() { super::launcher::FIRE } else { &[] },
         trails: scene.trails.unwrap_or(true),
         color_by_speed: scene.color_by_speed.unwrap_or(false),
     };
@@ -506,10 +507,26 @@ struct FileScene {
     states: Vec<LinkState>,
     /// The walls' patches as drawn (see [`wall_outlines`]), made when the world is built.
     walls: Vec<(Vec3, Vec3)>,
+    /// The `[launcher]`, with its rounds.
+    launcher: Option<Launcher>,
+    /// The round it fired at the start: the one particle of the world as built that a
+    /// later world need not hold (it goes when it lands).
+    start_round: Option<ParticleId>,
+    /// The state hash of the world as built, before any round: a parameter change that
+    /// builds the same world changes only the launcher's aim, and the motion goes on.
+    built_hash: u64,
+}
+
+/// The launcher `built` asks for, armed, with the round it fires at the start.
+fn arm(built: &mut Built) -> Result<(Option<Launcher>, Option<ParticleId>), PhysicsError> {
+    let Some((aim, fire)) = built.launcher else { return Ok((None, None)) };
+    let mut launcher = Launcher::new(aim);
+    let round = if fire { Some(launcher.fire(&mut built.world)?) } else { None };
+    Ok((Some(launcher), round))
 }
 
 /// The lines that draw `built`'s walls: every plane but the ground the view draws (at
-/// y = 0), each a patch around the box its particles (by their radii) and link
+/// y = 0), and every plate with its opening, each a patch around the box its particles (by their radii) and link
 /// anchors fill as built.
 fn wall_outlines(built: &Built) -> Vec<(Vec3, Vec3)> {
     let world = &built.world;
@@ -524,6 +541,9 @@ fn wall_outlines(built: &Built) -> Vec<(Vec3, Vec3)> {
     let mut out = Vec::new();
     for plane in world.planes().filter(|plane| !(plane.normal == Vec3::Y && plane.offset == 0.0)) {
         super::walls::plane_patch(plane, lo, hi, &mut out);
+    }
+    for plate in world.plates() {
+        super::walls::plate_patch(plate, lo, hi, &mut out);
     }
     out
 }
@@ -541,9 +561,25 @@ fn particle_box(world: &World) -> (Vec3, Vec3) {
 
 impl FileScene {
     fn new(definition: Arc<Definition>, params: ParamValues) -> Result<Self, FileError> {
-        let built = definition.build(&params)?;
+        let mut built = definition.build(&params)?;
         let walls = wall_outlines(&built);
-        Ok(Self { definition, params, built, torn: 0, states: Vec::new(), walls })
+        let built_hash = built.world.state_hash();
+        let (launcher, start_round) = arm(&mut built).map_err(|e| FileError {
+            file: definition.shown.clone(),
+            position: None,
+            message: format!("[launcher]: {e}"),
+        })?;
+        Ok(Self {
+            definition,
+            params,
+            built,
+            torn: 0,
+            states: Vec::new(),
+            walls,
+            launcher,
+            start_round,
+            built_hash,
+        })
     }
 
     /// Breaks every link pulled harder than its `tear` tension in the last step.
@@ -610,32 +646,65 @@ impl Scene for FileScene {
                 // The same particle and settings with only g changed, which was checked.
                 let _ = self.built.world.forces.replace(*id, Box::new(float.clone()));
             }
+            if let Some(launcher) = &mut self.launcher {
+                launcher.set_gravity(&self.built.world, g);
+            }
             self.params = params;
             return Ok(());
         }
-        let built = self
-            .definition
-            .build(&params)
-            .map_err(|e| ParamError::Rejected { key: name.to_string(), reason: e.to_string() })?;
+        let rejected = |reason: String| ParamError::Rejected { key: name.to_string(), reason };
+        let mut built = self.definition.build(&params).map_err(|e| rejected(e.to_string()))?;
+        let built_hash = built.world.state_hash();
+        let same_world = built_hash == self.built_hash && built.links.iter().all(|l| l.tear.is_none());
+        if let (true, Some(launcher), Some((aim, _))) = (same_world, &mut self.launcher, built.launcher) {
+            // Only the launcher's aim changed: it applies to the next round fired.
+            launcher.aim = aim;
+            self.params = params;
+            return Ok(());
+        }
         self.walls = wall_outlines(&built);
+        let (launcher, start_round) = arm(&mut built).map_err(|e| rejected(format!("[launcher]: {e}")))?;
         let running = std::mem::replace(&mut self.built, built);
         super::keep_solver(&running.world, &mut self.built.world);
+        (self.launcher, self.start_round, self.built_hash) = (launcher, start_round, built_hash);
         self.params = params;
         self.torn = 0;
         Ok(())
     }
 
     fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
+        if let Some(launcher) = &mut self.launcher {
+            launcher.before_step(&self.built.world);
+        }
         let report = self.built.world.step(dt)?;
+        if let Some(launcher) = &mut self.launcher {
+            launcher.after_step(&mut self.built.world);
+        }
         self.tear();
         Ok(report)
+    }
+
+    fn act(&mut self, action: SceneAction) -> bool {
+        match (action, &mut self.launcher) {
+            (SceneAction::Fire, Some(launcher)) => launcher.fire(&mut self.built.world).is_ok(),
+            _ => false,
+        }
+    }
+
+    fn keeps_particle(&self, id: ParticleId) -> bool {
+        self.start_round != Some(id)
     }
 
     /// The links still whole (a torn one's generator is gone from the world) and how
     /// many tore.
     fn save_state(&self) -> serde_json::Value {
         let whole: Vec<Handle> = self.built.links.iter().map(|l| l.handle).collect();
-        serde_json::json!({ "torn": self.torn, "whole": whole })
+        match &self.launcher {
+            Some(launcher) => {
+                serde_json::json!({ "torn": self.torn, "whole": whole, "launcher": launcher.save_state() })
+            }
+            None => serde_json::json!({ "torn": self.torn, "whole": whole }),
+        }
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -643,8 +712,18 @@ impl Scene for FileScene {
         struct Saved {
             torn: usize,
             whole: Vec<Handle>,
+            #[serde(default)]
+            launcher: Option<Box<super::RawValue>>,
         }
         let saved: Saved = super::read_state(state)?;
+        match (&mut self.launcher, &saved.launcher) {
+            (Some(launcher), Some(state)) => launcher.restore_state(&self.built.world, state)?,
+            (None, None) => {}
+            (Some(_), None) => return Err("the scene has a launcher the snapshot does not hold".into()),
+            (None, Some(_)) => {
+                return Err("the snapshot holds a launcher this scene file does not make".into());
+            }
+        }
         self.built.links.retain(|link| saved.whole.contains(&link.handle));
         if self.built.links.len() != saved.whole.len() {
             return Err("a link the snapshot keeps is not one this scene file makes".into());
@@ -659,11 +738,37 @@ impl Scene for FileScene {
 
     fn outlines(&self, out: &mut Vec<(Vec3, Vec3)>) {
         out.extend_from_slice(&self.walls);
+        if let Some(launcher) = &self.launcher {
+            launcher.outlines(out);
+        }
+    }
+
+    fn markers(&self, out: &mut Vec<super::Marker>) {
+        if let Some(launcher) = &self.launcher {
+            launcher.markers(&self.built.world, out);
+        }
+    }
+
+    fn hover_points(&self, out: &mut Vec<(Vec3, String)>) {
+        if let Some(launcher) = &self.launcher {
+            launcher.hover_points(out);
+        }
+    }
+
+    fn exact_error(&self) -> Option<f32> {
+        self.launcher.as_ref().and_then(|launcher| launcher.exact_error(&self.built.world))
+    }
+
+    fn launcher(&self) -> Option<&Launcher> {
+        self.launcher.as_ref()
     }
 
     /// With walls: their patches' corners and the corners of the box the particles
     /// fill now, so that framing shows the walls and what is on them.
     fn framing_points(&self, out: &mut Vec<Vec3>) {
+        if let Some(launcher) = &self.launcher {
+            launcher.framing_points(out);
+        }
         if self.walls.is_empty() {
             return;
         }
@@ -693,6 +798,9 @@ impl Scene for FileScene {
                 out.push((p.positions()[i] + Vec3::Y * (p.radii()[i] + 0.15), name));
             }
         }
+        if let Some(launcher) = &self.launcher {
+            launcher.labels(&self.built.world, out);
+        }
     }
 
     fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
@@ -707,6 +815,9 @@ impl Scene for FileScene {
         ];
         if self.torn > 0 || self.built.links.iter().any(|l| l.tear.is_some()) {
             out.push(Readout::new("links torn", self.torn.to_string()).with("links_torn", self.torn as f32));
+        }
+        if let Some(launcher) = &self.launcher {
+            out.extend(launcher.readout_rows(world));
         }
         out
     }

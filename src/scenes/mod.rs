@@ -30,6 +30,7 @@ pub mod file;
 pub mod ghost;
 mod granular;
 pub mod hourglass;
+pub mod launcher;
 mod params;
 mod pendulum;
 pub mod pile;
@@ -346,6 +347,12 @@ pub trait Scene: Send {
         } else {
             Err(format!("{} keeps no state beside its world, so it must be null", self.info().name))
         }
+    }
+
+    /// The scene's launcher, if it fires rounds (the projectile, a file's
+    /// `[launcher]`).
+    fn launcher(&self) -> Option<&launcher::Launcher> {
+        None
     }
 
     /// The text the scene was built from and the file it was read from, for a scene

@@ -5,15 +5,18 @@
 //! travels in a link exactly as any scene file does.
 //!
 //! A sketch can also be taken from a running world ("Edit a copy"): its particles as
-//! they stand, its links, ground, walls, sphere collisions and gravity. What the
-//! format cannot carry (a plate with a hole, buoyancy, drag, a stiff spring, the rules
-//! of a scene built into the program) is left out, and named.
+//! they stand, its links (springs, stiff springs, rods, cables), drag, buoyancy,
+//! ground, walls, plates, sphere collisions, gravity and time step. What the format
+//! cannot carry (the rules of a scene built into the program: a projectile's launcher,
+//! a bridge's movable load, an hourglass's gauges) is left out, and named.
 
 use std::fmt::Write as _;
 
 use glam::Vec3;
 
+use super::Scene;
 use super::file::{float32, toml_string};
+use super::launcher::Aim;
 use crate::physics::collision::ContactGenerator;
 use crate::physics::state::SavedForce;
 use crate::physics::{LinkEnd, World};
@@ -65,6 +68,9 @@ pub enum JoinKind {
     Spring,
     /// Hooke's law when stretched, slack when shorter.
     Bungee,
+    /// A spring to a fixed point solved in closed form each step (stable at any
+    /// stiffness); only to an anchor.
+    StiffSpring,
 }
 
 impl JoinKind {
@@ -79,13 +85,14 @@ impl JoinKind {
             Self::Cable => "cable",
             Self::Spring => "spring",
             Self::Bungee => "bungee",
+            Self::StiffSpring => "stiff_spring",
         }
     }
 
     /// Whether it has a spring constant.
     #[must_use]
     pub fn elastic(self) -> bool {
-        matches!(self, Self::Spring | Self::Bungee)
+        matches!(self, Self::Spring | Self::Bungee | Self::StiffSpring)
     }
 }
 
@@ -111,6 +118,10 @@ pub struct Join {
     pub length: f32,
     /// Spring constant (N/m), for springs and bungees.
     pub k: f32,
+    /// Bounce of a cable snapping taut, 0 to 1 (0 for the other kinds).
+    pub restitution: f32,
+    /// A stiff spring's damping ratio (0 for the other kinds).
+    pub damping_ratio: f32,
 }
 
 /// A wall: a plane through `point` facing `normal`, the whole plane or a rectangle of
@@ -129,6 +140,8 @@ pub struct Wall {
     pub restitution: f32,
     /// Friction.
     pub friction: f32,
+    /// Rolling resistance against spheres that roll.
+    pub rolling_resistance: f32,
 }
 
 /// A surface's restitution and friction.
@@ -138,6 +151,47 @@ pub struct Surface {
     pub restitution: f32,
     /// Coulomb friction coefficient.
     pub friction: f32,
+    /// Rolling resistance against spheres that roll.
+    pub rolling_resistance: f32,
+}
+
+/// A plane with a round opening: a silo's or an hourglass's floor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Floor {
+    /// Unit normal.
+    pub normal: Vec3,
+    /// The opening's centre, a point of the plane (m).
+    pub point: Vec3,
+    /// The opening's diameter (m).
+    pub opening: f32,
+    /// Restitution, friction and rolling resistance.
+    pub surface: Surface,
+}
+
+/// A drag force `−v (k1 + k2 |v|)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DragField {
+    /// Linear coefficient (N·s/m).
+    pub k1: f32,
+    /// Quadratic coefficient (N·s²/m²).
+    pub k2: f32,
+    /// The particles it acts on, by number; `None`: every particle.
+    pub targets: Option<Vec<usize>>,
+}
+
+/// A liquid lifting one particle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Float {
+    /// The floating particle's number.
+    pub particle: usize,
+    /// Height of the liquid's surface (m).
+    pub surface: f32,
+    /// Half the body's height (m).
+    pub half_height: f32,
+    /// The body's volume (m³).
+    pub volume: f32,
+    /// The liquid's density (kg/m³).
+    pub density: f32,
 }
 
 /// An experiment made by hand.
@@ -147,22 +201,32 @@ pub struct Sketch {
     pub name: String,
     /// Downward acceleration (m/s²).
     pub g: f32,
+    /// The physics time step (s); `None`: the format's default.
+    pub dt: Option<f32>,
     /// The ground at y = 0, if it has one.
     pub ground: Option<Surface>,
     /// Particles with a radius collide with each other, if set.
     pub collisions: Option<Surface>,
     /// Walls besides the ground.
     pub walls: Vec<Wall>,
+    /// Plates with an opening.
+    pub plates: Vec<Floor>,
     /// Its particles.
     pub bodies: Vec<Body>,
     /// Its links.
     pub joins: Vec<Join>,
+    /// Drag forces.
+    pub drags: Vec<DragField>,
+    /// Liquids lifting particles.
+    pub floats: Vec<Float>,
+    /// A launcher's aim, and whether it fires a round at the start.
+    pub launcher: Option<(Aim, bool)>,
 }
 
 /// The ground's surface when the builder adds one (the scene format's defaults).
-pub const GROUND: Surface = Surface { restitution: 0.3, friction: 0.5 };
+pub const GROUND: Surface = Surface { restitution: 0.3, friction: 0.5, rolling_resistance: 0.1 };
 /// Particles' surface when collisions are on (the scene format's defaults).
-pub const COLLISIONS: Surface = Surface { restitution: 0.5, friction: 0.3 };
+pub const COLLISIONS: Surface = Surface { restitution: 0.5, friction: 0.3, rolling_resistance: 0.1 };
 
 impl Sketch {
     /// An empty experiment on the ground, under Earth's gravity, its particles
@@ -172,11 +236,16 @@ impl Sketch {
         Self {
             name: name.to_string(),
             g: 9.81,
+            dt: None,
             ground: Some(GROUND),
             collisions: Some(COLLISIONS),
             walls: Vec::new(),
+            plates: Vec::new(),
             bodies: Vec::new(),
             joins: Vec::new(),
+            drags: Vec::new(),
+            floats: Vec::new(),
+            launcher: None,
         }
     }
 
@@ -242,18 +311,66 @@ impl Sketch {
                         LinkEnd::Anchor(point) => End::Anchor(point),
                     };
                     let kind = if s.bungee { JoinKind::Bungee } else { JoinKind::Spring };
-                    sketch.joins.push(Join { kind, a, b, length: s.rest_length, k: s.k });
+                    sketch.joins.push(Join {
+                        kind,
+                        a,
+                        b,
+                        length: s.rest_length,
+                        k: s.k,
+                        restitution: 0.0,
+                        damping_ratio: 0.0,
+                    });
                 }
                 SavedForce::Gravity(_) => leave("gravity fields"),
-                SavedForce::Drag(_) => leave("drag"),
-                SavedForce::Buoyancy(_) => leave("buoyancy"),
-                SavedForce::StiffSpring(_) => leave("stiff springs"),
+                SavedForce::Drag(drag) => {
+                    let mut targets: Vec<usize> = drag.targets.iter().filter_map(|&id| number(id)).collect();
+                    // Every particle, in order, is the format's default.
+                    let all = targets.len() == p.len() && targets.iter().enumerate().all(|(k, &i)| k == i);
+                    if targets.is_empty() && !drag.targets.is_empty() {
+                        continue;
+                    }
+                    targets.dedup();
+                    sketch.drags.push(DragField {
+                        k1: drag.k1,
+                        k2: drag.k2,
+                        targets: (!all).then_some(targets),
+                    });
+                }
+                SavedForce::Buoyancy(b) => {
+                    let Some(particle) = number(b.target) else { continue };
+                    if b.g != sketch.g {
+                        leave("buoyancy under another g than the particles'");
+                    }
+                    sketch.floats.push(Float {
+                        particle,
+                        surface: b.surface,
+                        half_height: b.half_height,
+                        volume: b.volume,
+                        density: b.density,
+                    });
+                }
+                SavedForce::StiffSpring(s) => {
+                    let Some(a) = number(s.target) else { continue };
+                    sketch.joins.push(Join {
+                        kind: JoinKind::StiffSpring,
+                        a,
+                        b: End::Anchor(s.anchor),
+                        length: 0.0,
+                        k: s.k,
+                        restitution: 0.0,
+                        damping_ratio: s.damping_ratio,
+                    });
+                }
             }
         }
         for (_, generator) in &state.contact_generators {
             match generator {
                 ContactGenerator::Plane(plane) => {
-                    let surface = Surface { restitution: plane.restitution, friction: plane.friction };
+                    let surface = Surface {
+                        restitution: plane.restitution,
+                        friction: plane.friction,
+                        rolling_resistance: plane.rolling_resistance,
+                    };
                     if plane.normal == Vec3::Y && plane.offset == 0.0 && sketch.ground.is_none() {
                         sketch.ground = Some(surface);
                     } else {
@@ -268,12 +385,16 @@ impl Sketch {
                             along,
                             restitution: plane.restitution,
                             friction: plane.friction,
+                            rolling_resistance: plane.rolling_resistance,
                         });
                     }
                 }
                 ContactGenerator::Spheres(spheres) => {
-                    sketch.collisions =
-                        Some(Surface { restitution: spheres.restitution, friction: spheres.friction });
+                    sketch.collisions = Some(Surface {
+                        restitution: spheres.restitution,
+                        friction: spheres.friction,
+                        rolling_resistance: spheres.rolling_resistance,
+                    });
                 }
                 ContactGenerator::Link(link) => {
                     let Some(a) = number(link.a) else { continue };
@@ -285,11 +406,51 @@ impl Sketch {
                         LinkEnd::Anchor(point) => End::Anchor(point),
                     };
                     let kind = if link.rigid { JoinKind::Rod } else { JoinKind::Cable };
-                    sketch.joins.push(Join { kind, a, b, length: link.length, k: 0.0 });
+                    sketch.joins.push(Join {
+                        kind,
+                        a,
+                        b,
+                        length: link.length,
+                        k: 0.0,
+                        restitution: link.restitution,
+                        damping_ratio: 0.0,
+                    });
                 }
-                ContactGenerator::Plate(_) => leave("plates with an opening"),
+                ContactGenerator::Plate(plate) => sketch.plates.push(Floor {
+                    normal: plate.normal,
+                    point: plate.center,
+                    opening: 2.0 * plate.opening,
+                    surface: Surface {
+                        restitution: plate.restitution,
+                        friction: plate.friction,
+                        rolling_resistance: plate.rolling_resistance,
+                    },
+                }),
             }
         }
+        (sketch, left_out)
+    }
+
+    /// The scene as it stands, as a sketch named `name`, with what it leaves out
+    /// named: [`Self::from_world`] and the scene's launcher. At the start, the round
+    /// the launcher fired is left to the launcher to fire again; later, rounds in
+    /// flight are particles like any other, and the launcher waits to be fired.
+    #[must_use]
+    pub fn from_scene(scene: &dyn Scene, name: &str) -> (Self, Vec<String>) {
+        let world = scene.world();
+        let (mut sketch, left_out) = Self::from_world(world, name);
+        let Some(launcher) = scene.launcher() else { return (sketch, left_out) };
+        let at_start = world.steps() == 0;
+        if at_start {
+            let ids = world.particles.ids();
+            let rounds: Vec<usize> = (0..ids.len()).filter(|&i| launcher.is_round(ids[i])).collect();
+            for &i in rounds.iter().rev() {
+                sketch.remove(i);
+            }
+            // A round's own drag goes with it: the launcher gives the next one its own.
+            sketch.drags.retain(|d| d.targets.as_ref().is_none_or(|t| t.iter().all(|k| !rounds.contains(k))));
+        }
+        sketch.launcher = Some((launcher.aim, at_start));
         (sketch, left_out)
     }
 
@@ -344,11 +505,14 @@ impl Sketch {
         if length < 1e-4 {
             return Err("the two ends are at one point: move one first".into());
         }
+        if kind == JoinKind::StiffSpring && matches!(b, End::Body(_)) {
+            return Err("a stiff spring runs to a fixed point, not to a particle".into());
+        }
         let same = |j: &Join| j.a == a && j.b == b || (End::Body(j.a) == b && j.b == End::Body(a));
         if self.joins.iter().any(same) {
             return Err("these two are already linked".into());
         }
-        self.joins.push(Join { kind, a, b, length, k });
+        self.joins.push(Join { kind, a, b, length, k, restitution: 0.0, damping_ratio: 0.0 });
         Ok(())
     }
 
@@ -405,6 +569,7 @@ impl Sketch {
             along: along / length,
             restitution: GROUND.restitution,
             friction: GROUND.friction,
+            rolling_resistance: GROUND.rolling_resistance,
         })
     }
 
@@ -421,12 +586,30 @@ impl Sketch {
         let mut out = String::new();
         let _ = write!(out, "[scene]\nname = {}\n", toml_string(&self.name));
         out.push_str("summary = \"Particles and links, made in the builder or exported\"\n");
+        if let Some(dt) = self.dt {
+            let _ = writeln!(out, "dt = {}", float32(dt));
+        }
         let _ = write!(
             out,
-            "\n[[param]]\nname = \"g\"\nunit = \"m/s²\"\ndefault = {}\nmin = 0\nmax = 30\n\
+            "\n[[param]]\nname = \"g\"\nunit = \"m/s²\"\ndefault = {}\nmin = {}\nmax = {}\n\
              help = \"Gravitational acceleration, downwards\"\n",
-            float32(self.g.clamp(0.0, 30.0))
+            float32(self.g),
+            float32(self.g.min(0.0)),
+            float32(self.g.max(30.0))
         );
+        if let Some((aim, _)) = &self.launcher {
+            // The launch speed and angle as sliders, as in the projectile scene.
+            let _ = write!(
+                out,
+                "\n[[param]]\nname = \"speed\"\nunit = \"m/s\"\ndefault = {}\nmin = 0\nmax = {}\n\
+                 help = \"Launch speed of the next round\"\n\
+                 \n[[param]]\nname = \"angle\"\nunit = \"°\"\ndefault = {}\nmin = -90\nmax = 90\n\
+                 help = \"Launch elevation above the horizontal\"\n",
+                float32(aim.speed),
+                float32(aim.speed.max(200.0)),
+                float32(aim.angle)
+            );
+        }
         let vector = |v: Vec3| format!("[{}, {}, {}]", float32(v.x), float32(v.y), float32(v.z));
         for body in &self.bodies {
             let _ = write!(out, "\n[[particle]]\nposition = {}\n", vector(body.position));
@@ -457,17 +640,44 @@ impl Sketch {
                     let _ = writeln!(out, "anchor = {}", vector(point));
                 }
             }
-            let _ = writeln!(out, "length = {}", float32(join.length));
+            if join.kind != JoinKind::StiffSpring {
+                let _ = writeln!(out, "length = {}", float32(join.length));
+            }
             if join.kind.elastic() {
                 let _ = writeln!(out, "k = {}", float32(join.k));
             }
+            if join.restitution != 0.0 {
+                let _ = writeln!(out, "restitution = {}", float32(join.restitution));
+            }
+            if join.damping_ratio != 0.0 {
+                let _ = writeln!(out, "damping_ratio = {}", float32(join.damping_ratio));
+            }
+        }
+        for drag in &self.drags {
+            let _ = write!(out, "\n[[drag]]\nk1 = {}\nk2 = {}\n", float32(drag.k1), float32(drag.k2));
+            if let Some(targets) = &drag.targets {
+                let list: Vec<String> = targets.iter().map(usize::to_string).collect();
+                let _ = writeln!(out, "targets = [{}]", list.join(", "));
+            }
+        }
+        for float in &self.floats {
+            let _ = write!(
+                out,
+                "\n[[buoyancy]]\nparticle = {}\nsurface = {}\nhalf_height = {}\nvolume = {}\ndensity = {}\n",
+                float.particle,
+                float32(float.surface),
+                float32(float.half_height),
+                float32(float.volume),
+                float32(float.density)
+            );
         }
         if let Some(ground) = self.ground {
             let _ = write!(
                 out,
-                "\n[ground]\nrestitution = {}\nfriction = {}\n",
+                "\n[ground]\nrestitution = {}\nfriction = {}\nrolling_resistance = {}\n",
                 float32(ground.restitution),
-                float32(ground.friction)
+                float32(ground.friction),
+                float32(ground.rolling_resistance)
             );
         }
         for wall in &self.walls {
@@ -484,17 +694,49 @@ impl Sketch {
             }
             let _ = write!(
                 out,
-                "restitution = {}\nfriction = {}\n",
+                "restitution = {}\nfriction = {}\nrolling_resistance = {}\n",
                 float32(wall.restitution),
-                float32(wall.friction)
+                float32(wall.friction),
+                float32(wall.rolling_resistance)
             );
+        }
+        for plate in &self.plates {
+            let _ = write!(
+                out,
+                "\n[[plate]]\nnormal = {}\npoint = {}\nopening = {}\nrestitution = {}\nfriction = {}\n\
+                 rolling_resistance = {}\n",
+                vector(plate.normal),
+                vector(plate.point),
+                float32(plate.opening),
+                float32(plate.surface.restitution),
+                float32(plate.surface.friction),
+                float32(plate.surface.rolling_resistance)
+            );
+        }
+        if let Some((aim, fire)) = &self.launcher {
+            let _ = write!(
+                out,
+                "\n[launcher]\nposition = {}\nspeed = \"speed\"\nangle = \"angle\"\nmass = {}\nradius = {}\n\
+                 damping = {}\nk1 = {}\nk2 = {}\n",
+                vector(aim.position),
+                float32(aim.mass),
+                float32(aim.radius),
+                float32(aim.damping),
+                float32(aim.k1),
+                float32(aim.k2)
+            );
+            if let Some(target) = aim.target {
+                let _ = writeln!(out, "target = {}", float32(target));
+            }
+            let _ = writeln!(out, "fire_at_start = {fire}");
         }
         if let Some(c) = self.collisions {
             let _ = write!(
                 out,
-                "\n[collisions]\nrestitution = {}\nfriction = {}\n",
+                "\n[collisions]\nrestitution = {}\nfriction = {}\nrolling_resistance = {}\n",
                 float32(c.restitution),
-                float32(c.friction)
+                float32(c.friction),
+                float32(c.rolling_resistance)
             );
         }
         out

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use crate::physics::Plane;
+use crate::physics::{Plane, Plate};
 
 /// Grid lines each way across a wall's patch (the edges included: one more).
 pub const WALL_LINES: usize = 8;
@@ -37,6 +37,48 @@ pub fn plane_patch(plane: &Plane, lo: Vec3, hi: Vec3, out: &mut Vec<(Vec3, Vec3)
     grid(on_plane, u * half, n.cross(u) * half, out);
 }
 
+/// Sides of the polygon that draws a plate's opening.
+pub const RIM_SIDES: usize = 32;
+
+/// The lines drawn for `plate`: a square grid on its plane around its opening's
+/// centre, as wide as the box `lo`..`hi` the scene fills (as [`plane_patch`]), its
+/// lines broken where they cross the opening, and the opening's rim.
+pub fn plate_patch(plate: &Plate, lo: Vec3, hi: Vec3, out: &mut Vec<(Vec3, Vec3)>) {
+    let (lo, hi) = if lo.cmple(hi).all() { (lo, hi) } else { (Vec3::ZERO, Vec3::ZERO) };
+    let n = plate.normal;
+    let half = (SCENE_SPANS * (hi - lo).length()).max(MIN_HALF_SIDE).max(2.0 * plate.opening);
+    let u = slope_direction(n);
+    let v = n.cross(u);
+    let mut lines = Vec::new();
+    grid(plate.center, u * half, v * half, &mut lines);
+    let (c, r) = (plate.center, plate.opening);
+    for (a, b) in lines {
+        // Where the segment a + t (b - a) is inside the circle: |a - c + t d|² < r².
+        let (d, m) = (b - a, a - c);
+        let (qa, qb, qc) = (d.dot(d), 2.0 * m.dot(d), m.dot(m) - r * r);
+        let disc = qb * qb - 4.0 * qa * qc;
+        if r <= 0.0 || qa == 0.0 || disc <= 0.0 {
+            out.push((a, b));
+            continue;
+        }
+        let root = disc.sqrt();
+        let (t0, t1) = ((-qb - root) / (2.0 * qa), (-qb + root) / (2.0 * qa));
+        if t0 > 0.0 {
+            out.push((a, a + d * t0.min(1.0)));
+        }
+        if t1 < 1.0 {
+            out.push((a + d * t1.max(0.0), b));
+        }
+    }
+    if r > 0.0 {
+        let at = |k: usize| {
+            let angle = k as f32 / RIM_SIDES as f32 * std::f32::consts::TAU;
+            c + (u * angle.cos() + v * angle.sin()) * r
+        };
+        out.extend((0..RIM_SIDES).map(|k| (at(k), at(k + 1))));
+    }
+}
+
 /// The lines of a rectangle's grid: centre `c`, half sides `a` and `b` (m).
 fn grid(c: Vec3, a: Vec3, b: Vec3, out: &mut Vec<(Vec3, Vec3)>) {
     for k in 0..=WALL_LINES {
@@ -58,6 +100,27 @@ pub fn slope_direction(n: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
+
+    /// A plate's lines stay on its plane and out of its opening, and its rim is drawn.
+    #[test]
+    fn a_plates_lines_stop_at_its_opening() {
+        let plate = crate::physics::Plate::new(Vec3::Y, Vec3::new(0.5, 1.0, 0.0), 0.4, 0.0, 0.5).unwrap();
+        let mut out = Vec::new();
+        super::plate_patch(&plate, Vec3::splat(-2.0), Vec3::splat(2.0), &mut out);
+        let mut rim = 0;
+        for &(a, b) in &out {
+            for t in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                let p = a.lerp(b, t);
+                assert!((p.y - 1.0).abs() < 1e-5, "off the plane: {p}");
+                let r = Vec3::new(p.x - 0.5, 0.0, p.z).length();
+                assert!(r >= 0.4 * 0.99, "inside the opening: {p} ({r} m from its centre)");
+            }
+            if (a.x - 0.5).hypot(a.z) - 0.4 < 1e-4 && (b.x - 0.5).hypot(b.z) - 0.4 < 1e-4 {
+                rim += 1;
+            }
+        }
+        assert!(rim >= super::RIM_SIDES, "the rim's {} sides, found {rim}", super::RIM_SIDES);
+    }
 
     use super::{MIN_HALF_SIDE, SCENE_SPANS, WALL_LINES, plane_patch};
     use crate::physics::Plane;

@@ -207,7 +207,12 @@ pub const ACCEPTED_KEYS: &[(&str, &[&str])] = &[
     ("buoyancy", &["particle", "surface", "half_height", "volume", "density"]),
     ("ground", &["height", "restitution", "friction", "rolling_resistance"]),
     ("wall", &["normal", "point", "size", "along", "restitution", "friction", "rolling_resistance"]),
+    ("plate", &["normal", "point", "opening", "restitution", "friction", "rolling_resistance"]),
     ("collisions", &["restitution", "friction", "rolling_resistance"]),
+    (
+        "launcher",
+        &["position", "speed", "angle", "mass", "radius", "damping", "k1", "k2", "target", "fire_at_start"],
+    ),
     ("camera", &["target", "distance", "yaw", "pitch"]),
 ];
 
@@ -249,10 +254,15 @@ pub struct Document {
     /// `[[wall]]`: other planes.
     #[serde(default)]
     pub wall: Vec<WallTable>,
+    /// `[[plate]]`: planes with a round opening.
+    #[serde(default)]
+    pub plate: Vec<PlateTable>,
     /// `[collisions]`: sphere-sphere collisions between every particle with a radius.
     pub collisions: Option<CollisionsTable>,
     /// `[camera]`: where the camera starts.
     pub camera: Option<CameraTable>,
+    /// `[launcher]`: rounds fired at an aim, as in the projectile scene.
+    pub launcher: Option<LauncherTable>,
 }
 
 /// `[scene]`.
@@ -474,6 +484,19 @@ table! {
     }
 }
 
+table! {
+    /// `[[plate]]`.
+    pub struct PlateTable {
+        /// Normal of the plate.
+        pub normal: SVec,
+        /// Centre of the opening, a point of the plate (m).
+        pub point: SVec,
+        /// Diameter of the opening (m).
+        pub opening: SNum,
+        surface_fields;
+    }
+}
+
 /// `[collisions]`.
 #[derive(Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -484,6 +507,32 @@ pub struct CollisionsTable {
     pub friction: Option<SNum>,
     /// Rolling resistance between spheres that roll, default 0.1.
     pub rolling_resistance: Option<SNum>,
+}
+
+/// `[launcher]`.
+#[derive(Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LauncherTable {
+    /// Where rounds leave from (m), default `[0, 1.5, 0]`.
+    pub position: Option<SVec>,
+    /// Launch speed (m/s), default 25.
+    pub speed: Option<SNum>,
+    /// Elevation above the horizontal towards +x (degrees), default 45.
+    pub angle: Option<SNum>,
+    /// A round's mass (kg), default 1.
+    pub mass: Option<SNum>,
+    /// A round's radius (m), default 0.3.
+    pub radius: Option<SNum>,
+    /// Fraction of velocity a round keeps per second, default 1.
+    pub damping: Option<SNum>,
+    /// Linear drag of a round (N·s/m), default 0.
+    pub k1: Option<SNum>,
+    /// Quadratic drag of a round (N·s²/m²), default 0.
+    pub k2: Option<SNum>,
+    /// Distance of a target on the ground from the launcher, along x (m); default none.
+    pub target: Option<SNum>,
+    /// Whether a round is fired when the scene starts, default true.
+    pub fire_at_start: Option<bool>,
 }
 
 /// `[camera]`.
@@ -521,7 +570,7 @@ mod tests {
     /// A file whose table `table` holds `line` and nothing else (with the `[scene]`
     /// every file needs).
     fn file_with(table: &str, line: &str) -> String {
-        let array = !matches!(table, "scene" | "ground" | "collisions" | "camera");
+        let array = !matches!(table, "scene" | "ground" | "collisions" | "launcher" | "camera");
         let header = if array { format!("[[{table}]]") } else { format!("[{table}]") };
         if table == "scene" {
             format!("{header}\n{line}\n")

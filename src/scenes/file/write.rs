@@ -13,8 +13,9 @@ use std::fmt::Write as _;
 use crate::scenes::ParamValues;
 
 use super::format::{
-    ACCEPTED_KEYS, BuoyancyTable, CameraTable, CollisionsTable, Document, DragTable, GridTable, LinkTable,
-    Num, ParamTable, ParticleTable, Ref, RowTable, SNum, SVec, SurfaceTable, WallTable,
+    ACCEPTED_KEYS, BuoyancyTable, CameraTable, CollisionsTable, Document, DragTable, GridTable,
+    LauncherTable, LinkTable, Num, ParamTable, ParticleTable, PlateTable, Ref, RowTable, SNum, SVec,
+    SurfaceTable, WallTable,
 };
 
 /// The first lines of every written file.
@@ -77,8 +78,14 @@ pub fn write(doc: &Document, values: Option<&ParamValues>) -> String {
     for w in &doc.wall {
         wall(&mut out, w);
     }
+    for p in &doc.plate {
+        plate(&mut out, p);
+    }
     if let Some(c) = &doc.collisions {
         collisions(&mut out, c);
+    }
+    if let Some(l) = &doc.launcher {
+        launcher(&mut out, l);
     }
     if let Some(c) = &doc.camera {
         camera(&mut out, c);
@@ -362,9 +369,31 @@ fn wall(out: &mut Writer, w: &WallTable) {
     surface_keys!(out, w);
 }
 
+fn plate(out: &mut Writer, p: &PlateTable) {
+    out.table("plate", true);
+    out.key("normal", vector(&p.normal));
+    out.key("point", vector(&p.point));
+    out.key("opening", num(&p.opening));
+    surface_keys!(out, p);
+}
+
 fn collisions(out: &mut Writer, c: &CollisionsTable) {
     out.table("collisions", false);
     surface_keys!(out, c);
+}
+
+fn launcher(out: &mut Writer, l: &LauncherTable) {
+    out.table("launcher", false);
+    out.some("position", l.position.as_ref().map(vector));
+    out.some("speed", l.speed.as_ref().map(num));
+    out.some("angle", l.angle.as_ref().map(num));
+    out.some("mass", l.mass.as_ref().map(num));
+    out.some("radius", l.radius.as_ref().map(num));
+    out.some("damping", l.damping.as_ref().map(num));
+    out.some("k1", l.k1.as_ref().map(num));
+    out.some("k2", l.k2.as_ref().map(num));
+    out.some("target", l.target.as_ref().map(num));
+    out.some("fire_at_start", l.fire_at_start.map(|b| b.to_string()));
 }
 
 fn camera(out: &mut Writer, c: &CameraTable) {
@@ -550,10 +579,30 @@ restitution = 0.2
 friction = 0.3
 rolling_resistance = 0.1
 
+[[plate]]
+normal = [0, 1, 0]
+point = [0, "h", 0]
+opening = 0.6
+restitution = 0
+friction = 0.4
+rolling_resistance = 0.2
+
 [collisions]
 restitution = 0.5
 friction = 0.3
 rolling_resistance = 0.1
+
+[launcher]
+position = [0, "h", 0]
+speed = 20
+angle = 30
+mass = 2
+radius = 0.2
+damping = 0.99
+k1 = 0.1
+k2 = 0.01
+target = 25
+fire_at_start = false
 "#;
 
     #[test]

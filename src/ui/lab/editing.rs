@@ -41,7 +41,8 @@ impl Lab {
             return;
         }
         let name = format!("{} (copy)", self.entry.info().name);
-        let (sketch, left_out) = Sketch::from_world(self.scene.world(), &name);
+        let (mut sketch, left_out) = Sketch::from_scene(self.scene.as_ref(), &name);
+        sketch.dt = Some(self.dt());
         self.status = if left_out.is_empty() {
             format!("Building: a copy of {}. Play runs it; Ctrl+Z undoes", self.entry.info().name)
         } else {

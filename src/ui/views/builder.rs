@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use crate::scenes::sketch::{COLLISIONS, End, GROUND, JoinKind};
+use crate::scenes::sketch::{COLLISIONS, DragField, End, GROUND, JoinKind};
 use crate::ui::lab::{Lab, Purpose, Tool};
 
 /// The builder's own settings that are not the sketch's.
@@ -180,6 +180,10 @@ impl BuilderPanel {
         let sketch = editor.sketch();
         let (mut name, mut g) = (sketch.name.clone(), sketch.g);
         let (mut ground, mut collisions) = (sketch.ground.is_some(), sketch.collisions.is_some());
+        // The physics rate and air drag on every particle.
+        let mut rate = 1.0 / sketch.dt.unwrap_or(1.0 / 240.0);
+        let everywhere = sketch.drags.iter().position(|d| d.targets.is_none());
+        let mut k1 = everywhere.map_or(0.0, |k| sketch.drags[k].k1);
         let mut renamed = false;
         ui.horizontal(|ui| {
             ui.label("Name");
@@ -208,6 +212,43 @@ impl BuilderPanel {
         if changed_g {
             lab.edit("g", |sketch, _| {
                 sketch.g = g;
+                true
+            });
+        }
+        let (mut changed_rate, mut changed_drag) = (false, false);
+        ui.horizontal(|ui| {
+            changed_rate = ui
+                .add(egui::DragValue::new(&mut rate).range(10.0..=10_000.0).speed(1.0).suffix(" Hz"))
+                .on_hover_text("Physics steps a second (the time step is one over it)")
+                .changed();
+            changed_drag = ui
+                .add(
+                    egui::DragValue::new(&mut k1)
+                        .range(0.0..=100.0)
+                        .speed(0.01)
+                        .prefix("air drag ")
+                        .suffix(" N·s/m"),
+                )
+                .on_hover_text("Linear drag on every particle, F = −k1 v")
+                .changed();
+        });
+        if changed_rate {
+            lab.edit("rate", |sketch, _| {
+                sketch.dt = Some(1.0 / rate);
+                true
+            });
+        }
+        if changed_drag {
+            lab.edit("air drag", |sketch, _| {
+                match (everywhere, k1 > 0.0) {
+                    (Some(k), true) => sketch.drags[k].k1 = k1,
+                    (Some(k), false) if sketch.drags[k].k2 == 0.0 => {
+                        sketch.drags.remove(k);
+                    }
+                    (Some(k), false) => sketch.drags[k].k1 = 0.0,
+                    (None, true) => sketch.drags.push(DragField { k1, k2: 0.0, targets: None }),
+                    (None, false) => return false,
+                }
                 true
             });
         }

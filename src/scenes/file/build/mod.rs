@@ -93,6 +93,8 @@ pub struct Built {
     /// Whether `g` appears in an expression other than `[scene] gravity` (a change of `g`
     /// then needs a rebuild).
     pub g_elsewhere: bool,
+    /// The `[launcher]`'s aim, and whether it fires a round at the start.
+    pub launcher: Option<(crate::scenes::launcher::Aim, bool)>,
 }
 
 /// A value ready to evaluate: its expression and where it is in the file.
@@ -228,6 +230,7 @@ pub fn build(doc: &Document, source: &str, params: &ParamValues) -> Result<Built
     links.extend(stiff);
     links.extend(contacts);
     b.surfaces(doc)?;
+    let launcher = b.launcher(doc, g)?;
     let camera = b.camera(doc)?;
     // Named single particles are labelled; an array's name at one member would be
     // ambiguous, and several arrays often start at the same corner.
@@ -238,7 +241,7 @@ pub fn build(doc: &Document, source: &str, params: &ParamValues) -> Result<Built
         .filter_map(|group| Some((b.ids[group.first], group.name?.to_string())))
         .collect();
     let water = water(&b.world, &floats);
-    Ok(Built { world: b.world, links, labels, camera, floats, water, g_elsewhere: b.g_elsewhere })
+    Ok(Built { world: b.world, links, labels, camera, floats, water, g_elsewhere: b.g_elsewhere, launcher })
 }
 
 /// A pool around the floating particles.

@@ -4,9 +4,10 @@
 use glam::Vec3;
 
 use super::{ANY, Bounds, Builder, Located, NON_NEGATIVE, POSITIVE, UNIT, spend};
-use crate::physics::{Buoyancy, DEFAULT_ROLLING_RESISTANCE, Drag, ForceId, Plane, SphereCollisions};
+use crate::physics::{Buoyancy, DEFAULT_ROLLING_RESISTANCE, Drag, ForceId, Plane, Plate, SphereCollisions};
 use crate::scenes::CameraHint;
 use crate::scenes::file::format::Document;
+use crate::scenes::launcher::{Aim, ROUND_RADIUS};
 
 impl Builder<'_> {
     pub(super) fn forces(&mut self, doc: &Document, g: f32) -> Result<Vec<(ForceId, Buoyancy)>, Located> {
@@ -135,6 +136,30 @@ impl Builder<'_> {
                 .add_contact_generator(plane)
                 .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?;
         }
+        for plate in &doc.plate {
+            let normal = self.compile_vec(&plate.normal, &[])?;
+            let point = self.compile_vec(&plate.point, &[])?;
+            let opening = self.compile(&plate.opening, &[])?;
+            let restitution = self.compile_or(plate.restitution.as_ref(), 0.3, &[])?;
+            let friction = self.compile_or(plate.friction.as_ref(), 0.5, &[])?;
+            let rolling =
+                self.compile_or(plate.rolling_resistance.as_ref(), DEFAULT_ROLLING_RESISTANCE.into(), &[])?;
+            let made = Plate::new(
+                self.eval_vec(&normal, &[], "normal")?,
+                self.eval_vec(&point, &[], "point")?,
+                self.eval(&opening, &[], "opening", NON_NEGATIVE)? / 2.0,
+                self.eval(&restitution, &[], "restitution", UNIT)?,
+                self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+            )
+            .map_err(|e| Located::at(&plate.normal.span(), e.to_string()))?
+            .with_rolling_resistance(self.eval(
+                &rolling,
+                &[],
+                "rolling_resistance",
+                NON_NEGATIVE,
+            )?);
+            self.world.add_contact_generator(made).map_err(|e| Located::at(&opening.span, e.to_string()))?;
+        }
         if let Some(collisions) = &doc.collisions {
             let restitution = self.compile_or(collisions.restitution.as_ref(), 0.5, &[])?;
             let friction = self.compile_or(collisions.friction.as_ref(), 0.3, &[])?;
@@ -153,6 +178,42 @@ impl Builder<'_> {
                 .map_err(|e| Located::at(&restitution.span, e.to_string()))?;
         }
         Ok(())
+    }
+
+    /// The `[launcher]` table: the aim it fires with under gravity `g`, and whether it
+    /// fires at the start.
+    pub(super) fn launcher(&mut self, doc: &Document, g: f32) -> Result<Option<(Aim, bool)>, Located> {
+        let Some(l) = &doc.launcher else { return Ok(None) };
+        let position = self.compile_vec_or(l.position.as_ref(), Vec3::new(0.0, 1.5, 0.0), &[])?;
+        let speed = self.compile_or(l.speed.as_ref(), 25.0, &[])?;
+        let angle = self.compile_or(l.angle.as_ref(), 45.0, &[])?;
+        let mass = self.compile_or(l.mass.as_ref(), 1.0, &[])?;
+        let radius = self.compile_or(l.radius.as_ref(), f64::from(ROUND_RADIUS), &[])?;
+        let damping = self.compile_or(l.damping.as_ref(), 1.0, &[])?;
+        let k1 = self.compile_or(l.k1.as_ref(), 0.0, &[])?;
+        let k2 = self.compile_or(l.k2.as_ref(), 0.0, &[])?;
+        let target = l.target.as_ref().map(|t| self.compile(t, &[])).transpose()?;
+        let aim = Aim {
+            position: self.eval_vec(&position, &[], "position")?,
+            speed: self.eval(&speed, &[], "speed", Bounds { min: 0.0, max: 1e8, text: "0 to 1e8 m/s" })?,
+            angle: self.eval(
+                &angle,
+                &[],
+                "angle",
+                Bounds { min: -90.0, max: 90.0, text: "-90 to 90 degrees" },
+            )?,
+            mass: self.eval(&mass, &[], "mass", super::MASS)?,
+            radius: self.eval(&radius, &[], "radius", NON_NEGATIVE)?,
+            damping: self.eval(&damping, &[], "damping", UNIT)?,
+            k1: self.eval(&k1, &[], "k1", NON_NEGATIVE)?,
+            k2: self.eval(&k2, &[], "k2", NON_NEGATIVE)?,
+            target: match &target {
+                Some(t) => Some(self.eval(t, &[], "target", ANY)?),
+                None => None,
+            },
+            g,
+        };
+        Ok(Some((aim, l.fire_at_start.unwrap_or(true))))
     }
 
     /// The `[camera]` table, with what it leaves out framing every particle.
