@@ -156,9 +156,11 @@ fn a_five_ball_cradle_built_from_a_row_hangs_and_runs_the_same() {
     let mut h = harness("pendulum");
     click(&mut h, "Scene");
     click(&mut h, "New experiment…");
-    // A row of five touching balls, unlinked, none pinned.
-    click(&mut h, "none");
-    click(&mut h, "first pinned");
+    // A row of five touching balls, unlinked (the first "none"), none pinned (the second).
+    for k in 0..2 {
+        h.get_all_by_label("none").nth(k).expect("links none, then pinned none").click();
+        h.run_steps(2);
+    }
     click(&mut h, "Add row");
     assert_eq!(counts(&h), (5, 0));
     // Each hung from a fixed point a metre above it by a cable drawn upwards.
@@ -292,4 +294,32 @@ fn in_3d_a_click_never_puts_a_particle_out_by_the_horizon() {
         let reach = particle_lab::ui::lab::NEAR_GROUND * lab.camera.distance + 1e-3;
         assert!(placed.distance(lab.camera.target) <= reach, "a click at {at:?} put it at {placed}");
     }
+}
+
+/// A cloth: a grid of 5 × 3 joined by springs, hung by its top corners (the grid
+/// the panel's Add grid makes; the drag values that size it have no label to find them
+/// by, so the grid is asked of the lab directly). Every neighbour is joined; played,
+/// the corners stay while the middle of the bottom row sags below where it started.
+#[test]
+fn a_cloth_built_from_a_grid_hangs_from_its_corners() {
+    use particle_lab::scenes::sketch::JoinKind;
+    use particle_lab::ui::lab::Pins;
+    let mut h = harness("pendulum");
+    click(&mut h, "Scene");
+    click(&mut h, "New experiment…");
+    h.state_mut().lab.add_grid([5, 3], 0.4, Some(JoinKind::Spring), Pins::Corners);
+    h.run_steps(2);
+    assert_eq!(counts(&h), (15, 4 * 3 + 5 * 2), "5 columns × 3 rows, each joined right and down");
+    let fixed: Vec<bool> =
+        h.state().lab.scene.world().particles.inverse_masses().iter().map(|&w| w == 0.0).collect();
+    assert_eq!(fixed.iter().filter(|&&f| f).count(), 2);
+    assert!(fixed[0] && fixed[4], "the top row's corners: {fixed:?}");
+    let before = h.state().lab.scene.world().particles.positions().to_vec();
+    click(&mut h, "Play");
+    // A second of physics, as the lab runs it (the harness's frames carry no time).
+    h.state_mut().lab.run_steps_recorded(240);
+    let after = h.state().lab.scene.world().particles.positions().to_vec();
+    assert_eq!(after[0], before[0]);
+    assert_eq!(after[4], before[4]);
+    assert!(after[12].y < before[12].y - 0.01, "the bottom middle sags: {} -> {}", before[12], after[12]);
 }

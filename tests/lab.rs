@@ -336,7 +336,8 @@ fn every_scene_is_framed_whole_in_a_narrow_view_and_the_users_camera_is_kept() {
 /// one a kilometre wide open framed, in 3D and in the side view, and Home frames them
 /// again after the camera was moved away: every particle in the view, and the
 /// experiment not a speck in it (its particles span a tenth of the view or more).
-/// (Millimetre particles are not yet: framed closer, they were not drawn at all.)
+/// Millimetre particles too: framed from centimetres, and drawn at their own size
+/// there (see `tiny_particles_are_drawn_at_their_own_size_up_close`).
 #[test]
 fn scene_files_at_any_place_and_scale_are_framed_in_3d_and_the_side_view() {
     let size = Vec2::new(980.0, 700.0);
@@ -344,6 +345,10 @@ fn scene_files_at_any_place_and_scale_are_framed_in_3d_and_the_side_view() {
         (
             "far",
             "[[particle]]\nposition = [500, 3, 40]\nradius = 0.2\n\n[[particle]]\nposition = [501.5, 3, 40]\nradius = 0.2\n",
+        ),
+        (
+            "tiny",
+            "[[particle]]\nposition = [0.002, 0.004, 0]\nradius = 0.001\n\n[[particle]]\nposition = [0.007, 0.004, 0]\nradius = 0.001\n",
         ),
         (
             "wide",
@@ -574,4 +579,32 @@ fn the_inspector_shows_a_rolling_spheres_spin_and_its_energy() {
     // A point mass has no spin to show.
     let lab = Lab::new("pile", &["count=1".into(), "rolls=0".into()]).unwrap();
     assert_eq!(lab.spin(lab.scene.world().particles.ids()[0]), None);
+}
+
+/// A particle a millimetre across, framed, is drawn at its own radius, not at the
+/// least radius the view gives point particles seen from afar; from afar it gets that
+/// least radius again.
+#[test]
+fn tiny_particles_are_drawn_at_their_own_size_up_close() {
+    use particle_lab::render::frame::{MIN_DRAWN_RADIUS, decoration_scale};
+    use particle_lab::render::{FrameBuilder, ViewOptions};
+    let text =
+        "[scene]\nname = \"tiny\"\n\n[[particle]]\nposition = [0, 0.004, 0]\nradius = 0.001\nfixed = true\n";
+    let entry = particle_lab::scenes::file::load_text(text, "tiny", None).unwrap();
+    let mut lab = Lab::from_entry(&entry, &[], particle_lab::physics::SolverSettings::default()).unwrap();
+    lab.set_view_aspect(1.4);
+    lab.home();
+    assert!(lab.camera.distance < 0.05, "framed from {} m", lab.camera.distance);
+    let mut builder = FrameBuilder::default();
+    builder.decoration_scale = decoration_scale(lab.camera.distance);
+    builder.build(lab.scene.as_ref(), None, 0.0, ViewOptions::default(), None);
+    assert_eq!(builder.frame.spheres[0].radius, 0.001);
+    // Its projected radius: a few pixels or more in a 700 px view.
+    let size = Vec2::new(980.0, 700.0);
+    let centre = lab.camera.project(glam::Vec3::new(0.0, 0.004, 0.0), size).unwrap();
+    let edge = lab.camera.project(glam::Vec3::new(0.0, 0.005, 0.0), size).unwrap();
+    assert!(centre.distance(edge) > 5.0, "drawn {} px across", centre.distance(edge));
+    builder.decoration_scale = decoration_scale(20.0);
+    builder.build(lab.scene.as_ref(), None, 0.0, ViewOptions::default(), None);
+    assert_eq!(builder.frame.spheres[0].radius, MIN_DRAWN_RADIUS);
 }

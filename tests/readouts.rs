@@ -143,8 +143,19 @@ fn the_pendulums_period_is_its_own_swings_and_its_energy_change_is_the_frames() 
         .iter()
         .map(|frame| (frame["t"].as_f64().expect("a time"), vector(&particles(frame)[0]["p"])[0]))
         .collect();
-    let swings = mean_period(&upward_crossings(&series, 0.0));
+    let crossings = upward_crossings(&series, 0.0);
+    let swings = mean_period(&crossings);
     assert!(close(swings, must(first, "period_predicted_s"), 0.01), "{swings} against {predicted}");
+    // The measured period is the last whole swing the frames show.
+    let last = run.last().expect("frames");
+    let last_swing = crossings[crossings.len() - 1] - crossings[crossings.len() - 2];
+    assert!(close(must(last, "period_s"), last_swing, 1e-4), "{} against {last_swing}", last["readouts"]);
+    // The exact period for 10°, from its series in the amplitude θ₀:
+    // T = 2π√(L/g) (1 + θ₀²/16 + 11 θ₀⁴/3072 + 173 θ₀⁶/737280 + …).
+    let a = 10.0_f64.to_radians();
+    let series_t =
+        predicted * (1.0 + a.powi(2) / 16.0 + 11.0 * a.powi(4) / 3072.0 + 173.0 * a.powi(6) / 737_280.0);
+    assert!(close(must(first, "period_exact_s"), series_t, 1e-6), "{} against {series_t}", first["readouts"]);
 
     let budget = |frame: &Value| {
         frame["energy"]["kinetic"].as_f64().unwrap() + frame["energy"]["potential"].as_f64().unwrap()
@@ -290,4 +301,16 @@ fn a_scene_files_read_outs_count_its_particles_links_and_torn_links() {
         assert_eq!(must(frame, "links_torn"), (links(first) - links(frame)) as f64, "{}", frame["readouts"]);
     }
     assert!(must(run.last().unwrap(), "links_torn") > 0.0, "a 5 N cloth tears");
+}
+
+/// Released horizontally, the pendulum swings 18% slower than 2π√(L/g): its measured
+/// period is the exact one for its amplitude, 4√(L/g)·K(sin 45°), not the small-swing one.
+#[test]
+fn a_wide_swing_takes_the_exact_period_for_its_amplitude() {
+    let run = frames(&["--scene", "pendulum", "--set", "angle=90", "--steps", "1800", "--every", "1800"]);
+    let last = run.last().expect("frames");
+    let (measured, exact) = (must(last, "period_s"), must(last, "period_exact_s"));
+    let small = must(last, "period_predicted_s");
+    assert!(close(measured, exact, 0.01), "measured {measured} s against the exact {exact} s");
+    assert!(exact > 1.15 * small && exact < 1.2 * small, "{exact} against {small}");
 }

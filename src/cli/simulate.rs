@@ -38,6 +38,11 @@ pub struct SimulateArgs {
     /// Write a snapshot of the last state to FILE after the run.
     #[arg(long, value_name = "FILE.json")]
     pub save: Option<std::path::PathBuf>,
+    /// Write the scene's table of runs to FILE as CSV after the run: a row for each
+    /// completed measurement (each round of the projectile, or of a scene file's
+    /// launcher, that landed), its parameters beside what was measured and predicted.
+    #[arg(long, value_name = "FILE.csv")]
+    pub runs: Option<std::path::PathBuf>,
     /// Physics steps to run [default: the scene's own].
     #[arg(long)]
     pub steps: Option<u64>,
@@ -70,6 +75,8 @@ pub struct RunPlan {
     pub format: StateFormat,
     /// Where to write a snapshot of the last state, if anywhere.
     pub save: Option<std::path::PathBuf>,
+    /// Where to write the table of runs (CSV), if anywhere.
+    pub runs: Option<std::path::PathBuf>,
     /// Print each particle's forces (`--forces`).
     pub forces: bool,
     /// The time step the steps before this run were taken at, for a run from a
@@ -117,11 +124,22 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
         crate::writing::target(path)
             .map_err(|e| format!("cannot write {}: {e}", crate::messages::path(path)))?;
     }
+    let runs = args.runs.clone();
+    if let Some(path) = &runs {
+        if scene.runs().is_none() {
+            return Err(format!(
+                "--runs: {} keeps no table of runs (the projectile and scene files with a [launcher] do)",
+                crate::messages::quote(&info.name)
+            ));
+        }
+        crate::writing::target(path)
+            .map_err(|e| format!("cannot write {}: {e}", crate::messages::path(path)))?;
+    }
     if args.forces && args.format == StateFormat::Csv {
         return Err("--forces adds fields to the JSON; it cannot be used with --format csv".into());
     }
     let forces = args.forces;
-    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format, save, forces, saved_dt }))
+    Ok((scene, RunPlan { steps, dt, every: args.every, format: args.format, save, runs, forces, saved_dt }))
 }
 
 /// Header of `simulate --format csv`.
@@ -214,6 +232,11 @@ pub fn simulate(
         let saved = Snapshot::of(scene, plan.dt).and_then(|snapshot| snapshot.save(path));
         if let Err(error) = saved {
             return Ok(Err(error));
+        }
+    }
+    if let (Some(path), Some(table)) = (&plan.runs, scene.runs()) {
+        if let Err(error) = crate::writing::write_atomic(path, table.csv().as_bytes()) {
+            return Ok(Err(format!("cannot write {}: {error}", crate::messages::path(path))));
         }
     }
     Ok(Ok(()))

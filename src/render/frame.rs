@@ -282,7 +282,7 @@ impl Trails {
 }
 
 /// Builds [`FrameData`] from a scene, reusing its storage from frame to frame.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct FrameBuilder {
     links: Vec<LinkState>,
     contact_points: Vec<crate::physics::ContactPoint>,
@@ -290,6 +290,42 @@ pub struct FrameBuilder {
     outlines: Vec<(Vec3, Vec3)>,
     /// The frame built last.
     pub frame: FrameData,
+    /// How large the drawing's own marks are (the least radius a particle is drawn
+    /// with, an anchor's sphere), as a share of their size seen from afar: 1 for a
+    /// camera [`DECORATION_DISTANCE`] or more away, less for one closer, so that a
+    /// millimetre particle seen from centimetres is drawn at its own size, not as a
+    /// 5 cm ball. See [`decoration_scale`].
+    pub decoration_scale: f32,
+}
+
+impl Default for FrameBuilder {
+    fn default() -> Self {
+        Self {
+            links: Vec::new(),
+            contact_points: Vec::new(),
+            markers: Vec::new(),
+            outlines: Vec::new(),
+            frame: FrameData::default(),
+            decoration_scale: 1.0,
+        }
+    }
+}
+
+/// The least radius a particle is drawn with, seen from [`DECORATION_DISTANCE`] or
+/// further (m): a point particle stays visible.
+pub const MIN_DRAWN_RADIUS: f32 = 0.05;
+/// Radius of the sphere drawn at a link's fixed end, seen from afar (m).
+pub const ANCHOR_RADIUS: f32 = 0.08;
+/// Camera distance (m) from which the drawing's own marks have their full size (every
+/// built-in scene is seen from further); a closer camera shrinks them in proportion, so
+/// a point particle stays a dot about 5% of the distance across, and a millimetre
+/// particle framed from centimetres is drawn at its own size.
+pub const DECORATION_DISTANCE: f32 = 1.0;
+
+/// [`FrameBuilder::decoration_scale`] for a camera `distance` (m) from its target.
+#[must_use]
+pub fn decoration_scale(distance: f32) -> f32 {
+    if distance.is_finite() && distance > 0.0 { (distance / DECORATION_DISTANCE).min(1.0) } else { 1.0 }
 }
 
 impl FrameBuilder {
@@ -323,7 +359,7 @@ impl FrameBuilder {
             } else {
                 particle_color(id, immovable)
             };
-            let mut radius = radius.max(0.05);
+            let mut radius = radius.max(MIN_DRAWN_RADIUS * self.decoration_scale);
             let mut spin = if inverse_inertia != 0.0 { orientation.to_array() } else { UNMARKED };
             if highlight == Some(id) {
                 // Plain yellow, a little larger: the one picked stands out.
@@ -380,7 +416,7 @@ impl FrameBuilder {
             if let crate::physics::LinkEnd::Anchor(anchor) = link.spec.b {
                 frame.spheres.push(SphereInstance {
                     center: anchor.to_array(),
-                    radius: 0.08,
+                    radius: ANCHOR_RADIUS * self.decoration_scale,
                     color: [0.35, 0.35, 0.38, 1.0],
                     spin: UNMARKED,
                 });
@@ -434,7 +470,12 @@ impl FrameBuilder {
         }
 
         if options.swept {
-            swept_paths(world, &mut frame.trails, &mut frame.spheres);
+            swept_paths(
+                world,
+                MIN_DRAWN_RADIUS * self.decoration_scale,
+                &mut frame.trails,
+                &mut frame.spheres,
+            );
         }
 
         if let (true, Some(trails)) = (options.trails, trails) {
@@ -599,6 +640,7 @@ pub const SWEPT_LIMIT: usize = 512;
 /// in one step would pass through a thin obstacle unless collision is continuous.
 fn swept_paths(
     world: &crate::physics::World,
+    least: f32,
     bands: &mut Vec<SegmentInstance>,
     ghosts: &mut Vec<SphereInstance>,
 ) {
@@ -606,7 +648,7 @@ fn swept_paths(
     let motion = world.last_motion();
     let bodies = particles.positions().iter().zip(particles.radii()).zip(motion);
     for ((&position, &radius), &moved) in
-        bodies.filter(|((_, r), m)| m.length() > r.max(0.05)).take(SWEPT_LIMIT)
+        bodies.filter(|((_, r), m)| m.length() > r.max(least)).take(SWEPT_LIMIT)
     {
         let start = position - moved;
         bands.push(SegmentInstance {
@@ -618,7 +660,7 @@ fn swept_paths(
         });
         ghosts.push(SphereInstance {
             center: start.to_array(),
-            radius: radius.max(0.05),
+            radius: radius.max(least),
             color: [0.35, 0.85, 1.0, 0.35],
             spin: UNMARKED,
         });

@@ -41,8 +41,9 @@ pub struct ViewPiece {
 }
 
 impl OrbitCamera {
-    /// Closest the eye may get to the target (m).
-    pub const MIN_DISTANCE: f32 = 0.5;
+    /// Closest the eye may get to the target (m): near enough to see millimetre
+    /// particles whole.
+    pub const MIN_DISTANCE: f32 = 0.005;
     /// Furthest the eye may get from the target (m).
     pub const MAX_DISTANCE: f32 = 500.0;
     /// Highest elevation: almost straight down.
@@ -79,12 +80,11 @@ impl OrbitCamera {
         self.target + self.distance * Vec3::new(cos_pitch * sin_yaw, sin_pitch, cos_pitch * cos_yaw)
     }
 
-    /// Distance of the near clipping plane (m): scales with the orbit distance (at
-    /// most 0.5 m up to a 50 m orbit, a hundredth of the orbit beyond).
+    /// Distance of the near clipping plane (m): a hundredth of the orbit distance,
+    /// at least 0.1 mm (a camera centimetres from millimetre particles).
     #[must_use]
     pub fn near(&self) -> f32 {
-        let near = self.distance * 0.01;
-        if near > 0.5 { near } else { near.max(0.01) }
+        (self.distance * 0.01).max(1e-4)
     }
 
     /// Distance of the far clipping plane (m): 2 km, or twenty orbits for a camera

@@ -763,6 +763,10 @@ impl Scene for FileScene {
         self.launcher.as_ref()
     }
 
+    fn delete_runs(&mut self, which: Option<usize>) -> bool {
+        self.launcher.as_mut().map(|launcher| launcher.delete_runs(which)).is_some()
+    }
+
     /// With walls: their patches' corners and the corners of the box the particles
     /// fill now, so that framing shows the walls and what is on them.
     fn framing_points(&self, out: &mut Vec<Vec3>) {

@@ -11,6 +11,7 @@ use glam::Vec3;
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::readout::Readout;
+use super::runs::{Column, MAX_ROWS, Table};
 use super::{ActionInfo, Marker, SceneAction};
 use crate::physics::exact::damping_rate;
 use crate::physics::{Drag, ParticleDesc, ParticleId, PhysicsError, World};
@@ -58,6 +59,9 @@ pub struct Flight {
     pub landing: Option<(f64, Vec3)>,
     /// Its last recorded state: time, position, vertical velocity.
     last: (f64, Vec3, f32),
+    /// What it was fired with (absent in snapshots made before the table of runs).
+    #[serde(default)]
+    aim: Option<Aim>,
 }
 
 impl Flight {
@@ -70,7 +74,7 @@ impl Flight {
 }
 
 /// What the next round is fired with.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Aim {
     /// Where rounds leave from (m).
     pub position: Vec3,
@@ -107,13 +111,104 @@ pub struct Launcher {
     ghosts: Vec<Ghost>,
     /// The last [`FLIGHTS_KEPT`] flights, newest last.
     flights: Vec<Flight>,
+    /// The table of runs: a row for each round that landed, in [`RUN_COLUMNS`].
+    runs: Vec<Vec<f64>>,
+}
+
+/// The columns of a launcher's table of runs: what the round was fired with, then
+/// each measured value beside its drag-free prediction.
+pub const RUN_COLUMNS: &[Column] = &[
+    Column { key: "angle_deg", heading: "angle (°)", help: "Launch elevation above the horizontal" },
+    Column { key: "speed_m_s", heading: "speed (m/s)", help: "Launch speed" },
+    Column { key: "g_m_s2", heading: "g (m/s²)", help: "Gravity when the round was fired" },
+    Column { key: "damping", heading: "damping", help: "Fraction of velocity the round kept per second" },
+    Column { key: "k1", heading: "k1 (N·s/m)", help: "The round's linear drag" },
+    Column { key: "k2", heading: "k2 (N·s²/m²)", help: "The round's quadratic drag" },
+    Column { key: "height_m", heading: "height (m)", help: "Height of the launcher above the ground" },
+    Column { key: "mass_kg", heading: "mass (kg)", help: "The round's mass" },
+    Column {
+        key: "range_m",
+        heading: "range (m)",
+        help: "Measured: how far along x the round's centre came down to y = 0, found between the two steps \
+               either side of the ground",
+    },
+    Column {
+        key: "range_predicted_m",
+        heading: "predicted range (m)",
+        help: "vx (vy + √(vy² + 2 g h)) / g: no drag, no damping, exact time (blank without gravity)",
+    },
+    Column {
+        key: "apex_m",
+        heading: "apex (m)",
+        help: "Measured: the highest point, where the vertical velocity turned from up to down (the launch \
+               height for a round fired level or down)",
+    },
+    Column {
+        key: "apex_predicted_m",
+        heading: "predicted apex (m)",
+        help: "h + vy² / (2 g): no drag, no damping (blank without gravity)",
+    },
+    Column { key: "flight_s", heading: "flight (s)", help: "Measured: time from launch to landing" },
+    Column {
+        key: "flight_predicted_s",
+        heading: "predicted flight (s)",
+        help: "(vy + √(vy² + 2 g h)) / g: no drag, no damping (blank without gravity)",
+    },
+];
+
+/// The row of [`RUN_COLUMNS`] for a round fired with `aim` that peaked at height
+/// `apex` (m, if it rose) and landed `range` m away after `flight` s.
+#[must_use]
+pub fn run_row(aim: &Aim, range: f32, apex: Option<f32>, flight: f64) -> Vec<f64> {
+    let angle = aim.angle.to_radians();
+    let (vx, vy) = (aim.speed * angle.cos(), aim.speed * angle.sin());
+    let (h, g) = (aim.position.y, aim.g);
+    let (range_predicted, apex_predicted, flight_predicted) = if g > 0.0 {
+        let t = ground_range_time(vy, h, g);
+        (f64::from(vx * t), f64::from(h + vy.max(0.0).powi(2) / (2.0 * g)), f64::from(t))
+    } else {
+        (f64::NAN, f64::NAN, f64::NAN)
+    };
+    vec![
+        f64::from(aim.angle),
+        f64::from(aim.speed),
+        f64::from(aim.g),
+        f64::from(aim.damping),
+        f64::from(aim.k1),
+        f64::from(aim.k2),
+        f64::from(h),
+        f64::from(aim.mass),
+        f64::from(range),
+        range_predicted,
+        f64::from(apex.unwrap_or(h)),
+        apex_predicted,
+        flight,
+        flight_predicted,
+    ]
 }
 
 impl Launcher {
     /// A launcher with no round fired yet.
     #[must_use]
     pub fn new(aim: Aim) -> Self {
-        Self { aim, rounds: Vec::new(), ghosts: Vec::new(), flights: Vec::new() }
+        Self { aim, rounds: Vec::new(), ghosts: Vec::new(), flights: Vec::new(), runs: Vec::new() }
+    }
+
+    /// The table of runs: a row for each round that landed.
+    #[must_use]
+    pub fn runs(&self) -> Table<'_> {
+        Table { columns: RUN_COLUMNS, rows: &self.runs }
+    }
+
+    /// Deletes run `k`, or every run with `None`.
+    pub fn delete_runs(&mut self, which: Option<usize>) {
+        match which {
+            Some(k) if k < self.runs.len() => {
+                self.runs.remove(k);
+            }
+            Some(_) => {}
+            None => self.runs.clear(),
+        }
     }
 
     fn direction(&self) -> Vec3 {
@@ -153,6 +248,7 @@ impl Launcher {
             path: vec![(0.0, p)],
             launch: (t, p),
             last: (t, p, vy),
+            aim: Some(aim),
             ..Flight::default()
         });
         if aim.k2 == 0.0 {
@@ -234,9 +330,16 @@ impl Launcher {
             if p.y <= 0.0 && p0.y > 0.0 {
                 let f = p0.y / (p0.y - p.y);
                 let at = p0.lerp(p, f);
-                flight.landing =
-                    Some((t0 - launched + f64::from(f) * (now - t0), Vec3::new(at.x, 0.0, at.z)));
+                let time = t0 - launched + f64::from(f) * (now - t0);
+                flight.landing = Some((time, Vec3::new(at.x, 0.0, at.z)));
                 flight.round = None;
+                if let Some(aim) = &flight.aim {
+                    let apex = flight.apex.map(|(_, p)| p.y);
+                    if self.runs.len() == MAX_ROWS {
+                        self.runs.remove(0);
+                    }
+                    self.runs.push(run_row(aim, at.x - flight.launch.1.x, apex, time));
+                }
             }
             if flight.path.last().is_none_or(|(t, _)| now - launched - t >= PATH_INTERVAL - 1e-9) {
                 flight.path.push((now - launched, p));
@@ -254,7 +357,10 @@ impl Launcher {
     /// Its rounds, ghosts and flights, for a snapshot.
     #[must_use]
     pub fn save_state(&self) -> serde_json::Value {
-        serde_json::json!({ "rounds": self.rounds, "ghosts": self.ghosts, "flights": self.flights })
+        // A value there is none of (NaN) is written as null.
+        let runs: Vec<Vec<Option<f64>>> =
+            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
+        serde_json::json!({ "rounds": self.rounds, "ghosts": self.ghosts, "flights": self.flights, "runs": runs })
     }
 
     /// Takes back what [`Self::save_state`] wrote, checked against `world`.
@@ -264,8 +370,17 @@ impl Launcher {
             rounds: Vec<(ParticleId, f64)>,
             ghosts: Vec<Ghost>,
             flights: Vec<Flight>,
+            #[serde(default)]
+            runs: Vec<Vec<Option<f64>>>,
         }
         let saved: Saved = super::read_state(state)?;
+        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
+            return Err(format!(
+                "a run has {} values; a launcher's runs have {}",
+                row.len(),
+                RUN_COLUMNS.len()
+            ));
+        }
         let particles = &world.particles;
         if let Some((id, _)) = saved.rounds.iter().find(|(id, _)| particles.index(*id).is_none()) {
             return Err(format!("round {} is not a particle of the world", id.0));
@@ -280,7 +395,9 @@ impl Launcher {
                 id.0
             ));
         }
+        let runs = saved.runs.into_iter().map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect());
         (self.rounds, self.ghosts, self.flights) = (saved.rounds, saved.ghosts, saved.flights);
+        self.runs = runs.collect();
         Ok(())
     }
 

@@ -36,6 +36,7 @@ mod pendulum;
 pub mod pile;
 mod projectile;
 pub mod readout;
+pub mod runs;
 pub mod sketch;
 pub mod snapshot;
 mod spring_forces;
@@ -353,6 +354,18 @@ pub trait Scene: Send {
     /// `[launcher]`).
     fn launcher(&self) -> Option<&launcher::Launcher> {
         None
+    }
+
+    /// The scene's table of runs, if it keeps one: a row for each completed
+    /// measurement.
+    fn runs(&self) -> Option<runs::Table<'_>> {
+        self.launcher().map(launcher::Launcher::runs)
+    }
+
+    /// Deletes run `k` of the table, or every run with `None`; false if the scene
+    /// keeps no table.
+    fn delete_runs(&mut self, _which: Option<usize>) -> bool {
+        false
     }
 
     /// The text the scene was built from and the file it was read from, for a scene

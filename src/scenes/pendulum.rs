@@ -56,6 +56,10 @@ struct Pendulum {
     params: ParamValues,
     /// Mechanical energy at release (J), for the read-out.
     start_energy: f32,
+    /// The stopwatch of a single pendulum: the times (s) the bob last crossed the
+    /// vertical below the pivot moving towards +x, newest last, each placed within its
+    /// step where the crossing falls; the period is the time between the two.
+    crossings: [Option<f64>; 2],
 }
 
 impl Pendulum {
@@ -85,7 +89,23 @@ impl Pendulum {
             previous = Some(bob);
         }
         let energy = world.energy();
-        Self { world, params, start_energy: energy.kinetic + energy.potential }
+        Self { world, params, start_energy: energy.kinetic + energy.potential, crossings: [None; 2] }
+    }
+
+    /// The bob's offset along x from the pivot (m), for a single pendulum.
+    fn bob_offset(&self) -> Option<f32> {
+        if links(&self.params) != 1 {
+            return None;
+        }
+        self.world.particles.positions().first().map(|p| p.x - pivot(&self.params).x)
+    }
+
+    /// The period the stopwatch measured over the last whole swing (s).
+    fn measured_period(&self) -> Option<f64> {
+        match self.crossings {
+            [Some(a), Some(b)] => Some(b - a),
+            _ => None,
+        }
     }
 }
 
@@ -121,7 +141,36 @@ impl Scene for Pendulum {
     }
 
     fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
-        self.world.step(dt)
+        let (before, t0) = (self.bob_offset(), self.world.time());
+        let report = self.world.step(dt)?;
+        if let (Some(x0), Some(x1)) = (before, self.bob_offset()) {
+            if x0 < 0.0 && x1 >= 0.0 {
+                let t = t0 + f64::from(-x0 / (x1 - x0)) * (self.world.time() - t0);
+                self.crossings = [self.crossings[1], Some(t)];
+            }
+        }
+        Ok(report)
+    }
+
+    fn save_state(&self) -> serde_json::Value {
+        serde_json::json!({ "crossings": self.crossings })
+    }
+
+    fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
+        #[derive(serde::Deserialize)]
+        struct Saved {
+            #[serde(default)]
+            crossings: [Option<f64>; 2],
+        }
+        // A snapshot made before the stopwatch holds null: no crossing timed yet.
+        let saved: Saved =
+            if state.get() == "null" { Saved { crossings: [None; 2] } } else { super::read_state(state)? };
+        let now = self.world.time();
+        if saved.crossings.iter().flatten().any(|&t| !(t >= 0.0 && t <= now)) {
+            return Err(format!("a stopwatch time is outside 0 to the world's {now:.3} s"));
+        }
+        self.crossings = saved.crossings;
+        Ok(())
     }
 
     fn labels<'a>(&'a self, out: &mut Vec<(Vec3, &'a str)>) {
@@ -156,6 +205,21 @@ impl Scene for Pendulum {
                 Readout::new("period of small swings 2π√(L/g)", format!("{period:.3} s"))
                     .with("period_predicted_s", period),
             );
+            let amplitude = f64::from(self.params.get("angle").to_radians());
+            if amplitude.abs() < std::f64::consts::PI {
+                let exact =
+                    crate::physics::exact::pendulum_period(f64::from(length), f64::from(g), amplitude);
+                out.push(
+                    Readout::new("period at this amplitude 4√(L/g)·K(sin θ₀/2)", format!("{exact:.3} s"))
+                        .with_f64("period_exact_s", exact),
+                );
+            }
+            if let Some(measured) = self.measured_period() {
+                out.push(
+                    Readout::new("period measured over the last swing", format!("{measured:.3} s"))
+                        .with_f64("period_s", measured),
+                );
+            }
         }
         out
     }

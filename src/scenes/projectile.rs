@@ -159,6 +159,11 @@ impl Scene for Projectile {
         Some(&self.launcher)
     }
 
+    fn delete_runs(&mut self, which: Option<usize>) -> bool {
+        self.launcher.delete_runs(which);
+        true
+    }
+
     fn readout_rows(&self, _dt: f32) -> Vec<super::Readout> {
         self.launcher.readout_rows(&self.world)
     }

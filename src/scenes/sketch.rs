@@ -19,7 +19,7 @@ use super::file::{float32, toml_string};
 use super::launcher::Aim;
 use crate::physics::collision::ContactGenerator;
 use crate::physics::state::SavedForce;
-use crate::physics::{LinkEnd, World};
+use crate::physics::{LinkEnd, LinkKind, World};
 
 /// Most particles a sketch holds (a scene file's limit).
 pub const MAX_BODIES: usize = super::file::MAX_PARTICLES;
@@ -77,16 +77,17 @@ impl JoinKind {
     /// Every kind, in the order the builder offers them.
     pub const ALL: [Self; 4] = [Self::Rod, Self::Cable, Self::Spring, Self::Bungee];
 
-    /// Its name in the scene file format.
+    /// Its name in the scene file format: the engine's name for the link it makes.
     #[must_use]
     pub fn name(self) -> &'static str {
-        match self {
-            Self::Rod => "rod",
-            Self::Cable => "cable",
-            Self::Spring => "spring",
-            Self::Bungee => "bungee",
-            Self::StiffSpring => "stiff_spring",
-        }
+        let kind = match self {
+            Self::Rod => LinkKind::Rod,
+            Self::Cable => LinkKind::Cable,
+            Self::Spring => LinkKind::Spring,
+            Self::Bungee => LinkKind::Bungee,
+            Self::StiffSpring => LinkKind::StiffSpring,
+        };
+        kind.name()
     }
 
     /// Whether it has a spring constant.

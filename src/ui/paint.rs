@@ -89,6 +89,7 @@ impl Painter {
         }
         let highlight = lab.grab.map(|g| g.id).or(lab.hovered);
         let now = lab.scene.world().time();
+        self.builder.decoration_scale = crate::render::frame::decoration_scale(lab.camera.distance);
         self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
         vectors(lab, &mut self.builder.frame);
         compare_ghosts(lab, &mut self.links, &mut self.builder.frame);

@@ -430,32 +430,32 @@ table! {
     }
 }
 
-/// `[[drag]]`.
-#[derive(Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct DragTable {
-    /// Linear coefficient (N·s/m).
-    pub k1: Option<SNum>,
-    /// Quadratic coefficient (N·s²/m²).
-    pub k2: Option<SNum>,
-    /// Particles it acts on; default every movable particle.
-    pub targets: Option<Vec<Spanned<Ref>>>,
+table! {
+    /// `[[drag]]`.
+    pub struct DragTable {
+        /// Linear coefficient (N·s/m).
+        pub k1: Option<SNum>,
+        /// Quadratic coefficient (N·s²/m²).
+        pub k2: Option<SNum>,
+        /// Particles it acts on; default every movable particle.
+        pub targets: Option<Vec<Spanned<Ref>>>,
+    }
 }
 
-/// `[[buoyancy]]`.
-#[derive(Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct BuoyancyTable {
-    /// The floating particle, or an array of them.
-    pub particle: Spanned<Ref>,
-    /// Height of the liquid surface (m).
-    pub surface: SNum,
-    /// Half the body's height (m).
-    pub half_height: SNum,
-    /// Body volume (m³).
-    pub volume: SNum,
-    /// Liquid density (kg/m³), default 1000.
-    pub density: Option<SNum>,
+table! {
+    /// `[[buoyancy]]`.
+    pub struct BuoyancyTable {
+        /// The floating particle, or an array of them.
+        pub particle: Spanned<Ref>,
+        /// Height of the liquid surface (m).
+        pub surface: SNum,
+        /// Half the body's height (m).
+        pub half_height: SNum,
+        /// Body volume (m³).
+        pub volume: SNum,
+        /// Liquid density (kg/m³), default 1000.
+        pub density: Option<SNum>,
+    }
 }
 
 table! {
@@ -497,56 +497,52 @@ table! {
     }
 }
 
-/// `[collisions]`.
-#[derive(Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct CollisionsTable {
-    /// Restitution between particles, default 0.5.
-    pub restitution: Option<SNum>,
-    /// Friction between particles, default 0.3.
-    pub friction: Option<SNum>,
-    /// Rolling resistance between spheres that roll, default 0.1.
-    pub rolling_resistance: Option<SNum>,
+table! {
+    /// `[collisions]`: restitution 0.5, friction 0.3 and rolling resistance 0.1 by
+    /// default between particles.
+    pub struct CollisionsTable {
+        surface_fields;
+    }
 }
 
-/// `[launcher]`.
-#[derive(Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct LauncherTable {
-    /// Where rounds leave from (m), default `[0, 1.5, 0]`.
-    pub position: Option<SVec>,
-    /// Launch speed (m/s), default 25.
-    pub speed: Option<SNum>,
-    /// Elevation above the horizontal towards +x (degrees), default 45.
-    pub angle: Option<SNum>,
-    /// A round's mass (kg), default 1.
-    pub mass: Option<SNum>,
-    /// A round's radius (m), default 0.3.
-    pub radius: Option<SNum>,
-    /// Fraction of velocity a round keeps per second, default 1.
-    pub damping: Option<SNum>,
-    /// Linear drag of a round (N·s/m), default 0.
-    pub k1: Option<SNum>,
-    /// Quadratic drag of a round (N·s²/m²), default 0.
-    pub k2: Option<SNum>,
-    /// Distance of a target on the ground from the launcher, along x (m); default none.
-    pub target: Option<SNum>,
-    /// Whether a round is fired when the scene starts, default true.
-    pub fire_at_start: Option<bool>,
+table! {
+    /// `[launcher]`.
+    pub struct LauncherTable {
+        /// Where rounds leave from (m), default `[0, 1.5, 0]`.
+        pub position: Option<SVec>,
+        /// Launch speed (m/s), default 25.
+        pub speed: Option<SNum>,
+        /// Elevation above the horizontal towards +x (degrees), default 45.
+        pub angle: Option<SNum>,
+        /// A round's mass (kg), default 1.
+        pub mass: Option<SNum>,
+        /// A round's radius (m), default 0.3.
+        pub radius: Option<SNum>,
+        /// Fraction of velocity a round keeps per second, default 1.
+        pub damping: Option<SNum>,
+        /// Linear drag of a round (N·s/m), default 0.
+        pub k1: Option<SNum>,
+        /// Quadratic drag of a round (N·s²/m²), default 0.
+        pub k2: Option<SNum>,
+        /// Distance of a target on the ground from the launcher, along x (m); default none.
+        pub target: Option<SNum>,
+        /// Whether a round is fired when the scene starts, default true.
+        pub fire_at_start: Option<bool>,
+    }
 }
 
-/// `[camera]`.
-#[derive(Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct CameraTable {
-    /// Point looked at (m).
-    pub target: Option<SVec>,
-    /// Distance from it (m).
-    pub distance: Option<SNum>,
-    /// Turn about the vertical (degrees); 0 looks along -z.
-    pub yaw: Option<SNum>,
-    /// Elevation (degrees), positive looks down.
-    pub pitch: Option<SNum>,
+table! {
+    /// `[camera]`.
+    pub struct CameraTable {
+        /// Point looked at (m).
+        pub target: Option<SVec>,
+        /// Distance from it (m).
+        pub distance: Option<SNum>,
+        /// Turn about the vertical (degrees); 0 looks along -z.
+        pub yaw: Option<SNum>,
+        /// Elevation (degrees), positive looks down.
+        pub pitch: Option<SNum>,
+    }
 }
 
 #[cfg(test)]

@@ -367,25 +367,50 @@ impl Lab {
     /// particle (or 2 m above the origin), each linked to the next with `link`
     /// (none: unlinked), the first pinned if `pin_first`.
     pub fn add_row(&mut self, count: usize, spacing: f32, link: Option<JoinKind>, pin_first: bool) {
+        self.add_grid([count, 1], spacing, link, if pin_first { Pins::First } else { Pins::None });
+    }
+
+    /// Adds `columns × rows` particles of the Add tool's kind, `spacing` apart: columns
+    /// along x, rows downwards, from beside the selected particle (or 2 m above the
+    /// origin). With `link`, each is joined to its neighbour on the right and the one
+    /// below: a chain for one row, a cloth for many. `pins` fixes some of the top row.
+    pub fn add_grid(
+        &mut self,
+        [columns, rows]: [usize; 2],
+        spacing: f32,
+        link: Option<JoinKind>,
+        pins: Pins,
+    ) {
         let Some(editor) = &self.editor else { return };
         let start = editor
             .selected
             .and_then(|i| editor.sketch().bodies.get(i))
             .map_or(Vec3::new(0.0, 2.0, 0.0), |b| b.position + Vec3::X * spacing);
         let (template, k) = (editor.new_body, editor.spring_k);
-        self.edit("add a row", |sketch, _| {
-            let mut previous = None;
-            for n in 0..count {
-                let body = Body {
-                    position: start + Vec3::X * spacing * n as f32,
-                    fixed: pin_first && n == 0,
-                    ..template
-                };
-                let Some(i) = sketch.add(body) else { return n > 0 };
-                if let (Some(kind), Some(p)) = (link, previous) {
-                    let _ = sketch.join(kind, p, End::Body(i), k);
+        let change = if rows > 1 { "add a grid" } else { "add a row" };
+        self.edit(change, |sketch, _| {
+            let first = sketch.bodies.len();
+            for row in 0..rows {
+                for column in 0..columns {
+                    let fixed = row == 0
+                        && match pins {
+                            Pins::None => false,
+                            Pins::First => column == 0,
+                            Pins::Corners => column == 0 || column + 1 == columns,
+                        };
+                    let position = start + Vec3::new(column as f32, -(row as f32), 0.0) * spacing;
+                    let Some(i) = sketch.add(Body { position, fixed, ..template }) else {
+                        return sketch.bodies.len() > first;
+                    };
+                    if let Some(kind) = link {
+                        if column > 0 {
+                            let _ = sketch.join(kind, i - 1, End::Body(i), k);
+                        }
+                        if row > 0 {
+                            let _ = sketch.join(kind, i - columns, End::Body(i), k);
+                        }
+                    }
                 }
-                previous = Some(i);
             }
             true
         });
@@ -402,4 +427,15 @@ fn hit_plane(origin: Vec3, direction: Vec3, point: Vec3, normal: Vec3) -> Option
     }
     let t = (point - origin).dot(normal) / facing;
     (t > 0.0).then(|| origin + direction * t)
+}
+
+/// Which particles of a new row or grid's top row are fixed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pins {
+    /// None: it falls.
+    None,
+    /// The first: a chain hanging from it.
+    First,
+    /// The first and last: a cloth hung by its corners.
+    Corners,
 }

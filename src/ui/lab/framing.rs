@@ -64,7 +64,7 @@ impl Lab {
             .fold((self.camera.target, self.camera.target), |(lo, hi), &p| (lo.min(p), hi.max(p)));
         let centre = (low + high) * 0.5;
         self.camera.target =
-            Vec3::new(centre.x, centre.y.max(if self.side_view { 0.5 } else { 0.0 }), centre.z);
+            Vec3::new(centre.x, centre.y.max(if self.side_view { self.side_lift() } else { 0.0 }), centre.z);
         for _ in 0..FRAMING_STEPS {
             if fits(&self.camera) {
                 break;
@@ -85,12 +85,19 @@ impl Lab {
         }
     }
 
+    /// How far above the ground the side view's target stays (m): half a metre, or a
+    /// tenth of the camera's distance for a camera closer than 5 m (millimetre
+    /// particles seen from centimetres stay in the view).
+    fn side_lift(&self) -> f32 {
+        (0.1 * self.camera.distance).min(0.5)
+    }
+
     pub(super) fn look_from_the_side(&mut self) {
         self.camera.orthographic = true;
         self.camera.yaw = 0.0;
         self.camera.pitch = 0.0;
         // Level with the target, which must be above the ground for the eye to be.
-        self.camera.target.y = self.camera.target.y.max(self.camera.ground + 0.5);
+        self.camera.target.y = self.camera.target.y.max(self.camera.ground + self.side_lift());
     }
 
     /// With follow on: puts the camera's target on the selected particle, or else the
@@ -109,7 +116,7 @@ impl Lab {
             let p = particles.positions()[i];
             let ground = self.camera.ground;
             self.camera.target = if self.side_view {
-                Vec3::new(p.x, p.y.max(ground + 0.5), self.camera.target.z)
+                Vec3::new(p.x, p.y.max(ground + self.side_lift()), self.camera.target.z)
             } else {
                 Vec3::new(p.x, p.y.max(ground), p.z)
             };

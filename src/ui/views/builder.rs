@@ -6,24 +6,32 @@
 use glam::Vec3;
 
 use crate::scenes::sketch::{COLLISIONS, DragField, End, GROUND, JoinKind};
-use crate::ui::lab::{Lab, Purpose, Tool};
+use crate::ui::lab::{Lab, Pins, Purpose, Tool};
 
 /// The builder's own settings that are not the sketch's.
 #[derive(Debug)]
 pub struct BuilderPanel {
     /// Particles a row adds.
     row_count: usize,
+    /// Rows of a grid (1: a row).
+    grid_rows: usize,
+    /// Which of the top row are fixed.
+    grid_pins: Pins,
     /// Their spacing (m).
     row_spacing: f32,
     /// The link between neighbours of a row (`None`: unlinked).
     row_link: Option<JoinKind>,
-    /// The row's first particle is pinned.
-    row_pin: bool,
 }
 
 impl Default for BuilderPanel {
     fn default() -> Self {
-        Self { row_count: 5, row_spacing: 0.4, row_link: Some(JoinKind::Rod), row_pin: true }
+        Self {
+            row_count: 5,
+            grid_rows: 1,
+            grid_pins: Pins::First,
+            row_spacing: 0.4,
+            row_link: Some(JoinKind::Rod),
+        }
     }
 }
 
@@ -150,10 +158,14 @@ impl BuilderPanel {
         }
     }
 
-    /// Make many at once: a row of particles, linked or not.
+    /// Make many at once: a row or a grid of particles, linked (a chain, a cloth) or
+    /// not (a block of balls to drop).
     fn row(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
         ui.horizontal(|ui| {
-            ui.add(egui::DragValue::new(&mut self.row_count).range(2..=200).prefix("row of "));
+            ui.add(egui::DragValue::new(&mut self.row_count).range(1..=200).prefix("many: "))
+                .on_hover_text("Particles along x");
+            ui.add(egui::DragValue::new(&mut self.grid_rows).range(1..=100).prefix("× "))
+                .on_hover_text("Rows downwards: more than one makes a grid (linked: a cloth)");
             ui.add(
                 egui::DragValue::new(&mut self.row_spacing).range(0.01..=10.0).speed(0.01).suffix(" m apart"),
             );
@@ -166,12 +178,16 @@ impl BuilderPanel {
             }
         });
         ui.horizontal(|ui| {
-            ui.checkbox(&mut self.row_pin, "first pinned");
-            let hover = "Along x, from the selected particle (or 2 m above the origin)";
-            if ui.button("Add row").on_hover_text(hover).clicked() {
-                lab.add_row(self.row_count, self.row_spacing, self.row_link, self.row_pin);
-            }
+            ui.label("pinned");
+            ui.selectable_value(&mut self.grid_pins, Pins::None, "none");
+            ui.selectable_value(&mut self.grid_pins, Pins::First, "first");
+            ui.selectable_value(&mut self.grid_pins, Pins::Corners, "top corners");
         });
+        let hover = "Along x and downwards, from beside the selected particle (or 2 m above the origin)";
+        let label = if self.grid_rows > 1 { "Add grid" } else { "Add row" };
+        if ui.button(label).on_hover_text(hover).clicked() {
+            lab.add_grid([self.row_count, self.grid_rows], self.row_spacing, self.row_link, self.grid_pins);
+        }
     }
 
     /// The scene's name, gravity, ground and collisions.

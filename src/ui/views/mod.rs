@@ -13,6 +13,7 @@ pub mod legends;
 pub mod menu_bar;
 pub mod readouts;
 pub mod run_controls;
+pub mod runs;
 pub mod scene_menu;
 pub mod scene_params;
 pub mod stats;

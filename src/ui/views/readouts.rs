@@ -19,6 +19,7 @@ impl Readouts {
                 ui.end_row();
             }
         });
+        super::runs::ui(ui, lab);
         if lab.view.color_by_speed {
             ui.separator();
             legends::speed_legend(ui);

@@ -218,14 +218,19 @@ impl Builder<'_> {
 
     /// The `[camera]` table, with what it leaves out framing every particle.
     pub(super) fn camera(&mut self, doc: &Document) -> Result<CameraHint, Located> {
-        let positions = self.world.particles.positions();
-        let (lo, hi) = positions
+        let p = &self.world.particles;
+        let (lo, hi) = p
+            .positions()
             .iter()
-            .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+            .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), &x| (lo.min(x), hi.max(x)));
         let (centre, size) =
-            if positions.is_empty() { (Vec3::ZERO, 1.0) } else { ((lo + hi) * 0.5, (hi - lo).max_element()) };
-        let framing =
-            CameraHint { target: centre, distance: 1.8 * size.max(0.5) + 1.0, yaw: 0.0, pitch: 0.2 };
+            if p.is_empty() { (Vec3::ZERO, 1.0) } else { ((lo + hi) * 0.5, (hi - lo).max_element()) };
+        // What the particles fill with their radii.
+        let whole = size + 2.0 * p.radii().iter().fold(0.0_f32, |a, &r| a.max(r));
+        // From afar for a scene of a quarter metre or more; in proportion for a smaller
+        // one (a millimetre particle seen from centimetres), the two meeting at 0.25 m.
+        let distance = if whole >= 0.25 { 1.8 * size.max(0.5) + 1.0 } else { 7.6 * whole.max(1e-4) };
+        let framing = CameraHint { target: centre, distance, yaw: 0.0, pitch: 0.2 };
         let Some(camera) = &doc.camera else { return Ok(framing) };
         let target = match &camera.target {
             Some(field) => {
