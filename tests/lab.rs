@@ -608,3 +608,21 @@ fn tiny_particles_are_drawn_at_their_own_size_up_close() {
     builder.build(lab.scene.as_ref(), None, 0.0, ViewOptions::default(), None);
     assert_eq!(builder.frame.spheres[0].radius, MIN_DRAWN_RADIUS);
 }
+
+/// A scene file's `color` is the colour the view draws that particle in; the others
+/// keep the lab's palette.
+#[test]
+fn a_particles_colour_from_its_file_is_drawn() {
+    use particle_lab::render::{FrameBuilder, ViewOptions};
+    let text = "[scene]\nname = \"colours\"\n\n[[particle]]\nposition = [0, 1, 0]\n\n[[particle]]\nposition = [1, 1, 0]\ncolor = \"#ff3300\"\n";
+    let entry = particle_lab::scenes::file::load_text(text, "colours", None).unwrap();
+    let scene = entry.create_default();
+    let mut builder = FrameBuilder::default();
+    builder.build(scene.as_ref(), None, 0.0, ViewOptions::default(), None);
+    assert_eq!(builder.frame.spheres[1].color, [1.0, 0.2, 0.0, 1.0]);
+    assert_ne!(builder.frame.spheres[0].color, [1.0, 0.2, 0.0, 1.0], "the others keep the palette");
+    // A colour that is not one is refused in one line, naming the key.
+    let bad = text.replace("#ff3300", "orange");
+    let error = particle_lab::scenes::file::load_text(&bad, "colours", None).err().unwrap().to_string();
+    assert!(error.contains("color") && !error.contains('\n'), "{error}");
+}

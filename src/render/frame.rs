@@ -348,6 +348,7 @@ impl FrameBuilder {
         let particles = &world.particles;
         frame.shadows = particles.len() <= SHADOW_LIMIT;
         let speed_table = &*SPEED_TABLE;
+        let colors = scene.particle_colors();
         let each = particles.ids().iter().zip(&particles.position).zip(&particles.radius);
         let turning = particles.orientations().iter().zip(particles.inverse_inertias());
         for ((((&id, position), &radius), (&inverse_mass, velocity)), (orientation, &inverse_inertia)) in
@@ -357,7 +358,10 @@ impl FrameBuilder {
             let mut color = if options.color_by_speed && !immovable {
                 ramp_lookup(speed_table, velocity.length())
             } else {
-                particle_color(id, immovable)
+                match colors.binary_search_by_key(&id, |&(id, _)| id) {
+                    Ok(k) => colors[k].1,
+                    Err(_) => particle_color(id, immovable),
+                }
             };
             let mut radius = radius.max(MIN_DRAWN_RADIUS * self.decoration_scale);
             let mut spin = if inverse_inertia != 0.0 { orientation.to_array() } else { UNMARKED };

@@ -763,6 +763,14 @@ impl Scene for FileScene {
         self.launcher.as_ref()
     }
 
+    fn particle_colors(&self) -> &[(ParticleId, [f32; 3])] {
+        &self.built.colors
+    }
+
+    fn particle_labels(&self) -> &[(ParticleId, String)] {
+        &self.built.labels
+    }
+
     fn delete_runs(&mut self, which: Option<usize>) -> bool {
         self.launcher.as_mut().map(|launcher| launcher.delete_runs(which)).is_some()
     }

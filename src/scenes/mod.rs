@@ -356,6 +356,17 @@ pub trait Scene: Send {
         None
     }
 
+    /// Colours the scene gives particles, by id in ascending order (a scene file's
+    /// `color`); the others take the lab's palette.
+    fn particle_colors(&self) -> &[(crate::physics::ParticleId, [f32; 3])] {
+        &[]
+    }
+
+    /// The names the scene gives single particles (a scene file's `name`), by id.
+    fn particle_labels(&self) -> &[(crate::physics::ParticleId, String)] {
+        &[]
+    }
+
     /// The scene's table of runs, if it keeps one: a row for each completed
     /// measurement.
     fn runs(&self) -> Option<runs::Table<'_>> {

@@ -25,7 +25,7 @@ use crate::physics::{LinkEnd, LinkKind, World};
 pub const MAX_BODIES: usize = super::file::MAX_PARTICLES;
 
 /// A particle of a sketch.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Body {
     /// Position (m).
     pub position: Vec3,
@@ -41,6 +41,10 @@ pub struct Body {
     pub fixed: bool,
     /// A solid sphere that rolls.
     pub rolls: bool,
+    /// Its label in the view (unique in the sketch), if it has one.
+    pub name: Option<String>,
+    /// Its colour in the view (0–1 components), if not the lab's palette's.
+    pub color: Option<[f32; 3]>,
 }
 
 impl Default for Body {
@@ -53,6 +57,8 @@ impl Default for Body {
             damping: 1.0,
             fixed: false,
             rolls: false,
+            name: None,
+            color: None,
         }
     }
 }
@@ -291,6 +297,8 @@ impl Sketch {
                 damping: p.damping(i),
                 fixed,
                 rolls: p.rolls(i),
+                name: None,
+                color: None,
             });
             if p.angular_velocities()[i] != Vec3::ZERO {
                 leave("the particles' spin");
@@ -440,6 +448,16 @@ impl Sketch {
     pub fn from_scene(scene: &dyn Scene, name: &str) -> (Self, Vec<String>) {
         let world = scene.world();
         let (mut sketch, left_out) = Self::from_world(world, name);
+        for (id, color) in scene.particle_colors() {
+            if let Some(i) = world.particles.index(*id) {
+                sketch.bodies[i].color = Some(*color);
+            }
+        }
+        for (id, label) in scene.particle_labels() {
+            if let Some(i) = world.particles.index(*id) {
+                sketch.bodies[i].name = Some(label.clone());
+            }
+        }
         let Some(launcher) = scene.launcher() else { return (sketch, left_out) };
         let at_start = world.steps() == 0;
         if at_start {
@@ -482,8 +500,10 @@ impl Sketch {
 
     /// A copy of particle `i`, `offset` away; returns the copy's number.
     pub fn duplicate(&mut self, i: usize, offset: Vec3) -> Option<usize> {
-        let mut body = *self.bodies.get(i)?;
+        let mut body = self.bodies.get(i)?.clone();
         body.position += offset;
+        // A name is one particle's: the copy has none.
+        body.name = None;
         self.add(body)
     }
 
@@ -630,6 +650,13 @@ impl Sketch {
             if body.rolls {
                 out.push_str("rolls = true\n");
             }
+            if let Some(name) = &body.name {
+                let _ = writeln!(out, "name = {}", toml_string(name));
+            }
+            if let Some([r, g, b]) = body.color {
+                let byte = |c: f32| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
+                let _ = writeln!(out, "color = \"#{:02x}{:02x}{:02x}\"", byte(r), byte(g), byte(b));
+            }
         }
         for join in &self.joins {
             let _ = write!(out, "\n[[link]]\nkind = \"{}\"\na = {}\n", join.kind.name(), join.a);
@@ -755,7 +782,15 @@ mod tests {
     fn dumbbell() -> Sketch {
         let mut s = Sketch::new("dumbbell");
         let a = s.add(Body { position: Vec3::new(0.0, 2.0, 0.0), radius: 0.15, ..Body::default() }).unwrap();
-        let b = s.add(Body { position: Vec3::new(1.0, 2.5, 0.0), mass: 2.0, ..Body::default() }).unwrap();
+        let b = s
+            .add(Body {
+                position: Vec3::new(1.0, 2.5, 0.0),
+                mass: 2.0,
+                name: Some("heavy".into()),
+                color: Some([1.0, 0.2, 0.0]),
+                ..Body::default()
+            })
+            .unwrap();
         let c = s.add(Body { position: Vec3::new(0.0, 3.0, 0.0), fixed: true, ..Body::default() }).unwrap();
         s.join(JoinKind::Spring, a, End::Body(b), 40.0).unwrap();
         s.join(JoinKind::Rod, a, End::Body(c), 0.0).unwrap();
@@ -773,12 +808,14 @@ mod tests {
         let world = scene.world();
         assert_eq!(world.particles.len(), 3);
         assert_eq!(world.links().len(), 3);
-        // Taken back from the world it built, it is the same sketch.
-        let (again, left_out) = Sketch::from_world(world, "dumbbell");
+        // Taken back from the scene it built, it is the same sketch, its label and
+        // colour included; the view draws that colour.
+        let (again, left_out) = Sketch::from_scene(scene.as_ref(), "dumbbell");
         assert!(left_out.is_empty(), "{left_out:?}");
         assert_eq!(again.bodies, sketch.bodies);
         assert_eq!(again.joins, sketch.joins);
         assert_eq!(again.text(), text);
+        assert!(text.contains("name = \"heavy\"") && text.contains("color = \"#ff3300\""), "{text}");
     }
 
     #[test]

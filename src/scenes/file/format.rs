@@ -151,7 +151,7 @@ macro_rules! table {
 pub const ACCEPTED_KEYS: &[(&str, &[&str])] = &[
     ("scene", &["name", "summary", "dt", "steps", "trails", "color_by_speed", "gravity"]),
     ("param", &["name", "unit", "default", "min", "max", "help", "logarithmic", "integer"]),
-    ("particle", &["name", "position", "velocity", "mass", "radius", "damping", "fixed", "rolls"]),
+    ("particle", &["name", "position", "velocity", "mass", "radius", "damping", "fixed", "rolls", "color"]),
     (
         "row",
         &[
@@ -265,51 +265,51 @@ pub struct Document {
     pub launcher: Option<LauncherTable>,
 }
 
-/// `[scene]`.
-#[derive(Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct SceneTable {
-    /// Name in the Scene menu.
-    pub name: Spanned<String>,
-    /// One line saying what it shows.
-    #[serde(default)]
-    pub summary: String,
-    /// Physics time step (s), default 1/240.
-    pub dt: Option<Spanned<f64>>,
-    /// Steps `simulate` runs by default.
-    pub steps: Option<Spanned<i64>>,
-    /// Whether trails start on (default true).
-    pub trails: Option<bool>,
-    /// Whether particles start coloured by speed (default false).
-    pub color_by_speed: Option<bool>,
-    /// Downward acceleration of every particle (m/s²), default `"g"`.
-    pub gravity: Option<SNum>,
+table! {
+    /// `[scene]`.
+    pub struct SceneTable {
+        /// Name in the Scene menu.
+        pub name: Spanned<String>,
+        /// One line saying what it shows.
+        #[serde(default)]
+        pub summary: String,
+        /// Physics time step (s), default 1/240.
+        pub dt: Option<Spanned<f64>>,
+        /// Steps `simulate` runs by default.
+        pub steps: Option<Spanned<i64>>,
+        /// Whether trails start on (default true).
+        pub trails: Option<bool>,
+        /// Whether particles start coloured by speed (default false).
+        pub color_by_speed: Option<bool>,
+        /// Downward acceleration of every particle (m/s²), default `"g"`.
+        pub gravity: Option<SNum>,
+    }
 }
 
-/// `[[param]]`.
-#[derive(Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct ParamTable {
-    /// Key for `--set` and the slider.
-    pub name: Spanned<String>,
-    /// Unit shown beside the value.
-    #[serde(default)]
-    pub unit: String,
-    /// Starting value.
-    pub default: Spanned<f64>,
-    /// Smallest value.
-    pub min: Spanned<f64>,
-    /// Largest value.
-    pub max: Spanned<f64>,
-    /// One line of meaning.
-    #[serde(default)]
-    pub help: String,
-    /// Slider on a logarithmic scale.
-    #[serde(default)]
-    pub logarithmic: bool,
-    /// A count: the slider moves in whole numbers.
-    #[serde(default)]
-    pub integer: bool,
+table! {
+    /// `[[param]]`.
+    pub struct ParamTable {
+        /// Key for `--set` and the slider.
+        pub name: Spanned<String>,
+        /// Unit shown beside the value.
+        #[serde(default)]
+        pub unit: String,
+        /// Starting value.
+        pub default: Spanned<f64>,
+        /// Smallest value.
+        pub min: Spanned<f64>,
+        /// Largest value.
+        pub max: Spanned<f64>,
+        /// One line of meaning.
+        #[serde(default)]
+        pub help: String,
+        /// Slider on a logarithmic scale.
+        #[serde(default)]
+        pub logarithmic: bool,
+        /// A count: the slider moves in whole numbers.
+        #[serde(default)]
+        pub integer: bool,
+    }
 }
 
 table! {
@@ -320,6 +320,8 @@ table! {
         /// Position (m).
         pub position: SVec,
         particle_fields;
+        /// Colour in the view, `"#rrggbb"`; default the lab's palette.
+        pub color: Option<Spanned<String>>,
     }
 }
 

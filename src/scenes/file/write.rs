@@ -280,6 +280,7 @@ fn particle(out: &mut Writer, p: &ParticleTable) {
     out.some("name", p.name.as_ref().map(|n| string(n.get_ref())));
     out.key("position", vector(&p.position));
     particle_keys!(out, p);
+    out.some("color", p.color.as_ref().map(|c| string(c.get_ref())));
 }
 
 fn row(out: &mut Writer, r: &RowTable) {
@@ -440,7 +441,7 @@ mod tests {
 
     /// A file with every table and every key the format accepts, every one in the first
     /// entry of its table (read, not built: some would not build together).
-    const EVERY_KEY: &str = r#"
+    const EVERY_KEY: &str = r##"
 [camera]
 pitch = 12.5
 yaw = -30
@@ -482,6 +483,7 @@ radius = 0.25
 damping = 0.99
 fixed = true
 rolls = true
+color = "#10a0ff"
 
 [[row]]
 name = "chain"
@@ -603,7 +605,7 @@ k1 = 0.1
 k2 = 0.01
 target = 25
 fire_at_start = false
-"#;
+"##;
 
     #[test]
     fn every_key_of_the_format_is_written_in_the_references_order() {

@@ -341,7 +341,7 @@ impl Lab {
     /// particle there (or selects the one clicked); the others select or clear.
     pub fn builder_click(&mut self, pixel: Vec2, viewport: Vec2) {
         let Some(editor) = &self.editor else { return };
-        let (tool, template) = (editor.tool, editor.new_body);
+        let (tool, template) = (editor.tool, editor.new_body.clone());
         let picked = self.pick_body(pixel, viewport);
         if tool == Tool::Add && picked.is_none() {
             let Some(point) = self.place_point(pixel, viewport, template.radius) else { return };
@@ -386,7 +386,7 @@ impl Lab {
             .selected
             .and_then(|i| editor.sketch().bodies.get(i))
             .map_or(Vec3::new(0.0, 2.0, 0.0), |b| b.position + Vec3::X * spacing);
-        let (template, k) = (editor.new_body, editor.spring_k);
+        let (template, k) = (editor.new_body.clone(), editor.spring_k);
         let change = if rows > 1 { "add a grid" } else { "add a row" };
         self.edit(change, |sketch, _| {
             let first = sketch.bodies.len();
@@ -399,7 +399,7 @@ impl Lab {
                             Pins::Corners => column == 0 || column + 1 == columns,
                         };
                     let position = start + Vec3::new(column as f32, -(row as f32), 0.0) * spacing;
-                    let Some(i) = sketch.add(Body { position, fixed, ..template }) else {
+                    let Some(i) = sketch.add(Body { position, fixed, ..template.clone() }) else {
                         return sketch.bodies.len() > first;
                     };
                     if let Some(kind) = link {

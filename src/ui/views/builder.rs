@@ -196,6 +196,7 @@ impl BuilderPanel {
         let sketch = editor.sketch();
         let (mut name, mut g) = (sketch.name.clone(), sketch.g);
         let (mut ground, mut collisions) = (sketch.ground.is_some(), sketch.collisions.is_some());
+        let (mut ground_surface, mut collision_surface) = (sketch.ground, sketch.collisions);
         // The physics rate and air drag on every particle.
         let mut rate = 1.0 / sketch.dt.unwrap_or(1.0 / 240.0);
         let everywhere = sketch.drags.iter().position(|d| d.targets.is_none());
@@ -275,6 +276,38 @@ impl BuilderPanel {
                 true
             });
             lab.end_edit();
+            return;
+        }
+        // The bounce and friction of the ground and of particles against each other.
+        let mut changed = false;
+        for (what, surface) in
+            [("ground", &mut ground_surface), ("between particles", &mut collision_surface)]
+        {
+            let Some(surface) = surface else { continue };
+            ui.horizontal(|ui| {
+                ui.label(what);
+                changed |= ui
+                    .add(
+                        egui::DragValue::new(&mut surface.restitution)
+                            .range(0.0..=1.0)
+                            .speed(0.01)
+                            .prefix("e "),
+                    )
+                    .on_hover_text("Restitution: the share of the approach speed a bounce gives back")
+                    .changed();
+                changed |= ui
+                    .add(
+                        egui::DragValue::new(&mut surface.friction).range(0.0..=2.0).speed(0.01).prefix("μ "),
+                    )
+                    .on_hover_text("Coulomb friction coefficient")
+                    .changed();
+            });
+        }
+        if changed {
+            lab.edit("surface", |sketch, _| {
+                (sketch.ground, sketch.collisions) = (ground_surface, collision_surface);
+                true
+            });
         }
     }
 
@@ -286,7 +319,16 @@ impl BuilderPanel {
             ui.label(egui::RichText::new("Select a particle to set its mass, speed and links").small());
             return;
         };
-        let Some(&before) = editor.sketch().bodies.get(i) else { return };
+        let Some(before) = editor.sketch().bodies.get(i).cloned() else { return };
+        // Names the other particles have: a name must be one particle's.
+        let taken: Vec<String> = editor
+            .sketch()
+            .bodies
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| k != i)
+            .filter_map(|(_, b)| b.name.clone())
+            .collect();
         let links: Vec<(usize, String)> = editor
             .sketch()
             .joins_of(i)
@@ -301,8 +343,33 @@ impl BuilderPanel {
             .collect();
         ui.separator();
         ui.label(egui::RichText::new(format!("Particle {i}")).strong());
-        let mut body = before;
+        let mut body = before.clone();
         let mut changed = None;
+        ui.horizontal(|ui| {
+            let mut name = body.name.clone().unwrap_or_default();
+            let field = ui
+                .add(egui::TextEdit::singleline(&mut name).hint_text("label").desired_width(110.0))
+                .on_hover_text("Its label in the view (one particle's)");
+            if field.lost_focus() {
+                let name = name.trim().to_string();
+                let name = (!name.is_empty() && !taken.contains(&name)).then_some(name);
+                if name != body.name {
+                    body.name = name;
+                    changed = Some("label");
+                }
+            }
+            let mut rgb = body.color.unwrap_or([0.9, 0.55, 0.1]);
+            if ui.color_edit_button_rgb(&mut rgb).on_hover_text("Its colour in the view").changed() {
+                body.color = Some(rgb);
+                changed = Some("colour");
+            }
+            if body.color.is_some()
+                && ui.small_button("palette").on_hover_text("The lab's own colour").clicked()
+            {
+                body.color = None;
+                changed = Some("colour");
+            }
+        });
         if vector(ui, "position (m)", &mut body.position, 0.01) {
             changed = Some("position");
         }

@@ -95,6 +95,8 @@ pub struct Built {
     pub g_elsewhere: bool,
     /// The `[launcher]`'s aim, and whether it fires a round at the start.
     pub launcher: Option<(crate::scenes::launcher::Aim, bool)>,
+    /// Particles a `color` was given, by id (ascending: made in order).
+    pub colors: Vec<(ParticleId, [f32; 3])>,
 }
 
 /// A value ready to evaluate: its expression and where it is in the file.
@@ -179,6 +181,8 @@ struct Builder<'a> {
     /// Each named group's index in `groups`.
     named: HashMap<&'a str, usize>,
     plans: Vec<LinkPlan>,
+    /// Particles given a colour, in the order made.
+    colors: Vec<(ParticleId, [f32; 3])>,
     /// Terms evaluated for the members of rows and grids so far, against
     /// [`MAX_EVALUATIONS`].
     evaluations: usize,
@@ -201,6 +205,7 @@ fn builder<'a>(source: &'a str, params: &'a ParamValues) -> Builder<'a> {
         groups: Vec::new(),
         named: HashMap::new(),
         plans: Vec::new(),
+        colors: Vec::new(),
         evaluations: 0,
     }
 }
@@ -241,7 +246,17 @@ pub fn build(doc: &Document, source: &str, params: &ParamValues) -> Result<Built
         .filter_map(|group| Some((b.ids[group.first], group.name?.to_string())))
         .collect();
     let water = water(&b.world, &floats);
-    Ok(Built { world: b.world, links, labels, camera, floats, water, g_elsewhere: b.g_elsewhere, launcher })
+    Ok(Built {
+        world: b.world,
+        links,
+        labels,
+        camera,
+        floats,
+        water,
+        g_elsewhere: b.g_elsewhere,
+        launcher,
+        colors: b.colors,
+    })
 }
 
 /// A pool around the floating particles.

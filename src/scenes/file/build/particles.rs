@@ -65,8 +65,12 @@ impl<'a> Builder<'a> {
                 damping: self.eval(&damping, &[], "damping", UNIT)?,
                 radius: self.eval(&radius, &[], "radius", NON_NEGATIVE)?,
             };
+            let color = t.color.as_ref().map(parse_color).transpose()?;
             self.push_group(Group { name, single: true, first: self.ids.len(), rows: 1, cols: 1 });
             self.add(desc, t.rolls, &span)?;
+            if let (Some(color), Some(&id)) = (color, self.ids.last()) {
+                self.colors.push((id, color));
+            }
         }
         Ok(())
     }
@@ -244,4 +248,20 @@ impl<'a> Builder<'a> {
         }
         Ok(())
     }
+}
+
+/// A colour written `"#rrggbb"` (hexadecimal red, green, blue), as the view's 0–1
+/// components.
+fn parse_color(field: &toml::Spanned<String>) -> Result<[f32; 3], Located> {
+    let text = field.get_ref().trim();
+    let hex = text.strip_prefix('#').filter(|h| h.len() == 6 && h.chars().all(|c| c.is_ascii_hexdigit()));
+    let Some(hex) = hex else {
+        return Err(Located::at(
+            &field.span(),
+            format!("color '{}' is not a colour; write it \"#rrggbb\", e.g. \"#e07020\"", clip(text, 20)),
+        ));
+    };
+    let channel =
+        |k: usize| f32::from(u8::from_str_radix(&hex[k..k + 2], 16).expect("checked hexadecimal")) / 255.0;
+    Ok([channel(0), channel(2), channel(4)])
 }
