@@ -3,7 +3,8 @@
 # `unsafe` code (SIMD intrinsics, gathers and scatters through pointers, the runs and
 # velocities the solver's threads share, the `set_len`s) run in an interpreter that
 # checks every access, and the threaded paths checked for data races. Three runs: SSE
-# (every x86-64), then with AVX and with AVX-512 turned on, so each SIMD path is taken.
+# (every x86-64), then with AVX and with AVX-512 turned on, so each SIMD path is taken;
+# and a fourth of the lanes' plain-array path (wasm32 and every other processor).
 # The library is built without its `window` feature: the engine alone, quick to build.
 # Installs nightly's Miri when it is missing; when it cannot (no network), says so on
 # one line and exits 0. Usage: bash scripts/miri.sh
@@ -71,3 +72,22 @@ for features in "" "+avx" "+avx,+avx512f,+avx512vl"; do
     MIRIFLAGS="${MIRIFLAGS:-} ${flags[*]} -Zmiri-tree-borrows -Zmiri-permissive-provenance" \
         "${miri_test[@]}" -q -- "${not_alone[@]}"
 done
+
+# The plain arrays that stand in for SSE off x86-64 (the browser's wasm32): the tests
+# of the lanes, their gathers and scatters and the contact solve, interpreted for
+# 64-bit ARM. criterion's `alloca` (a dev-dependency) compiles C in its build script,
+# which Miri never runs or links: the host's compiler stands in for a cross compiler.
+echo "miri: the lanes' plain-array path (aarch64: no SSE)"
+arm=(--target aarch64-unknown-linux-gnu)
+export CC_aarch64_unknown_linux_gnu="${CC_aarch64_unknown_linux_gnu:-cc}"
+export AR_aarch64_unknown_linux_gnu="${AR_aarch64_unknown_linux_gnu:-ar}"
+if ! command -v "$CC_aarch64_unknown_linux_gnu" >/dev/null; then
+    echo "miri: skipped the plain-array path: no C compiler ($CC_aarch64_unknown_linux_gnu) for the build scripts"
+    exit 0
+fi
+if ! cargo +nightly miri setup "${arm[@]}" >/dev/null 2>&1; then
+    echo "miri: skipped the plain-array path: Miri could not build its aarch64 standard library (no network?)"
+    exit 0
+fi
+MIRIFLAGS="${MIRIFLAGS:-} -Zmiri-ignore-leaks" "${miri_test[@]}" "${arm[@]}" -q -- \
+    physics::wide physics::solver::soft::contact physics::solver::soft::shared::tests::shared_velocities
