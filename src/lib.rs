@@ -12,16 +12,27 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(clippy::undocumented_unsafe_blocks)]
 
+// Without the `window` feature (on by default) the library is the engine alone, with
+// the messages it words its errors in: what Miri runs (`scripts/miri.sh`).
+#[cfg(feature = "window")]
 pub mod app;
+#[cfg(feature = "window")]
 pub mod capture;
+#[cfg(feature = "window")]
 pub mod cli;
 pub mod messages;
 pub mod physics;
+#[cfg(feature = "window")]
 pub mod reading;
+#[cfg(feature = "window")]
 pub mod render;
+#[cfg(feature = "window")]
 pub mod scenes;
+#[cfg(feature = "window")]
 pub mod settings;
+#[cfg(feature = "window")]
 pub mod ui;
-#[cfg(target_arch = "wasm32")]
+#[cfg(all(target_arch = "wasm32", feature = "window"))]
 pub mod web;
+#[cfg(feature = "window")]
 pub mod writing;

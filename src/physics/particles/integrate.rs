@@ -271,6 +271,7 @@ mod tests {
     /// and on several, for a mix of movable, immovable, damped and sleeping particles
     /// with forces on them, in more particles than one task takes.
     #[test]
+    #[cfg_attr(miri, ignore = "5,000 particles: too slow to interpret, and no unsafe code")]
     fn the_kick_that_keeps_copies_is_the_kick_and_the_copies() {
         let mut particles = Particles::new();
         for i in 0..5000 {

@@ -80,6 +80,7 @@ mod tests {
     /// and the waiting jobs let go of the threads: the pool then still runs a job on
     /// every thread.
     #[test]
+    #[cfg_attr(miri, ignore = "too slow to interpret, and no unsafe code")]
     fn the_body_runs_with_the_pool_and_the_pool_is_free_after() {
         for threads in [1, 2, 4] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
@@ -92,6 +93,7 @@ mod tests {
     /// Steps started at once from several threads on one pool (as tests do) all
     /// finish, each with its own result, though each keeps the pool's other threads.
     #[test]
+    #[cfg_attr(miri, ignore = "too slow to interpret, and no unsafe code")]
     fn several_bodies_at_once_on_one_pool_all_finish() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
         let pool = &pool;

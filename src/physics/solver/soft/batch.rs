@@ -21,10 +21,12 @@ use crate::physics::wide::{F4, Lane, Mask, V, V4};
 /// Lanes of a batch.
 pub(super) const LANES: usize = 4;
 /// Contacts in all from which the batches are made, and their impulses copied back,
-/// on several threads.
-const PARALLEL_BATCHING: usize = 8192;
+/// on several threads. Under Miri this and the run below are a few contacts, so that
+/// its run of the tests reaches the threads (and `Disjoint::run`) at a size it can
+/// interpret; which path runs changes no bit.
+const PARALLEL_BATCHING: usize = if cfg!(miri) { 32 } else { 8192 };
 /// Batches made (or copied back) one after another by one task.
-const BATCH_RUN: usize = 256;
+const BATCH_RUN: usize = if cfg!(miri) { 4 } else { 256 };
 
 /// The colour of batch `g` (the last colour whose first batch is at or before it),
 /// stepping on from `color`, the colour of an earlier batch or 0.

@@ -217,17 +217,20 @@ impl SoftStep {
     }
 }
 
-/// Pairs per chunk of the sphere contacts (one task each).
-const PAIR_CHUNK: usize = 2048;
+/// Pairs per chunk of the sphere contacts (one task each). Under Miri this and the
+/// two sizes below are a few pairs and bytes, so that its run of the tests reaches the
+/// threads and [`append`]'s `set_len` at a size it can interpret; which path runs
+/// changes no bit.
+const PAIR_CHUNK: usize = if cfg!(miri) { 8 } else { 2048 };
 /// Pairs from which the sphere contacts are made on several threads.
-const PARALLEL_PAIRS: usize = 4096;
+const PARALLEL_PAIRS: usize = if cfg!(miri) { 16 } else { 4096 };
 
 /// Bytes from which [`append`] copies on several threads: an 8,000-sphere pile's
 /// 29,000 contacts (2.4 MB) already copy faster on two (from 32,768 contacts down to
 /// this, its narrow phase took 0.25 instead of 0.26 ms a step on 2 threads in the
 /// cores' fast mode, 0.31–0.33 instead of 0.36–0.41 in their slow one); their keys
 /// (230 KB) stay on one.
-const PARALLEL_APPEND: usize = 512 * 1024;
+const PARALLEL_APPEND: usize = if cfg!(miri) { 256 } else { 512 * 1024 };
 
 /// Appends `part` of every chunk to `to`, chunk after chunk: on several threads for
 /// many (a falling pile of 100,000 spheres makes 33 MB of contacts a step, too much
@@ -446,7 +449,10 @@ mod tests {
     /// appending them one after another gives, after what the list held.
     #[test]
     fn appending_on_several_threads_is_appending_in_order() {
-        let sizes = (0..300).map(|k: usize| (k * 7919) % 1200 + if k.is_multiple_of(13) { 0 } else { 100 });
+        // 300 chunks of up to 1,300 keys; under Miri, whose sizes are smaller, 20 of up to 16.
+        let (chunks, spread, least) = if cfg!(miri) { (20, 12, 4) } else { (300, 1200, 100) };
+        let sizes =
+            (0..chunks).map(|k: usize| (k * 7919) % spread + if k.is_multiple_of(13) { 0 } else { least });
         let chunks: Vec<PairChunk> = sizes
             .enumerate()
             .map(|(k, size)| PairChunk {

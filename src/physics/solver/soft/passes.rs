@@ -6,8 +6,10 @@ use super::batch::{ContactBatch, LANES};
 use super::shared::Disjoint;
 use super::{COLORS, OVERFLOW, SoftStep};
 
-/// Contacts in all from which a pass over them runs on several threads.
-const PARALLEL_CONTACTS: usize = 2048;
+/// Contacts in all from which a pass over them runs on several threads (a few under
+/// Miri, so that its run of the tests reaches [`run_on_all_threads`] at a size it can
+/// interpret; which path runs changes no bit).
+const PARALLEL_CONTACTS: usize = if cfg!(miri) { 16 } else { 2048 };
 
 impl SoftStep {
     /// Each thread's share of each colour but the overflow, for the passes of this step
@@ -225,6 +227,7 @@ mod tests {
     /// holds the batches ranked `i`-th of `threads` runs by origin: merging both parts
     /// by origin and cutting the merged list into equal runs gives the same sets.
     #[test]
+    #[cfg_attr(miri, ignore = "too slow to interpret, and no unsafe code")]
     fn shares_are_the_equal_runs_in_origin_order() {
         let mut state = 99u64;
         let mut next = || {

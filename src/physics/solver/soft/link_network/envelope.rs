@@ -246,6 +246,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg_attr(miri, ignore = "slow to interpret, and no unsafe code")]
     fn solves_a_banded_and_a_scattered_system() {
         for pattern in [
             |i: usize, j: usize| i - j <= 3,
@@ -275,6 +276,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg_attr(miri, ignore = "slow to interpret, and no unsafe code")]
     fn a_path_orders_along_the_path_and_a_grid_into_a_narrow_band() {
         // A path given in scrambled order comes out as a path: width 1.
         let n = 50;
