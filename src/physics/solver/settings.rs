@@ -110,8 +110,9 @@ pub struct SolverSettings {
     pub contact_hertz: f32,
     /// Damping ratio of contacts, >= 0. Default 5: heavily damped, so a pushed-out
     /// overlap does not bounce. The damping (`2 ζ ω` per unit mass) is what an arch of
-    /// grains leans on: at 60 Hz and 10 an opening of 5 grains jammed in 2 of 25 random
-    /// starts, at 120 Hz and 10 in 4 of 10, at 120 Hz and 5 in none of 4 (issue 39). At
+    /// grains leans on: with rolling resistance free of twist, an opening of 5 grains
+    /// jammed at 60 Hz and 10 in 2 of 25 random starts, at 120 Hz and 10 in 4 of 10, at
+    /// 120 Hz and 5 in none of 4 (issue 39, docs/convergence.md). At
     /// 100 Hz, 5 is the least that lets a pile settle at 4 substeps of 1/60 s (at 120 Hz
     /// and 5 a 3,000-sphere pile still stirred at 1 cm/s after 20 s).
     pub contact_damping_ratio: f32,
