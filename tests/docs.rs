@@ -232,6 +232,7 @@ fn every_relative_link_of_the_docs_names_a_file_that_exists() {
         "docs/cli.md",
         "docs/physics.md",
         "docs/engine.md",
+        "docs/convergence.md",
     ];
     let mut broken = Vec::new();
     for page in pages {

@@ -175,7 +175,8 @@ fn soft_links_are_still_there_and_still_lose_energy() {
 fn soft_links_replay_the_hashes_pinned_before_the_exact_solve() {
     // `LinkSolver::Soft` is the solver every link scene ran on before: it must still
     // give their pinned states of then, to the bit (tests/state_hashes.rs, 600 steps,
-    // semi-implicit Euler, at the commit before the exact solve).
+    // semi-implicit Euler, at the commit before the exact solve), with the contacts of
+    // then (60 Hz, damping ratio 10; issue 39 made them 100 Hz and 5).
     use particle_lab::scenes::{self, SceneAction, snapshot::hash_text};
     let pinned = [
         ("bridge", "40f64b60aa7167bc"),
@@ -186,7 +187,12 @@ fn soft_links_replay_the_hashes_pinned_before_the_exact_solve() {
     ];
     for (name, hash) in pinned {
         let mut scene = scenes::build(name, &[]).unwrap();
-        let settings = SolverSettings { link_solver: LinkSolver::Soft, ..*scene.world().solver() };
+        let settings = SolverSettings {
+            link_solver: LinkSolver::Soft,
+            contact_hertz: 60.0,
+            contact_damping_ratio: 10.0,
+            ..*scene.world().solver()
+        };
         scene.world_mut().set_solver(settings).unwrap();
         let dt = scene.info().dt;
         for step in 0..600 {

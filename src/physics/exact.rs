@@ -111,6 +111,7 @@ mod pendulum_tests {
     /// terms: the rest is below 1e-13 at k = 0.1) for a small
     /// modulus, and against a midpoint-rule quadrature of its integral for large ones.
     #[test]
+    #[cfg_attr(miri, ignore = "hundreds of thousands of steps, no unsafe code: too slow to interpret")]
     fn elliptic_k_matches_its_series_and_its_integral() {
         let k: f64 = 0.1;
         let series = std::f64::consts::FRAC_PI_2
@@ -143,6 +144,7 @@ mod pendulum_tests {
     /// θ'' = −(g/L) sin θ, integrated with RK4 from rest at θ₀ until θ first crosses 0
     /// (a quarter period).
     #[test]
+    #[cfg_attr(miri, ignore = "hundreds of thousands of steps, no unsafe code: too slow to interpret")]
     fn the_period_matches_the_equation_of_motion() {
         let (length, g) = (1.0, 9.81);
         for degrees in [5.0_f64, 45.0, 90.0, 170.0] {

@@ -264,7 +264,9 @@ pub struct SphereCollisions {
     /// Coulomb friction coefficient between particles, >= 0.
     pub friction: f32,
     /// Rolling resistance coefficient between spheres that roll, >= 0 (default 0, the
-    /// soft solver only). The contact resists the two spheres' relative spin with a
+    /// soft solver only). The contact resists the two spheres' relative rolling (their
+    /// relative spin about axes in the contact plane; twist about the normal is only
+    /// damped, never held, as DEM codes leave it out of the rolling torque) with a
     /// torque of at most this times the contact's rolling radius (`r_a r_b / (r_a +
     /// r_b)`, or the sphere's radius against a plane) times the normal force: the
     /// constant-torque ("type A") model of DEM codes, solved as a clamped constraint as

@@ -33,7 +33,7 @@ use crate::physics::ids::ContactGeneratorId;
 use crate::physics::integrator::Integrator;
 use crate::physics::particles::{Particles, tree_sum};
 use crate::physics::solver::report::{Profile, SoftReport};
-use crate::physics::solver::settings::{Softness, SolverSettings};
+use crate::physics::solver::settings::{CONTACT_HERTZ_LIMIT, Softness, SolverSettings};
 
 impl SoftStep {
     /// Advances the particles by `dt`: the whole soft step. `link_tension` receives the
@@ -72,7 +72,7 @@ impl SoftStep {
         self.share_out();
         self.network.prepare(&self.links, particles, settings);
 
-        let contact_hertz = settings.contact_hertz.min(0.25 / h);
+        let contact_hertz = settings.contact_hertz.min(CONTACT_HERTZ_LIMIT / h);
         let joint_hertz = settings.joint_hertz.min(0.25 / h);
         let bias =
             |soft| Context { h, inv_h: 1.0 / h, max_push: settings.max_push_speed, soft, use_bias: true };
