@@ -628,8 +628,15 @@ fn snapshot_checks_cover_dt_the_scene_file_name_and_every_index() {
         ),
         (
             "state for a scene that keeps none, unsealed",
-            changed(pendulum.clone(), true, &|v| v["scene_state"] = "x".into()),
-            "scene_state: pendulum keeps no state beside its world",
+            changed(bridge.clone(), true, &|v| v["scene_state"] = "x".into()),
+            "scene_state: bridge keeps no state beside its world",
+        ),
+        (
+            "a pendulum's stopwatch ahead of its clock, unsealed",
+            changed(pendulum.clone(), true, &|v| {
+                v["scene_state"] = serde_json::json!({ "crossings": [null, 1e300] })
+            }),
+            "a stopwatch time is outside 0 to the world's",
         ),
         (
             "warm link to no link, unsealed",
