@@ -12,6 +12,10 @@ pub struct Column {
     pub heading: &'static str,
     /// What it is and how it is measured or predicted: the panel's tooltip.
     pub help: &'static str,
+    /// Shown in the panel even when every run has the same value (a measurement, or
+    /// the parameter a class varies); the others are shown once they differ, and
+    /// said once beneath the table while they do not.
+    pub always: bool,
 }
 
 /// A scene's table of runs: its columns and rows (one value per column; NaN where
@@ -93,8 +97,8 @@ mod tests {
     use super::{Column, Table, full, significant};
 
     const COLUMNS: &[Column] = &[
-        Column { key: "angle_deg", heading: "angle (°)", help: "" },
-        Column { key: "range_m", heading: "range (m)", help: "" },
+        Column { key: "angle_deg", heading: "angle (°)", help: "", always: true },
+        Column { key: "range_m", heading: "range (m)", help: "", always: true },
     ];
 
     #[test]

@@ -26,10 +26,15 @@ pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {
             );
             return;
         }
+        // A parameter no run changed is said once beneath the table, not in every row.
+        let first = &table.rows[0];
+        let same = |c: usize| table.rows.iter().all(|row| row[c].to_bits() == first[c].to_bits());
+        let shown: Vec<usize> = (0..table.columns.len()).filter(|&c| table.columns[c].always || !same(c)).collect();
         egui::ScrollArea::horizontal().id_salt("runs scroll").show(ui, |ui| {
             egui::Grid::new("runs").striped(true).show(ui, |ui| {
                 ui.label("");
-                for column in table.columns {
+                for &c in &shown {
+                    let column = &table.columns[c];
                     ui.label(egui::RichText::new(column.heading).small().strong()).on_hover_text(column.help);
                 }
                 ui.end_row();
@@ -37,13 +42,20 @@ pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {
                     if ui.small_button("×").on_hover_text(format!("Delete run {}", k + 1)).clicked() {
                         delete = Some(k);
                     }
-                    for &x in row {
-                        ui.label(significant(x, FIGURES));
+                    for &c in &shown {
+                        ui.label(significant(row[c], FIGURES));
                     }
                     ui.end_row();
                 }
             });
         });
+        let constant: Vec<String> = (0..table.columns.len())
+            .filter(|c| !shown.contains(c))
+            .map(|c| format!("{} {}", table.columns[c].heading, significant(first[c], FIGURES)))
+            .collect();
+        if !constant.is_empty() {
+            ui.label(egui::RichText::new(format!("every run: {}", constant.join(", "))).small());
+        }
         ui.horizontal(|ui| {
             copy = ui
                 .button("Copy as text")
