@@ -118,37 +118,67 @@ pub struct Launcher {
 /// The columns of a launcher's table of runs: what the round was fired with, then
 /// each measured value beside its drag-free prediction.
 pub const RUN_COLUMNS: &[Column] = &[
-    Column { key: "angle_deg", heading: "angle (°)", help: "Launch elevation above the horizontal", always: true },
+    Column {
+        key: "angle_deg",
+        heading: "angle (°)",
+        help: "Launch elevation above the horizontal",
+        always: true,
+    },
     Column { key: "speed_m_s", heading: "speed (m/s)", help: "Launch speed", always: true },
     Column { key: "g_m_s2", heading: "g (m/s²)", help: "Gravity when the round was fired", always: true },
-    Column { key: "damping", heading: "damping", help: "Fraction of velocity the round kept per second", always: false },
+    Column {
+        key: "damping",
+        heading: "damping",
+        help: "Fraction of velocity the round kept per second",
+        always: false,
+    },
     Column { key: "k1", heading: "k1 (N·s/m)", help: "The round's linear drag", always: false },
     Column { key: "k2", heading: "k2 (N·s²/m²)", help: "The round's quadratic drag", always: false },
-    Column { key: "height_m", heading: "height (m)", help: "Height of the launcher above the ground", always: false },
+    Column {
+        key: "height_m",
+        heading: "height (m)",
+        help: "Height of the launcher above the ground",
+        always: false,
+    },
     Column { key: "mass_kg", heading: "mass (kg)", help: "The round's mass", always: false },
     Column {
         key: "range_m",
         heading: "range (m)",
         help: "Measured: how far along x the round's centre came down to y = 0, found between the two steps \
-               either side of the ground", always: true },
+               either side of the ground",
+        always: true,
+    },
     Column {
         key: "range_predicted_m",
         heading: "predicted range (m)",
-        help: "vx (vy + √(vy² + 2 g h)) / g: no drag, no damping, exact time (blank without gravity)", always: true },
+        help: "vx (vy + √(vy² + 2 g h)) / g: no drag, no damping, exact time (blank without gravity)",
+        always: true,
+    },
     Column {
         key: "apex_m",
         heading: "apex (m)",
         help: "Measured: the highest point, where the vertical velocity turned from up to down (the launch \
-               height for a round fired level or down)", always: true },
+               height for a round fired level or down)",
+        always: true,
+    },
     Column {
         key: "apex_predicted_m",
         heading: "predicted apex (m)",
-        help: "h + vy² / (2 g): no drag, no damping (blank without gravity)", always: true },
-    Column { key: "flight_s", heading: "flight (s)", help: "Measured: time from launch to landing", always: true },
+        help: "h + vy² / (2 g): no drag, no damping (blank without gravity)",
+        always: true,
+    },
+    Column {
+        key: "flight_s",
+        heading: "flight (s)",
+        help: "Measured: time from launch to landing",
+        always: true,
+    },
     Column {
         key: "flight_predicted_s",
         heading: "predicted flight (s)",
-        help: "(vy + √(vy² + 2 g h)) / g: no drag, no damping (blank without gravity)", always: true },
+        help: "(vy + √(vy² + 2 g h)) / g: no drag, no damping (blank without gravity)",
+        always: true,
+    },
 ];
 
 /// The row of [`RUN_COLUMNS`] for a round fired with `aim` that peaked at height

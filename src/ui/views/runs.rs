@@ -29,7 +29,8 @@ pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {
         // A parameter no run changed is said once beneath the table, not in every row.
         let first = &table.rows[0];
         let same = |c: usize| table.rows.iter().all(|row| row[c].to_bits() == first[c].to_bits());
-        let shown: Vec<usize> = (0..table.columns.len()).filter(|&c| table.columns[c].always || !same(c)).collect();
+        let shown: Vec<usize> =
+            (0..table.columns.len()).filter(|&c| table.columns[c].always || !same(c)).collect();
         egui::ScrollArea::horizontal().id_salt("runs scroll").show(ui, |ui| {
             egui::Grid::new("runs").striped(true).show(ui, |ui| {
                 ui.label("");

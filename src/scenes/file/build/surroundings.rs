@@ -6,7 +6,7 @@ use glam::Vec3;
 use super::{ANY, Bounds, Builder, Located, NON_NEGATIVE, POSITIVE, UNIT, spend};
 use crate::physics::{Buoyancy, DEFAULT_ROLLING_RESISTANCE, Drag, ForceId, Plane, Plate, SphereCollisions};
 use crate::scenes::CameraHint;
-use crate::scenes::file::format::Document;
+use crate::scenes::file::format::{Document, SNum};
 use crate::scenes::launcher::{Aim, ROUND_RADIUS};
 
 impl Builder<'_> {
@@ -88,23 +88,16 @@ impl Builder<'_> {
         for wall in &doc.wall {
             let normal = self.compile_vec(&wall.normal, &[])?;
             let point = self.compile_vec(&wall.point, &[])?;
-            let restitution = self.compile_or(wall.restitution.as_ref(), 0.3, &[])?;
-            let friction = self.compile_or(wall.friction.as_ref(), 0.5, &[])?;
-            let rolling =
-                self.compile_or(wall.rolling_resistance.as_ref(), DEFAULT_ROLLING_RESISTANCE.into(), &[])?;
+            let [restitution, friction, rolling] =
+                self.surface([&wall.restitution, &wall.friction, &wall.rolling_resistance], [0.3, 0.5])?;
             let plane = Plane::new(
                 self.eval_vec(&normal, &[], "normal")?,
                 self.eval_vec(&point, &[], "point")?,
-                self.eval(&restitution, &[], "restitution", UNIT)?,
-                self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+                restitution,
+                friction,
             )
             .map_err(|e| Located::at(&wall.normal.span(), e.to_string()))?
-            .with_rolling_resistance(self.eval(
-                &rolling,
-                &[],
-                "rolling_resistance",
-                NON_NEGATIVE,
-            )?);
+            .with_rolling_resistance(rolling);
             let plane = match &wall.size {
                 None => plane,
                 Some(size) => {
@@ -140,44 +133,41 @@ impl Builder<'_> {
             let normal = self.compile_vec(&plate.normal, &[])?;
             let point = self.compile_vec(&plate.point, &[])?;
             let opening = self.compile(&plate.opening, &[])?;
-            let restitution = self.compile_or(plate.restitution.as_ref(), 0.3, &[])?;
-            let friction = self.compile_or(plate.friction.as_ref(), 0.5, &[])?;
-            let rolling =
-                self.compile_or(plate.rolling_resistance.as_ref(), DEFAULT_ROLLING_RESISTANCE.into(), &[])?;
+            let [restitution, friction, rolling] =
+                self.surface([&plate.restitution, &plate.friction, &plate.rolling_resistance], [0.3, 0.5])?;
             let made = Plate::new(
                 self.eval_vec(&normal, &[], "normal")?,
                 self.eval_vec(&point, &[], "point")?,
                 self.eval(&opening, &[], "opening", NON_NEGATIVE)? / 2.0,
-                self.eval(&restitution, &[], "restitution", UNIT)?,
-                self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+                restitution,
+                friction,
             )
             .map_err(|e| Located::at(&plate.normal.span(), e.to_string()))?
-            .with_rolling_resistance(self.eval(
-                &rolling,
-                &[],
-                "rolling_resistance",
-                NON_NEGATIVE,
-            )?);
+            .with_rolling_resistance(rolling);
             self.world.add_contact_generator(made).map_err(|e| Located::at(&opening.span, e.to_string()))?;
         }
         if let Some(collisions) = &doc.collisions {
-            let restitution = self.compile_or(collisions.restitution.as_ref(), 0.5, &[])?;
-            let friction = self.compile_or(collisions.friction.as_ref(), 0.3, &[])?;
-            let rolling = self.compile_or(
-                collisions.rolling_resistance.as_ref(),
-                DEFAULT_ROLLING_RESISTANCE.into(),
-                &[],
-            )?;
-            let spheres = SphereCollisions {
-                restitution: self.eval(&restitution, &[], "restitution", UNIT)?,
-                friction: self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
-                rolling_resistance: self.eval(&rolling, &[], "rolling_resistance", NON_NEGATIVE)?,
-            };
-            self.world
-                .add_contact_generator(spheres)
-                .map_err(|e| Located::at(&restitution.span, e.to_string()))?;
+            let fields = [&collisions.restitution, &collisions.friction, &collisions.rolling_resistance];
+            let [restitution, friction, rolling_resistance] = self.surface(fields, [0.5, 0.3])?;
+            let spheres = SphereCollisions { restitution, friction, rolling_resistance };
+            self.world.add_contact_generator(spheres).map_err(|e| {
+                Located::at(&collisions.restitution.as_ref().map_or(0..0, |r| r.span()), e.to_string())
+            })?;
         }
         Ok(())
+    }
+
+    /// A surface's restitution, friction and rolling resistance from its three keys,
+    /// with the table's own defaults for the first two (rolling resistance: 0.1).
+    fn surface(&mut self, fields: [&Option<SNum>; 3], [e, mu]: [f64; 2]) -> Result<[f32; 3], Located> {
+        let restitution = self.compile_or(fields[0].as_ref(), e, &[])?;
+        let friction = self.compile_or(fields[1].as_ref(), mu, &[])?;
+        let rolling = self.compile_or(fields[2].as_ref(), DEFAULT_ROLLING_RESISTANCE.into(), &[])?;
+        Ok([
+            self.eval(&restitution, &[], "restitution", UNIT)?,
+            self.eval(&friction, &[], "friction", NON_NEGATIVE)?,
+            self.eval(&rolling, &[], "rolling_resistance", NON_NEGATIVE)?,
+        ])
     }
 
     /// The `[launcher]` table: the aim it fires with under gravity `g`, and whether it
