@@ -9,19 +9,27 @@ use std::process::{Command, Stdio};
 
 /// The kernel's listening TCP sockets on `port`, as their local addresses in
 /// /proc/net/tcp's hex (`0100007F` is 127.0.0.1, `00000000` every interface).
+///
+/// The kernel writes that table in pages while other sockets come and go, so on a busy
+/// machine one socket can be listed twice (CI saw `["0100007F", "0100007F"]`); a socket is
+/// counted once, by its inode (the table's tenth field).
 fn listening_on(port: u16) -> Vec<String> {
     let table = std::fs::read_to_string("/proc/net/tcp").unwrap();
-    table
+    let mut sockets: Vec<(String, String)> = table
         .lines()
         .skip(1)
         .filter_map(|line| {
             let fields: Vec<&str> = line.split_whitespace().collect();
             let (address, local_port) = fields.get(1)?.split_once(':')?;
+            let inode = fields.get(9)?;
             // State 0A is LISTEN.
             (u16::from_str_radix(local_port, 16).ok()? == port && fields.get(3) == Some(&"0A"))
-                .then(|| address.to_string())
+                .then(|| (inode.to_string(), address.to_string()))
         })
-        .collect()
+        .collect();
+    sockets.sort();
+    sockets.dedup();
+    sockets.into_iter().map(|(_, address)| address).collect()
 }
 
 fn serve(lan: bool) {
