@@ -1,7 +1,7 @@
 //! The command line: `scenes` lists the scenes, `simulate` runs one headless and prints
 //! JSON Lines, `render` draws frames off-screen, `link` prints the link that opens a
-//! scene in the web lab, `open` opens such a link in the window and `export` prints a
-//! scene as a scene file. Bad input gets one line on stderr and
+//! scene in the web lab, `open` opens such a link in the window, `export` prints a
+//! scene as a scene file and `fit` fits a line to a table of runs. Bad input gets one line on stderr and
 //! exit code 2, never a panic.
 //!
 //! This file holds the flags (clap's derive) and their parsing; each command has its
@@ -12,6 +12,7 @@ use clap::{Parser, Subcommand};
 
 pub mod clock;
 pub mod export;
+pub mod fit;
 pub mod flags;
 pub mod link;
 pub mod list;
@@ -23,6 +24,7 @@ pub mod simulate;
 pub mod usage;
 
 pub use export::ExportArgs;
+pub use fit::FitArgs;
 pub use flags::{MAX_STEPS, SolverArgs};
 pub use link::{LinkArgs, OpenArgs};
 pub use list::{Format, list_scenes};
@@ -74,6 +76,9 @@ pub enum Command {
     /// Print a scene as a scene file (what File → Save scene as… writes), with the
     /// values `--set` gives as its defaults
     Export(ExportArgs),
+    /// Print the least-squares line of one column of a table of runs (CSV) against
+    /// another, as the panel's plot draws it
+    Fit(FitArgs),
 }
 
 /// Parses the command line; on bad flags prints clap's error on one line, with its

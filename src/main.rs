@@ -83,6 +83,13 @@ fn main() -> ExitCode {
             },
             Err(message) => usage_error(&message),
         },
+        Some(Command::Fit(fit)) => match cli::fit::fit(&fit) {
+            Ok(line) => {
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(message) => usage_error(&message),
+        },
         None => window(Launch::from_cli(&args)),
     }
 }

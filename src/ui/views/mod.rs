@@ -14,6 +14,7 @@ pub mod menu_bar;
 pub mod readouts;
 pub mod run_controls;
 pub mod runs;
+pub mod runs_plot;
 pub mod scene_menu;
 pub mod scene_params;
 pub mod stats;

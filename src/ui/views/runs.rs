@@ -68,6 +68,7 @@ pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {
         if copy {
             ui.ctx().copy_text(table.tsv());
         }
+        super::runs_plot::ui(ui, &table);
     }
     if copy {
         lab.status = "table of runs copied as tab-separated text".into();
