@@ -37,6 +37,10 @@ pub struct Table<'a> {
     pub rows: &'a [Vec<f64>],
 }
 
+/// Significant figures the panel shows a run's values and a fit's figures with (the
+/// CSV and JSON hold every digit).
+pub const FIGURES: usize = 4;
+
 /// Most rows a table keeps: the oldest goes first.
 pub const MAX_ROWS: usize = 1000;
 

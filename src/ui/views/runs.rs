@@ -3,11 +3,8 @@
 //! 4 significant figures (the CSV holds every digit). Rows can be deleted one by one
 //! or all; the table copies as tab-separated text for a spreadsheet and saves as CSV.
 
-use crate::scenes::runs::significant;
+use crate::scenes::runs::{FIGURES, significant};
 use crate::ui::lab::Lab;
-
-/// Significant figures a run's values are shown with.
-pub const FIGURES: usize = 4;
 
 /// Draws the table of runs of the lab's scene, if it keeps one.
 pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {

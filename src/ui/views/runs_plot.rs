@@ -3,9 +3,7 @@
 //! and R², as a class does in a spreadsheet (range against angle; apex against speed²).
 //! The fit is [`Table::fit`]; `particle-lab fit` prints the same figures from a CSV.
 
-use crate::scenes::runs::{Axis, Column, Fit, Table, significant};
-
-use super::runs::FIGURES;
+use crate::scenes::runs::{Axis, Column, FIGURES, Fit, Table, significant};
 
 /// What the plot shows, by column key so that it outlives the table's rows; kept in
 /// egui's memory for the panel.
