@@ -92,8 +92,9 @@ fn counts(h: &Harness<'_, Rig>) -> (usize, usize) {
 /// of its own (as File → Open would).
 fn hash_of_text(text: &str, steps: u32) -> u64 {
     let entry = file::load_text(text, "saved", None).expect("the saved file opens");
-    let mut lab =
-        Lab::from_entry(&entry, &[], particle_lab::physics::SolverSettings::default()).expect("a lab");
+    // As `simulate --scene-file` runs it: with the solver the file names as its own.
+    let solver = file::own_solver(&entry).over(particle_lab::physics::SolverSettings::default());
+    let mut lab = Lab::from_entry(&entry, &[], solver).expect("a lab");
     lab.run_steps_recorded(u64::from(steps));
     assert_eq!(lab.scene.world().steps(), u64::from(steps));
     lab.scene.world().state_hash()
@@ -322,4 +323,45 @@ fn a_cloth_built_from_a_grid_hangs_from_its_corners() {
     assert_eq!(after[0], before[0]);
     assert_eq!(after[4], before[4]);
     assert!(after[12].y < before[12].y - 0.01, "the bottom middle sags: {} -> {}", before[12], after[12]);
+}
+
+/// The scene's own integrator and a particle floating in water, set in the builder's
+/// panel: the saved file names them, and runs as the lab ran it.
+#[test]
+fn an_integrator_and_a_float_set_in_the_panel_are_saved_with_the_scene() {
+    let mut h = harness("projectile");
+    click(&mut h, "Scene");
+    click(&mut h, "New experiment…");
+    let ball = Vec3::new(0.0, 2.0, 0.0);
+    click_at(&mut h, ball);
+    assert_eq!(counts(&h), (1, 0));
+    h.state_mut().lab.editor.as_mut().unwrap().selected = Some(0);
+    h.run_steps(2);
+    // The builder's integrator menu, by the label beside it.
+    h.get_by_role_and_label(egui::accesskit::Role::ComboBox, "integrator").click();
+    h.run_steps(2);
+    h.get_all_by_label("verlet").last().expect("verlet in the open menu").click();
+    h.run_steps(2);
+    assert_eq!(h.state().lab.solver().integrator, particle_lab::physics::Integrator::Verlet);
+    assert_eq!(h.state().lab.scene.world().solver().integrator, particle_lab::physics::Integrator::Verlet);
+    click(&mut h, "floats");
+    let (_, text) = h.state().lab.scene_file_text().expect("a built scene saves");
+    assert!(text.contains("integrator = \"verlet\""), "{text}");
+    assert!(text.contains("[[buoyancy]]"), "{text}");
+    // Undone, the float goes and the integrator stays.
+    key(&mut h, Modifiers::COMMAND, Key::Z);
+    let (_, text) = h.state().lab.scene_file_text().unwrap();
+    assert!(!text.contains("[[buoyancy]]") && text.contains("integrator = \"verlet\""), "{text}");
+    // Undone again, the sketch names no integrator: the lab runs the default, not the
+    // verlet an earlier state left behind.
+    key(&mut h, Modifiers::COMMAND, Key::Z);
+    assert_eq!(h.state().lab.solver().integrator, particle_lab::physics::Integrator::SemiImplicitEuler);
+    key(&mut h, Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
+    key(&mut h, Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
+    let (_, text) = h.state().lab.scene_file_text().unwrap();
+    assert!(text.contains("[[buoyancy]]") && text.contains("integrator = \"verlet\""), "{text}");
+    play_and_compare(&mut h, 480);
+    let world = &h.state().lab.scene.world();
+    assert_eq!(world.solver().integrator, particle_lab::physics::Integrator::Verlet);
+    assert_eq!(world.forces.len(), 1, "the liquid's buoyancy is the one force generator");
 }

@@ -708,3 +708,57 @@ fn a_value_the_file_cannot_be_built_with_is_refused_and_the_scene_stays() {
     let error = scenes::build_entry(&entry, &["m=0.5".into()]).err().unwrap();
     assert_eq!(error, "test.toml:10:8: mass = -0.5 is out of range; valid range: 1e-9 to 1e12 kg");
 }
+
+/// `[scene] solver`, `substeps` and `integrator` (issue 38: the scene's own solver):
+/// `simulate` runs a file that names them as the same file without them with the flags
+/// typed; a flag typed wins over the file; the window's lab takes them on opening the
+/// file; bad values get one line at their place.
+#[test]
+fn a_scene_files_own_solver_runs_as_the_flags_would_and_a_flag_typed_wins() {
+    let dir = scratch_dir("own-solver");
+    let body = "[[row]]\ncount = 4\nstart = [0, 2, 0]\nstep = [0.3, 0, 0]\nlink = \"rod\"\npin = [0]\n";
+    let plain = dir.join("plain.toml");
+    std::fs::write(&plain, format!("[scene]\nname = \"swing\"\n{body}")).unwrap();
+    let own = dir.join("own.toml");
+    std::fs::write(
+        &own,
+        format!("[scene]\nname = \"swing\"\nsolver = \"paper\"\nsubsteps = 8\nintegrator = \"rk4\"\n{body}"),
+    )
+    .unwrap();
+    let last_hash = |args: &[&str]| -> String {
+        let out = run(&[&["simulate", "--steps", "300", "--every", "300"], args].concat());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8(out.stdout).unwrap();
+        let json: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+        json["hash"].as_str().expect("a hash").to_string()
+    };
+    let (plain, own) = (plain.to_str().unwrap(), own.to_str().unwrap());
+    let flagged =
+        last_hash(&["--scene-file", plain, "--solver", "paper", "--substeps", "8", "--integrator", "rk4"]);
+    assert_eq!(last_hash(&["--scene-file", own]), flagged, "the file's own solver");
+    assert_ne!(last_hash(&["--scene-file", plain]), flagged, "the solver makes a difference here");
+    // A flag typed is laid over the file's choice.
+    assert_eq!(
+        last_hash(&["--scene-file", own, "--integrator", "verlet"]),
+        last_hash(&["--scene-file", plain, "--solver", "paper", "--substeps", "8", "--integrator", "verlet"])
+    );
+    // The window's lab, opening the file, runs with it and shows it.
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    assert!(lab.open_scene_file(Path::new(own)));
+    let solver = lab.solver();
+    assert_eq!(
+        (solver.kind, solver.substeps, solver.integrator),
+        (particle_lab::physics::SolverKind::Paper, 8, particle_lab::physics::Integrator::Rk4)
+    );
+    assert_eq!(*lab.scene.world().solver(), solver);
+    // Written back, the keys stay.
+    let text = file::written(&lab.entry, lab.scene.params()).unwrap();
+    assert!(text.contains("solver = \"paper\"\nsubsteps = 8\nintegrator = \"rk4\""), "{text}");
+    // Bad values, at their place.
+    let error = load_err("[scene]\nname = \"t\"\nsolver = \"fast\"\n");
+    assert_eq!(error, "test.toml:3:10: unknown solver 'fast'; valid solvers: soft, paper");
+    let error = load_err("[scene]\nname = \"t\"\nsubsteps = 0\n");
+    assert_eq!(error, "test.toml:3:12: substeps = 0 is out of range; valid range: 1 to 64");
+    let error = load_err("[scene]\nname = \"t\"\nintegrator = \"euler\"\n");
+    assert!(error.starts_with("test.toml:3:14: unknown integrator 'euler'"), "{error}");
+}

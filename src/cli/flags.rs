@@ -1,7 +1,7 @@
 //! The flags more than one command takes: the scene and its settings, the solver's,
 //! and the bound on steps.
 
-use crate::physics::{Integrator, SolverKind, SolverSettings, solver::SUBSTEP_RANGE};
+use crate::physics::{Integrator, SolverChoice, SolverKind, SolverSettings, solver::SUBSTEP_RANGE};
 use crate::scenes::{self, SceneEntry};
 
 /// The flags that choose a scene and its settings, shared by `simulate` and `render`.
@@ -29,36 +29,47 @@ impl SceneChoice {
     }
 }
 
-/// The solver flags shared by the window, `simulate` and `render`.
-#[derive(Debug, Clone, clap::Args)]
+/// The solver flags shared by the window, `simulate`, `render` and `link`. Each flag
+/// not typed leaves the scene file's own choice (`[scene] solver`, `substeps`,
+/// `integrator`), else the default.
+#[derive(Debug, Clone, Default, clap::Args)]
 pub struct SolverArgs {
-    /// Constraint solver: soft (substepped soft contacts with friction, the default) or
-    /// paper (the paper's worst-first resolver, with Coulomb friction).
-    #[arg(long, value_name = "NAME", default_value = "soft")]
-    pub solver: String,
-    /// Substeps per physics step for the soft solver, 1 to 64.
-    #[arg(long, value_name = "N", default_value_t = 4)]
-    pub substeps: u32,
-    /// Integrator: explicit-euler, semi-implicit-euler (the paper's, the default),
-    /// verlet or rk4.
-    #[arg(long, value_name = "NAME", default_value = "semi-implicit-euler")]
-    pub integrator: String,
+    /// Constraint solver: soft (substepped soft contacts with friction) or paper (the
+    /// paper's worst-first resolver, with Coulomb friction). Default: the scene file's,
+    /// else soft.
+    #[arg(long, value_name = "NAME")]
+    pub solver: Option<String>,
+    /// Substeps per physics step for the soft solver, 1 to 64. Default: the scene
+    /// file's, else 4.
+    #[arg(long, value_name = "N")]
+    pub substeps: Option<u32>,
+    /// Integrator: explicit-euler, semi-implicit-euler (the paper's), verlet or rk4.
+    /// Default: the scene file's, else semi-implicit-euler.
+    #[arg(long, value_name = "NAME")]
+    pub integrator: Option<String>,
 }
 
 impl SolverArgs {
-    /// The settings these flags ask for, or a one-line reason they are refused.
-    pub fn settings(&self) -> Result<SolverSettings, String> {
-        let kind = SolverKind::parse(&self.solver)?;
-        if !SUBSTEP_RANGE.contains(&self.substeps) {
+    /// What these flags name, or a one-line reason they are refused.
+    pub fn choice(&self) -> Result<SolverChoice, String> {
+        let kind = self.solver.as_deref().map(SolverKind::parse).transpose()?;
+        if let Some(substeps) = self.substeps
+            && !SUBSTEP_RANGE.contains(&substeps)
+        {
             return Err(format!(
-                "--substeps {} is out of range; valid range: {} to {}",
-                self.substeps,
+                "--substeps {substeps} is out of range; valid range: {} to {}",
                 SUBSTEP_RANGE.start(),
                 SUBSTEP_RANGE.end()
             ));
         }
-        let integrator = Integrator::parse(&self.integrator)?;
-        Ok(SolverSettings { kind, substeps: self.substeps, integrator, ..SolverSettings::default() })
+        let integrator = self.integrator.as_deref().map(Integrator::parse).transpose()?;
+        Ok(SolverChoice { kind, substeps: self.substeps, integrator })
+    }
+
+    /// The settings for `entry`: these flags over the scene file's own choice over the
+    /// defaults.
+    pub fn settings_for(&self, entry: &SceneEntry) -> Result<SolverSettings, String> {
+        Ok(self.choice()?.over(scenes::file::own_solver(entry).over(SolverSettings::default())))
     }
 }
 

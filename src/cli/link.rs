@@ -38,7 +38,7 @@ pub struct OpenArgs {
 /// The link `args` ask for, or a one-line reason it cannot be made.
 pub fn link(args: &LinkArgs) -> Result<String, String> {
     let entry = args.choice.entry()?;
-    let solver = args.choice.solver.settings()?;
+    let solver = args.choice.solver.settings_for(&entry)?;
     let mut lab = Lab::from_entry(&entry, &args.choice.set, solver)?;
     match args.view.as_deref() {
         None | Some("3d") => {}

@@ -87,8 +87,8 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
                 .map_err(|e| (2, format!("{}: {e}", crate::messages::path(path))))?
         }
         None => {
-            let solver = args.choice.solver.settings().map_err(|e| (2, e))?;
             let entry = args.choice.entry().map_err(|e| (2, e))?;
+            let solver = args.choice.solver.settings_for(&entry).map_err(|e| (2, e))?;
             crate::ui::Lab::from_entry(&entry, &args.choice.set, solver).map_err(|e| (2, e))?
         }
     };

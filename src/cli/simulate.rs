@@ -93,8 +93,8 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
             (scene, Some(snapshot.dt))
         }
         None => {
-            let solver = args.choice.solver.settings()?;
             let entry = args.choice.entry()?;
+            let solver = args.choice.solver.settings_for(&entry)?;
             let mut scene = scenes::build_entry(&entry, &args.choice.set)?;
             scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
             (scene, None)

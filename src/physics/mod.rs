@@ -59,6 +59,6 @@ pub use links::{Constraint, LinkEnd, LinkKind, LinkSpec, LinkState, direction_or
 pub use particles::{ParticleDesc, Particles};
 pub use solver::paper::resolver::ContactResolver;
 pub use solver::report::{Profile, ResolveReport};
-pub use solver::{LinkSolver, SolverKind, SolverSettings};
+pub use solver::{LinkSolver, SolverChoice, SolverKind, SolverSettings};
 pub use state::{SavedForce, WorldState};
 pub use world::{ContactPoint, World};

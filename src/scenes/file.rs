@@ -148,7 +148,7 @@ use super::{
     SceneInfo, Water,
 };
 use crate::messages::{self, clip, quote};
-use crate::physics::{LinkState, ParticleId, PhysicsError, ResolveReport, World};
+use crate::physics::{LinkState, ParticleId, PhysicsError, ResolveReport, SolverChoice, World};
 use crate::reading;
 
 /// The scenes shipped in `assets/scenes/`, built into the binary so the Scene menu has
@@ -191,6 +191,8 @@ impl std::error::Error for FileError {}
 /// with the last of them.
 pub struct Definition {
     doc: Document,
+    /// The solver the file names as its own (`[scene] solver`, `substeps`, `integrator`).
+    solver: SolverChoice,
     source: String,
     shown: String,
     path: Option<PathBuf>,
@@ -268,6 +270,13 @@ pub fn definition(entry: &SceneEntry) -> Option<&Definition> {
         SceneEntry::File(definition) => Some(definition),
         SceneEntry::Compiled { .. } => None,
     }
+}
+
+/// The solver a scene names as its own: a scene file's `[scene] solver`, `substeps`
+/// and `integrator`; nothing for a scene built into the program.
+#[must_use]
+pub fn own_solver(entry: &SceneEntry) -> SolverChoice {
+    definition(entry).map_or_else(SolverChoice::default, |d| d.solver)
 }
 
 /// The scene file of a scene as it stands: its tables with each parameter's default
@@ -391,7 +400,9 @@ fn load_shown(text: &str, shown: String, path: Option<PathBuf>) -> Result<SceneE
         trails: scene.trails.unwrap_or(true),
         color_by_speed: scene.color_by_speed.unwrap_or(false),
     };
-    let definition = Definition { doc, source: text.to_string(), shown: shown.to_string(), path, info };
+    let solver = build::solver_choice(&doc).map_err(|e| at(e.offset, e.message))?;
+    let definition =
+        Definition { doc, solver, source: text.to_string(), shown: shown.to_string(), path, info };
     // Build once with the defaults: an error anywhere in the file shows now.
     definition.build(&ParamValues::defaults(&definition.info.params))?;
     Ok(SceneEntry::File(Arc::new(definition)))

@@ -19,7 +19,7 @@ use super::file::{float32, toml_string};
 use super::launcher::Aim;
 use crate::physics::collision::ContactGenerator;
 use crate::physics::state::SavedForce;
-use crate::physics::{LinkEnd, LinkKind, World};
+use crate::physics::{LinkEnd, LinkKind, SolverChoice, World};
 
 /// Most particles a sketch holds (a scene file's limit).
 pub const MAX_BODIES: usize = super::file::MAX_PARTICLES;
@@ -228,6 +228,9 @@ pub struct Sketch {
     pub floats: Vec<Float>,
     /// A launcher's aim, and whether it fires a round at the start.
     pub launcher: Option<(Aim, bool)>,
+    /// The solver, substeps and integrator it names as its own (`[scene] solver`, …);
+    /// what it does not name is the default.
+    pub solver: SolverChoice,
 }
 
 /// The ground's surface when the builder adds one (the scene format's defaults).
@@ -253,6 +256,7 @@ impl Sketch {
             drags: Vec::new(),
             floats: Vec::new(),
             launcher: None,
+            solver: SolverChoice::default(),
         }
     }
 
@@ -263,6 +267,7 @@ impl Sketch {
         let mut sketch = Self::new(name);
         sketch.ground = None;
         sketch.collisions = None;
+        sketch.solver = SolverChoice::differing(world.solver());
         let mut left_out: Vec<String> = Vec::new();
         let mut leave = |what: &str| {
             if !left_out.iter().any(|w| w == what) {
@@ -496,6 +501,18 @@ impl Sketch {
                 *b = shift(*b);
             }
         }
+        // What acted on it goes with it; what acts on the others follows their numbers.
+        self.floats.retain(|f| f.particle != i);
+        for f in &mut self.floats {
+            f.particle = shift(f.particle);
+        }
+        for drag in &mut self.drags {
+            if let Some(targets) = &mut drag.targets {
+                targets.retain(|&k| k != i);
+                targets.iter_mut().for_each(|k| *k = shift(*k));
+            }
+        }
+        self.drags.retain(|d| d.targets.as_ref().is_none_or(|t| !t.is_empty()));
     }
 
     /// A copy of particle `i`, `offset` away; returns the copy's number.
@@ -609,6 +626,15 @@ impl Sketch {
         out.push_str("summary = \"Particles and links, made in the builder or exported\"\n");
         if let Some(dt) = self.dt {
             let _ = writeln!(out, "dt = {}", float32(dt));
+        }
+        if let Some(kind) = self.solver.kind {
+            let _ = writeln!(out, "solver = {}", toml_string(kind.name()));
+        }
+        if let Some(substeps) = self.solver.substeps {
+            let _ = writeln!(out, "substeps = {substeps}");
+        }
+        if let Some(integrator) = self.solver.integrator {
+            let _ = writeln!(out, "integrator = {}", toml_string(integrator.name()));
         }
         let _ = write!(
             out,
@@ -775,7 +801,7 @@ impl Sketch {
 mod tests {
     use glam::Vec3;
 
-    use super::{Body, End, JoinKind, Sketch};
+    use super::{Body, DragField, End, Float, JoinKind, Sketch};
     use crate::scenes::file;
 
     /// A spring dumbbell on a pinned rod, by hand.
@@ -827,6 +853,45 @@ mod tests {
         assert_eq!(s.joins.len(), 1);
         assert_eq!(s.joins[0].a, 0);
         assert!(matches!(s.joins[0].b, End::Anchor(_)));
+    }
+
+    #[test]
+    fn removing_a_particle_takes_the_liquid_and_drag_on_it_alone() {
+        let mut s = dumbbell();
+        let float =
+            |particle| Float { particle, surface: 1.0, half_height: 0.1, volume: 0.004, density: 1000.0 };
+        s.floats = vec![float(0), float(2)];
+        s.drags = vec![
+            DragField { k1: 1.0, k2: 0.0, targets: Some(vec![0]) },
+            DragField { k1: 2.0, k2: 0.0, targets: Some(vec![0, 2]) },
+            DragField { k1: 3.0, k2: 0.0, targets: None },
+        ];
+        s.remove(0);
+        // The float on particle 0 went; the one on 2 is now on 1, still the same particle.
+        assert_eq!(s.floats, vec![float(1)]);
+        assert!(s.bodies[1].fixed, "particle 1 is the old 2, the pinned one");
+        // Drag on 0 alone went; drag on 0 and 2 acts on the old 2; drag on all stays.
+        let left: Vec<(f32, Option<Vec<usize>>)> =
+            s.drags.iter().map(|d| (d.k1, d.targets.clone())).collect();
+        assert_eq!(left, vec![(2.0, Some(vec![1])), (3.0, None)]);
+        // And what is written still loads.
+        file::load_text(&s.text(), "after", None).unwrap_or_else(|e| panic!("{e}"));
+    }
+
+    #[test]
+    fn a_solver_named_is_written_and_read_back() {
+        let mut s = dumbbell();
+        s.solver = crate::physics::SolverChoice {
+            kind: Some(crate::physics::SolverKind::Paper),
+            substeps: None,
+            integrator: Some(crate::physics::Integrator::Verlet),
+        };
+        let text = s.text();
+        assert!(text.contains("solver = \"paper\"\nintegrator = \"verlet\""), "{text}");
+        let entry = file::load_text(&text, "dumbbell", None).unwrap();
+        assert_eq!(file::own_solver(&entry), s.solver);
+        let scene = entry.create_default();
+        assert_eq!(Sketch::from_scene(scene.as_ref(), "dumbbell").0.solver, s.solver);
     }
 
     #[test]

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::cli::Cli;
-use crate::physics::{Integrator, SolverKind, SolverSettings};
+use crate::physics::{Integrator, SolverChoice, SolverKind, SolverSettings};
 use crate::scenes::{self};
 use crate::ui::Lab;
 use crate::ui::layout::PanelLayout;
@@ -52,15 +52,23 @@ pub struct Launch {
 pub struct LinkRate(pub Option<f32>);
 
 impl Launch {
-    /// The window's flags from the parsed command line. Which solver flags were typed
-    /// is read from the process's arguments again, since clap fills in their defaults.
+    /// The window's flags from the parsed command line.
     pub fn from_cli(cli: &Cli) -> Result<Self, String> {
-        use clap::CommandFactory;
-        match Cli::command().try_get_matches_from(std::env::args_os()) {
-            Ok(matches) => Self::from_matches(cli, &matches),
-            // Parsed once already, so this does not happen; if it did, the flags win.
-            Err(_) => Self::from_typed(cli, [true; 3]),
-        }
+        let solver = cli.choice.solver.choice()?;
+        Ok(Self {
+            scene: cli.choice.scene.clone(),
+            scene_file: cli.choice.scene_file.clone(),
+            set: cli.choice.set.clone(),
+            solver: solver.kind,
+            substeps: solver.substeps,
+            integrator: solver.integrator,
+            fresh: cli.fresh,
+            from: cli.from.clone(),
+            scene_text: None,
+            steps: None,
+            link: None,
+            view: crate::ui::lab::LinkView::default(),
+        })
     }
 
     /// What a link (`particle-lab open LINK`: a whole link as copied, its query and
@@ -91,44 +99,12 @@ impl Launch {
         if cli.command.is_some() {
             return Err("a link opens the lab; it runs no command".into());
         }
-        Self::from_matches(&cli, &matches)
+        Self::from_cli(&cli)
     }
 
-    fn from_matches(cli: &Cli, matches: &clap::ArgMatches) -> Result<Self, String> {
-        use clap::parser::ValueSource;
-        let typed = ["solver", "substeps", "integrator"]
-            .map(|id| matches.value_source(id) == Some(ValueSource::CommandLine));
-        Self::from_typed(cli, typed)
-    }
-
-    /// `typed`: whether `--solver`, `--substeps` and `--integrator` were typed (as
-    /// opposed to filled in with their defaults).
-    fn from_typed(cli: &Cli, typed: [bool; 3]) -> Result<Self, String> {
-        let solver = cli.choice.solver.settings()?;
-        Ok(Self {
-            scene: cli.choice.scene.clone(),
-            scene_file: cli.choice.scene_file.clone(),
-            set: cli.choice.set.clone(),
-            solver: typed[0].then_some(solver.kind),
-            substeps: typed[1].then_some(solver.substeps),
-            integrator: typed[2].then_some(solver.integrator),
-            fresh: cli.fresh,
-            from: cli.from.clone(),
-            scene_text: None,
-            steps: None,
-            link: None,
-            view: crate::ui::lab::LinkView::default(),
-        })
-    }
-
-    /// The solver flags over `base`.
-    fn solver_over(&self, base: SolverSettings) -> SolverSettings {
-        SolverSettings {
-            kind: self.solver.unwrap_or(base.kind),
-            substeps: self.substeps.unwrap_or(base.substeps),
-            integrator: self.integrator.unwrap_or(base.integrator),
-            ..base
-        }
+    /// The solver flags typed, as a choice to lay over the others.
+    fn solver_choice(&self) -> SolverChoice {
+        SolverChoice { kind: self.solver, substeps: self.substeps, integrator: self.integrator }
     }
 
     /// The flags typed, for the log.
@@ -233,8 +209,9 @@ pub fn open(launch: &Launch, mut store: Store) -> Result<Opened, String> {
         assignments.extend(saved.params.iter().map(|(name, value)| format!("{name}={value}")));
     }
     assignments.extend(launch.set.iter().cloned());
+    // The saved solver, then the scene file's own, then the flags typed.
     let base = resolved.as_ref().map_or_else(SolverSettings::default, |r| r.solver);
-    let solver = launch.solver_over(base);
+    let solver = launch.solver_choice().over(scenes::file::own_solver(&entry).over(base));
     let mut layout = PanelLayout::default();
     let mut lab = match Lab::from_entry(&entry, &assignments, solver) {
         Ok(lab) => lab,

@@ -13,4 +13,4 @@ pub mod report;
 pub mod settings;
 pub mod soft;
 
-pub use settings::{LinkSolver, SUBSTEP_RANGE, Softness, SolverKind, SolverSettings};
+pub use settings::{LinkSolver, SUBSTEP_RANGE, Softness, SolverChoice, SolverKind, SolverSettings};

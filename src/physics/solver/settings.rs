@@ -83,6 +83,50 @@ impl LinkSolver {
     }
 }
 
+/// The solver, substeps and integrator a scene file, a link or the command line names:
+/// each `None` where it names none, so that choices can be laid over one another
+/// (the defaults, then a scene file's own, then the flags typed).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolverChoice {
+    /// The solver, if named.
+    pub kind: Option<SolverKind>,
+    /// The substeps, if named (checked against [`SUBSTEP_RANGE`] where it is read).
+    pub substeps: Option<u32>,
+    /// The integrator, if named.
+    pub integrator: Option<Integrator>,
+}
+
+impl SolverChoice {
+    /// `base` with what this choice names put over it.
+    #[must_use]
+    pub fn over(self, base: SolverSettings) -> SolverSettings {
+        SolverSettings {
+            kind: self.kind.unwrap_or(base.kind),
+            substeps: self.substeps.unwrap_or(base.substeps),
+            integrator: self.integrator.unwrap_or(base.integrator),
+            ..base
+        }
+    }
+
+    /// What `settings` names that the defaults do not: the choice that, laid over the
+    /// defaults, gives `settings`' solver, substeps and integrator.
+    #[must_use]
+    pub fn differing(settings: &SolverSettings) -> Self {
+        let default = SolverSettings::default();
+        Self {
+            kind: (settings.kind != default.kind).then_some(settings.kind),
+            substeps: (settings.substeps != default.substeps).then_some(settings.substeps),
+            integrator: (settings.integrator != default.integrator).then_some(settings.integrator),
+        }
+    }
+
+    /// Whether it names nothing.
+    #[must_use]
+    pub fn is_empty(self) -> bool {
+        self == Self::default()
+    }
+}
+
 /// Smallest and largest substep count.
 pub const SUBSTEP_RANGE: std::ops::RangeInclusive<u32> = 1..=64;
 

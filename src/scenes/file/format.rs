@@ -149,7 +149,21 @@ macro_rules! table {
 /// reference (`docs/scene-format.md`) lists them. The parser refuses any other table or
 /// key; a test below checks this list against the one serde reports for each table.
 pub const ACCEPTED_KEYS: &[(&str, &[&str])] = &[
-    ("scene", &["name", "summary", "dt", "steps", "trails", "color_by_speed", "gravity"]),
+    (
+        "scene",
+        &[
+            "name",
+            "summary",
+            "dt",
+            "steps",
+            "trails",
+            "color_by_speed",
+            "gravity",
+            "solver",
+            "substeps",
+            "integrator",
+        ],
+    ),
     ("param", &["name", "unit", "default", "min", "max", "help", "logarithmic", "integer"]),
     ("particle", &["name", "position", "velocity", "mass", "radius", "damping", "fixed", "rolls", "color"]),
     (
@@ -283,6 +297,13 @@ table! {
         pub color_by_speed: Option<bool>,
         /// Downward acceleration of every particle (m/s²), default `"g"`.
         pub gravity: Option<SNum>,
+        /// The scene's own constraint solver, `"soft"` or `"paper"`; default: the
+        /// lab's (soft).
+        pub solver: Option<Spanned<String>>,
+        /// The scene's own substeps per step (soft solver), 1 to 64; default: the lab's (4).
+        pub substeps: Option<Spanned<i64>>,
+        /// The scene's own integrator; default: the lab's (semi-implicit Euler).
+        pub integrator: Option<Spanned<String>>,
     }
 }
 

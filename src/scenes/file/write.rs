@@ -226,6 +226,9 @@ fn scene(out: &mut Writer, doc: &Document) {
     out.some("trails", s.trails.map(|b| b.to_string()));
     out.some("color_by_speed", s.color_by_speed.map(|b| b.to_string()));
     out.some("gravity", s.gravity.as_ref().map(num));
+    out.some("solver", s.solver.as_ref().map(|name| string(name.get_ref())));
+    out.some("substeps", s.substeps.as_ref().map(|n| n.get_ref().to_string()));
+    out.some("integrator", s.integrator.as_ref().map(|name| string(name.get_ref())));
 }
 
 /// A `[[param]]`, its default `value` where one is given and differs from the file's as

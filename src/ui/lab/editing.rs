@@ -9,6 +9,7 @@ use glam::{Vec2, Vec3};
 
 use super::builder_state::{Editor, Gesture, NEAR_GROUND, Tool, UNDO_LIMIT};
 use super::model::Lab;
+use crate::physics::SolverSettings;
 use crate::scenes::file;
 use crate::scenes::sketch::{Body, End, JoinKind, Sketch};
 
@@ -97,6 +98,9 @@ impl Lab {
         let text = sketch.text();
         match file::load_text(&text, &sketch.name, None) {
             Ok(entry) => {
+                // The sketch names its solver whole: what it leaves out is the default,
+                // not what an earlier state of it (or another scene) left behind.
+                self.solver = sketch.solver.over(SolverSettings::default());
                 let camera = (self.camera, self.camera_moved, self.side_view);
                 let editor = self.editor.take();
                 self.switch_scene(&entry);

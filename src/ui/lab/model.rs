@@ -204,6 +204,20 @@ impl Lab {
         self.entry = entry.clone();
         self.scene = entry.create_default();
         self.set_dt(entry.info().dt);
+        // A scene file that names its own solver, substeps or integrator runs with them
+        // (the Run section shows them, and they stay for later scenes as any choice there).
+        let own = scenes::file::own_solver(entry);
+        if !own.is_empty() {
+            let solver = own.over(self.solver);
+            if solver != self.solver {
+                log::info!(
+                    "solver from the scene file: {} ({})",
+                    solver.kind.name(),
+                    solver.integrator.name()
+                );
+            }
+            self.solver = solver;
+        }
         // Follow is the scene's own: a new scene starts without it. The side view stays
         // as ticked, and the new scene is drawn that way.
         self.follow = false;

@@ -5,7 +5,9 @@
 
 use glam::Vec3;
 
-use crate::scenes::sketch::{COLLISIONS, DragField, End, GROUND, JoinKind};
+use crate::physics::solver::SUBSTEP_RANGE;
+use crate::physics::{Integrator, SolverChoice, SolverKind, SolverSettings};
+use crate::scenes::sketch::{Body, COLLISIONS, DragField, End, Float, GROUND, JoinKind};
 use crate::ui::lab::{Lab, Pins, Purpose, Tool};
 
 /// The builder's own settings that are not the sketch's.
@@ -269,6 +271,7 @@ impl BuilderPanel {
                 true
             });
         }
+        Self::solver(ui, lab);
         if changed_surfaces {
             lab.edit("surroundings", |sketch, _| {
                 sketch.ground = ground.then_some(sketch.ground.unwrap_or(GROUND));
@@ -306,6 +309,98 @@ impl BuilderPanel {
         if changed {
             lab.edit("surface", |sketch, _| {
                 (sketch.ground, sketch.collisions) = (ground_surface, collision_surface);
+                true
+            });
+        }
+    }
+
+    /// Whether particle `i` floats in a liquid (buoyancy, the paper's Archimedes force
+    /// generator), with the liquid's surface height and density.
+    fn float(ui: &mut egui::Ui, lab: &mut Lab, i: usize, body: &Body) {
+        let Some(editor) = &lab.editor else { return };
+        let at = editor.sketch().floats.iter().position(|f| f.particle == i);
+        let before = at.map(|k| editor.sketch().floats[k]);
+        let mut floats = before.is_some();
+        // Water, its surface level with the particle, which is a sphere of its radius (a
+        // point: a 10 cm ball).
+        let r = if body.radius > 0.0 { body.radius } else { 0.1 };
+        let mut float = before.unwrap_or(Float {
+            particle: i,
+            surface: body.position.y,
+            half_height: r,
+            volume: 4.0 / 3.0 * std::f32::consts::PI * r * r * r,
+            density: 1000.0,
+        });
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut floats, "floats").on_hover_text(
+                "Buoyancy: a liquid lifts it with the weight of the liquid it displaces (ρ V g when under)",
+            );
+            if floats {
+                ui.add(egui::DragValue::new(&mut float.surface).speed(0.01).prefix("surface ").suffix(" m"))
+                    .on_hover_text("Height of the liquid's surface");
+                ui.add(
+                    egui::DragValue::new(&mut float.density)
+                        .range(1.0..=20_000.0)
+                        .speed(5.0)
+                        .prefix("ρ ")
+                        .suffix(" kg/m³"),
+                )
+                .on_hover_text("Density of the liquid (water: 1000 kg/m³)");
+            }
+        });
+        let after = floats.then_some(float);
+        if after != before {
+            lab.edit("floats", |sketch, _| {
+                sketch.floats.retain(|f| f.particle != i);
+                sketch.floats.extend(after);
+                true
+            });
+        }
+    }
+
+    /// The scene's own solver, substeps and integrator, saved with it (`[scene]
+    /// solver`, `substeps`, `integrator`) and run by Play.
+    fn solver(ui: &mut egui::Ui, lab: &mut Lab) {
+        let Some(editor) = &lab.editor else { return };
+        let before = editor.sketch().solver.over(SolverSettings::default());
+        let mut solver = before;
+        ui.horizontal(|ui| {
+            let label = ui.label("solver");
+            egui::ComboBox::from_id_salt("builder solver")
+                .selected_text(solver.kind.name())
+                .show_ui(ui, |ui| {
+                    for kind in SolverKind::ALL {
+                        ui.selectable_value(&mut solver.kind, kind, kind.name())
+                            .on_hover_text(kind.summary());
+                    }
+                })
+                .response
+                .labelled_by(label.id)
+                .on_hover_text("The scene's constraint solver, saved with it");
+            if solver.kind == SolverKind::Soft {
+                ui.add(egui::DragValue::new(&mut solver.substeps).range(SUBSTEP_RANGE).suffix(" substeps"))
+                    .on_hover_text(
+                        "Substeps per physics step: more make stiff links and tall piles converge",
+                    );
+            }
+        });
+        ui.horizontal(|ui| {
+            let label = ui.label("integrator");
+            egui::ComboBox::from_id_salt("builder integrator")
+                .selected_text(solver.integrator.name())
+                .show_ui(ui, |ui| {
+                    for integrator in Integrator::ALL {
+                        ui.selectable_value(&mut solver.integrator, integrator, integrator.name())
+                            .on_hover_text(integrator.summary());
+                    }
+                })
+                .response
+                .labelled_by(label.id)
+                .on_hover_text("How motion is advanced each (sub)step, saved with the scene");
+        });
+        if solver != before {
+            lab.edit("solver", |sketch, _| {
+                sketch.solver = SolverChoice::differing(&solver);
                 true
             });
         }
@@ -407,6 +502,7 @@ impl BuilderPanel {
                 changed = Some("rolls");
             }
         });
+        Self::float(ui, lab, i, &body);
         if let Some(change) = changed {
             let moved = body.position != before.position;
             lab.edit(change, |sketch, _| {

@@ -17,7 +17,11 @@ use glam::{Vec2, Vec3, Vec3Swizzles};
 use super::expr::Expr;
 use super::format::Document;
 use crate::physics::particles::{MAX_MASS, MIN_MASS};
-use crate::physics::{Buoyancy, ContactGeneratorId, ForceId, LinkSpec, ParticleId, World};
+use crate::physics::solver::SUBSTEP_RANGE;
+use crate::physics::{
+    Buoyancy, ContactGeneratorId, ForceId, Integrator, LinkSpec, ParticleId, SolverChoice, SolverKind,
+    SolverSettings, World,
+};
 use crate::scenes::{CameraHint, ParamValues, Water};
 
 mod links;
@@ -215,9 +219,50 @@ pub fn gravity(doc: &Document, source: &str, params: &ParamValues) -> Result<f32
     builder(source, params).gravity(doc)
 }
 
-/// Builds the world the document describes with these parameter values.
+/// `[scene] solver`, `substeps` and `integrator`: the solver the scene names as its
+/// own, each part `None` where it names none.
+pub fn solver_choice(doc: &Document) -> Result<SolverChoice, Located> {
+    let scene = &doc.scene;
+    let kind = scene
+        .solver
+        .as_ref()
+        .map(|name| SolverKind::parse(name.get_ref()).map_err(|e| Located::at(&name.span(), e)))
+        .transpose()?;
+    let substeps = scene
+        .substeps
+        .as_ref()
+        .map(|n| {
+            u32::try_from(*n.get_ref()).ok().filter(|k| SUBSTEP_RANGE.contains(k)).ok_or_else(|| {
+                Located::at(
+                    &n.span(),
+                    format!(
+                        "substeps = {} is out of range; valid range: {} to {}",
+                        n.get_ref(),
+                        SUBSTEP_RANGE.start(),
+                        SUBSTEP_RANGE.end()
+                    ),
+                )
+            })
+        })
+        .transpose()?;
+    let integrator = scene
+        .integrator
+        .as_ref()
+        .map(|name| Integrator::parse(name.get_ref()).map_err(|e| Located::at(&name.span(), e)))
+        .transpose()?;
+    Ok(SolverChoice { kind, substeps, integrator })
+}
+
+/// Builds the world the document describes with these parameter values, with the
+/// solver the scene names as its own (the lab lays the user's choice over it).
 pub fn build(doc: &Document, source: &str, params: &ParamValues) -> Result<Built, Located> {
     let mut b = builder(source, params);
+    let own = solver_choice(doc)?;
+    if !own.is_empty() {
+        b.world
+            .set_solver(own.over(SolverSettings::default()))
+            .expect("a solver choice read from a file is valid");
+    }
     let g = b.gravity(doc)?;
     // The gravity expression is applied at once on a change of g: not a use elsewhere.
     b.g_elsewhere = false;
