@@ -473,3 +473,49 @@ fn copy_link_in_the_file_menu_gives_the_query_that_opens_this_experiment() {
     assert_eq!(again.solver(), lab.solver());
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// View → Text size (issue 37, for a projector): Ctrl+= and Ctrl+- step the text size
+/// by 10% within 100–250%, Ctrl+0 goes back to 100%, egui's zoom follows it (egui's own
+/// Ctrl+= is off, so one press is one step), and the text drawn grows by as much.
+#[test]
+fn ctrl_plus_and_minus_step_the_text_size_and_the_text_grows_with_it() {
+    let ctx = egui::Context::default();
+    let mut lab = Lab::new("pendulum", &[]).unwrap();
+    let mut shell = LabUi::default();
+    let ctrl = |key| {
+        vec![Event::Key {
+            key,
+            physical_key: None,
+            pressed: true,
+            repeat: false,
+            modifiers: Modifiers::COMMAND,
+        }]
+    };
+    let before = settle(&ctx, &mut shell, &mut lab, WIDE);
+    let (_, _, size_before) = *before.find("Run").unwrap();
+    assert_eq!(shell.layout.text_size, 100);
+    frame(&ctx, &mut shell, &mut lab, WIDE, ctrl(Key::Equals));
+    frame(&ctx, &mut shell, &mut lab, WIDE, ctrl(Key::Plus));
+    assert_eq!(shell.layout.text_size, 120, "two steps of 10%");
+    let after = settle(&ctx, &mut shell, &mut lab, WIDE);
+    assert!((ctx.zoom_factor() - 1.2).abs() < 1e-6, "zoom {}", ctx.zoom_factor());
+    // Text is laid out in points: the same size in points, 1.2 times the pixels.
+    let (_, _, size_after) = *after.find("Run").unwrap();
+    assert_eq!(size_after, size_before);
+    assert!((ctx.pixels_per_point() - 1.2).abs() < 1e-6, "{}", ctx.pixels_per_point());
+    frame(&ctx, &mut shell, &mut lab, WIDE, ctrl(Key::Minus));
+    assert_eq!(shell.layout.text_size, 110);
+    frame(&ctx, &mut shell, &mut lab, WIDE, ctrl(Key::Num0));
+    assert_eq!(shell.layout.text_size, 100);
+    frame(&ctx, &mut shell, &mut lab, WIDE, ctrl(Key::Minus));
+    assert_eq!(shell.layout.text_size, 100, "not below 100%");
+    for _ in 0..30 {
+        frame(&ctx, &mut shell, &mut lab, WIDE, ctrl(Key::Equals));
+    }
+    assert_eq!(shell.layout.text_size, 250, "not above 250%");
+    settle(&ctx, &mut shell, &mut lab, WIDE);
+    assert!((ctx.zoom_factor() - 2.5).abs() < 1e-6);
+    // A hand-edited settings file's 900% is held to the range.
+    let layout = PanelLayout { text_size: 900, ..PanelLayout::default() };
+    assert_eq!(layout.zoom(), 2.5);
+}

@@ -49,6 +49,8 @@ pub enum Command {
     Redo,
     /// Delete the builder's selected particle.
     Delete,
+    /// Text and controls larger (+1) or smaller (-1) by a step, or (0) back to 100%.
+    TextSize(i32),
 }
 
 /// How a control is reached.
@@ -160,6 +162,24 @@ pub const SHORTCUTS: &[Shortcut] = &[
         &[Key::ArrowDown, Key::S],
         Command::MoveLoad(0.0, LOAD_STEP),
     ),
+    Shortcut {
+        keys: "Ctrl+= / Ctrl++",
+        meaning: "larger text and controls (View → Text size)",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::Equals, Key::Plus]),
+        command: Some(Command::TextSize(1)),
+    },
+    Shortcut {
+        keys: "Ctrl+-",
+        meaning: "smaller text and controls",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::Minus]),
+        command: Some(Command::TextSize(-1)),
+    },
+    Shortcut {
+        keys: "Ctrl+0",
+        meaning: "text size back to 100%",
+        binding: Binding::Keys(Modifiers::COMMAND, &[Key::Num0]),
+        command: Some(Command::TextSize(0)),
+    },
     mouse("Left drag on a particle", "drag it (let go to throw); a hard pull tears cloth"),
     mouse("Click a particle", "inspect it (click empty space to clear)"),
     mouse("Left drag elsewhere", "orbit the camera (pan in the side view)"),
@@ -233,5 +253,7 @@ pub fn run(command: Command, lab: &mut Lab, layout: &mut PanelLayout) {
         Command::Undo => lab.undo(),
         Command::Redo => lab.redo(),
         Command::Delete => lab.delete_selected(),
+        Command::TextSize(0) => layout.text_size = 100,
+        Command::TextSize(steps) => layout.step_text_size(steps),
     }
 }

@@ -1,5 +1,5 @@
 //! The panel's layout as the user left it: whether the side panel and the Controls
-//! window are open, and which sections are expanded. Saved with the settings
+//! window are open, which sections are expanded, and the text size. Saved with the settings
 //! (`settings.json`'s `panel`), so the panel comes back as it was.
 
 use serde::{Deserialize, Serialize};
@@ -74,7 +74,15 @@ pub struct PanelLayout {
     pub compare: bool,
     /// The Stats section is expanded (shown when View → Stats is on).
     pub stats: bool,
+    /// Size of the text and controls, in percent: 100 to 250 ([`TEXT_SIZE`]), for a
+    /// projector (View → Text size, Ctrl+= and Ctrl+-).
+    pub text_size: u32,
 }
+
+/// The text sizes View → Text size offers (percent), and the step of Ctrl+= and Ctrl+-.
+pub const TEXT_SIZE: std::ops::RangeInclusive<u32> = 100..=250;
+/// The step of Ctrl+= and Ctrl+- (percent).
+pub const TEXT_SIZE_STEP: u32 = 10;
 
 impl Default for PanelLayout {
     fn default() -> Self {
@@ -88,11 +96,27 @@ impl Default for PanelLayout {
             readouts: true,
             compare: false,
             stats: true,
+            text_size: 100,
         }
     }
 }
 
 impl PanelLayout {
+    /// The interface's zoom for egui: the text size, kept to [`TEXT_SIZE`] (a settings
+    /// file edited by hand may say anything).
+    #[must_use]
+    pub fn zoom(&self) -> f32 {
+        self.text_size.clamp(*TEXT_SIZE.start(), *TEXT_SIZE.end()) as f32 / 100.0
+    }
+
+    /// The text size `steps` steps of [`TEXT_SIZE_STEP`] larger (smaller if negative),
+    /// kept to [`TEXT_SIZE`].
+    pub fn step_text_size(&mut self, steps: i32) {
+        let size =
+            self.text_size.clamp(*TEXT_SIZE.start(), *TEXT_SIZE.end()) as i32 + steps * TEXT_SIZE_STEP as i32;
+        self.text_size = (size.max(0) as u32).clamp(*TEXT_SIZE.start(), *TEXT_SIZE.end());
+    }
+
     /// Whether `section` is expanded.
     #[must_use]
     pub fn is_open(&self, section: Section) -> bool {

@@ -73,7 +73,14 @@ impl LabUi {
     /// view's rectangle (in points).
     pub fn show(&mut self, ui: &mut egui::Ui, lab: &mut Lab) -> Rect {
         lab.poll_scene_file();
+        // The text size is the layout's (saved with the settings): egui's own Ctrl+= is
+        // off, and the keys table's Ctrl+= / Ctrl+- step it instead.
+        ui.ctx().options_mut(|options| options.zoom_with_keyboard = false);
         keys::handle(ui.ctx(), lab, &mut self.layout);
+        let zoom = self.layout.zoom();
+        if (ui.ctx().zoom_factor() - zoom).abs() > 1e-4 {
+            ui.ctx().set_zoom_factor(zoom);
+        }
         egui::Panel::top("menu").show(ui, |ui| self.menu.ui(ui, lab, &mut self.layout));
         if !lab.status.is_empty() {
             egui::Panel::bottom("status").show(ui, |ui| {

@@ -71,6 +71,16 @@ impl ViewMenu {
         ui.checkbox(&mut lab.view.stats, "Stats");
         ui.checkbox(&mut lab.view.msaa, "Anti-aliasing (4× MSAA)")
             .on_hover_text("Smoother edges; turn off for speed on a software GPU");
+        ui.horizontal(|ui| {
+            let label = ui.label("Text size");
+            ui.add(
+                egui::Slider::new(&mut layout.text_size, crate::ui::layout::TEXT_SIZE)
+                    .step_by(f64::from(crate::ui::layout::TEXT_SIZE_STEP))
+                    .suffix("%"),
+            )
+            .labelled_by(label.id)
+            .on_hover_text("Larger text and controls, for a projector (Ctrl+= and Ctrl+-; Ctrl+0: 100%)");
+        });
         ui.separator();
         if ui.button("Frame the scene (Home)").clicked() {
             keys::run(Command::Frame, lab, layout);
