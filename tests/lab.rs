@@ -145,7 +145,7 @@ fn colour_by_speed_defaults_to_the_scene_on_opening_and_switching() {
 fn read_outs_are_recomputed_a_few_times_a_second_not_every_frame() {
     let mut lab = Lab::new("pile", &[]).unwrap();
     let speed =
-        |lab: &mut Lab| lab.readouts().iter().find(|(name, _)| name == "median speed").unwrap().1.clone();
+        |lab: &mut Lab| lab.readouts().iter().find(|row| row.label == "median speed").unwrap().text.clone();
     let started = Instant::now();
     let at_rest = speed(&mut lab);
     lab.run_steps(2);

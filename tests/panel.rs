@@ -519,3 +519,39 @@ fn ctrl_plus_and_minus_step_the_text_size_and_the_text_grows_with_it() {
     let layout = PanelLayout { text_size: 900, ..PanelLayout::default() };
     assert_eq!(layout.zoom(), 2.5);
 }
+
+/// A new scene opens at the top of its panel (issue 37): the panel scrolled down to the
+/// last scene's read-outs comes back to the heading; the builder's edits, which keep
+/// the scene, keep the place.
+#[test]
+fn a_new_scene_opens_at_the_top_of_its_panel() {
+    let ctx = egui::Context::default();
+    let mut lab = Lab::new("pendulum", &[]).unwrap();
+    let mut shell = LabUi::default();
+    let size = [1024.0, 600.0];
+    // The scene's heading: its name in the heading's type (the menu bar names it too,
+    // smaller).
+    let heading_size = 16.0;
+    let heading = |frame: &Frame, name: &str| {
+        frame.texts.iter().find(|(t, _, size)| t == name && *size >= heading_size).map(|(_, r, _)| r.min.y)
+    };
+    let top = heading(&settle(&ctx, &mut shell, &mut lab, size), "pendulum").expect("the heading");
+    // Scroll the panel well down.
+    let over_panel = Pos2::new(100.0, 300.0);
+    for _ in 0..10 {
+        let wheel = Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, -200.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: Modifiers::NONE,
+        };
+        frame(&ctx, &mut shell, &mut lab, size, vec![Event::PointerMoved(over_panel), wheel]);
+    }
+    let scrolled = settle(&ctx, &mut shell, &mut lab, size);
+    assert!(heading(&scrolled, "pendulum").is_none_or(|y| y < top - 100.0), "the wheel scrolled the panel");
+    lab.switch_scene(particle_lab::scenes::find("bridge").unwrap());
+    let opened = settle(&ctx, &mut shell, &mut lab, size);
+    let y = heading(&opened, "bridge").expect("the new scene's heading is drawn");
+    assert!((y - top).abs() < 1.0, "heading at {y}, the panel's top at {top}");
+}

@@ -142,9 +142,14 @@ impl Scene for Cradle {
             Readout::new("lifted", lifted_text)
                 .with("lifted", lifted as f32)
                 .with("balls", balls as f32)
-                .with("lifted_asked", asked as f32),
+                .with("lifted_asked", asked as f32)
+                .help("Balls pulled aside and let go together; the same number should swing out at the far end"),
             Readout::new("speed at the bottom", format!("{arriving:.3} m/s"))
-                .with("speed_at_bottom_predicted_m_s", arriving),
+                .with("speed_at_bottom_predicted_m_s", arriving)
+                .help(
+                    "Predicted speed of the lifted balls at the bottom, from energy: v = √(2 g L (1 − cos θ)), L \
+                     the cable's length and θ the lift angle. Leaves out damping and the cables' stretch.",
+                ),
         ]
     }
 }

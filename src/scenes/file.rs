@@ -831,13 +831,19 @@ impl Scene for FileScene {
         let world = &self.built.world;
         let (particles, links) = (world.particles.len(), self.built.links.len());
         let mut out = vec![
-            Readout::new("file", self.definition.shown.clone()),
+            Readout::new("file", self.definition.shown.clone())
+                .help("The scene file this scene was read from"),
             Readout::new("particles, links", format!("{particles}, {links}"))
                 .with("particles", particles as f32)
-                .with("links", links as f32),
+                .with("links", links as f32)
+                .help("Particles in the world, and the links (rods, cables, springs) the file made"),
         ];
         if self.torn > 0 || self.built.links.iter().any(|l| l.tear.is_some()) {
-            out.push(Readout::new("links torn", self.torn.to_string()).with("links_torn", self.torn as f32));
+            out.push(
+                Readout::new("links torn", self.torn.to_string())
+                    .with("links_torn", self.torn as f32)
+                    .help("Links whose tension passed their `tear` force and broke"),
+            );
         }
         if let Some(launcher) = &self.launcher {
             out.extend(launcher.readout_rows(world));

@@ -185,6 +185,10 @@ pub fn starting_cloud(count: usize, radius: f32, width: f32, seed: u64) -> Vec<V
     positions
 }
 
+/// What the flow read-out is and how it is measured.
+const FLOW_HELP: &str = "The mass that fell through the opening in the last second of simulated time: grains \
+    through now less a second ago, times a grain's mass, over the time between.";
+
 /// Grains wholly below the floor: their centre more than a radius under y = 0.
 #[must_use]
 pub fn grains_through(world: &World) -> usize {
@@ -359,25 +363,48 @@ impl Scene for Hourglass {
         let opening = shape.orifice / (2.0 * shape.radius);
         let mut rows = vec![
             Readout::new("opening / grain", format!("{opening:.1} diameters"))
-                .with("opening_grains", opening),
+                .with("opening_grains", opening)
+                .help(
+                    "The opening's diameter over a grain's (D/d). Below about 5 an arch of grains can \
+                     span it and jam the flow; the wider, the rarer the jams.",
+                ),
             Readout::new("grains through", format!("{through} of {grains}"))
                 .with("grains_through", through as f32)
-                .with("grains", grains as f32),
-            Readout::new("bed packing", format!("{:.3}", self.packing)).with("packing", self.packing),
-            Readout::new("Beverloo's flow", format!("{beverloo:.4} kg/s")).with("beverloo_kg_s", beverloo),
+                .with("grains", grains as f32)
+                .help("Grains wholly below the floor (their centre more than a radius under it), of all grains"),
+            Readout::new("bed packing", format!("{:.3}", self.packing)).with("packing", self.packing).help(
+                "The share of the bed's volume the grains fill: their volume over a layer one to five \
+                 grain diameters above the floor, at its densest so far. Random close packing of \
+                 equal spheres is about 0.64.",
+            ),
+            Readout::new("Beverloo's flow", format!("{beverloo:.4} kg/s")).with("beverloo_kg_s", beverloo).help(
+                "Beverloo's law for a silo's steady mass flow: W = C ρ_b √g (D − k d)^(5/2), with C = 0.58, \
+                 k = 1.5, ρ_b the bed's density (packing × the grains' density), D the opening, d a \
+                 grain's diameter. An empirical law for a deep bed: it leaves out the bed's height \
+                 (it holds while the bed is more than about an opening deep) and friction's detail.",
+            ),
         ];
         match self.flow() {
             Some(flow) => {
-                rows.push(Readout::new("flow (last 1 s)", format!("{flow:.4} kg/s")).with("flow_kg_s", flow));
+                rows.push(
+                    Readout::new("flow (last 1 s)", format!("{flow:.4} kg/s"))
+                        .with("flow_kg_s", flow)
+                        .help(FLOW_HELP),
+                );
                 if beverloo > 0.0 {
                     let ratio = flow / beverloo;
                     rows.push(
                         Readout::new("flow / Beverloo", format!("{ratio:.3}"))
-                            .with("flow_over_beverloo", ratio),
+                            .with("flow_over_beverloo", ratio)
+                            .help(
+                                "The measured flow over Beverloo's. Steady flow from a deep bed gives \
+                                 0.8 to 0.9 here; it falls as the bed drains below an opening's depth, \
+                                 where the law no longer holds.",
+                            ),
                     );
                 }
             }
-            None => rows.push(Readout::new("flow (last 1 s)", "measuring…")),
+            None => rows.push(Readout::new("flow (last 1 s)", "measuring…").help(FLOW_HELP)),
         }
         rows
     }

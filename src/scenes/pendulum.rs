@@ -196,14 +196,24 @@ impl Scene for Pendulum {
         let change = energy.kinetic + energy.potential - self.start_energy;
         let (length, g) = (self.params.get("length"), self.params.get("g"));
         let mut out = vec![
-            Readout::new("energy since release", format!("{change:+.3} J")).with("energy_change_j", change),
+            Readout::new("energy since release", format!("{change:+.3} J"))
+                .with("energy_change_j", change)
+                .help(
+                    "Kinetic plus potential energy now, less at the release. With no damping it should stay \
+                 near zero: what it drifts by is the integrator's and the rods' error.",
+                ),
         ];
         if links(&self.params) == 1 && g > 0.0 {
             // Small swings only; a release far from the bottom swings more slowly.
             let period = 2.0 * std::f32::consts::PI * (length / g).sqrt();
             out.push(
                 Readout::new("period of small swings 2π√(L/g)", format!("{period:.3} s"))
-                    .with("period_predicted_s", period),
+                    .with("period_predicted_s", period)
+                    .help(
+                        "The textbook's period, 2π√(L/g): exact only for swings so small that sin θ ≈ θ. \
+                         Leaves out the amplitude (a 90° release swings about 18% slower), damping and \
+                         the bob's size.",
+                    ),
             );
             let amplitude = f64::from(self.params.get("angle").to_radians());
             if amplitude.abs() < std::f64::consts::PI {
@@ -211,13 +221,22 @@ impl Scene for Pendulum {
                     crate::physics::exact::pendulum_period(f64::from(length), f64::from(g), amplitude);
                 out.push(
                     Readout::new("period at this amplitude 4√(L/g)·K(sin θ₀/2)", format!("{exact:.3} s"))
-                        .with_f64("period_exact_s", exact),
+                        .with_f64("period_exact_s", exact)
+                        .help(
+                            "The exact period of an ideal pendulum released at θ₀: 4√(L/g)·K(sin(θ₀/2)), K \
+                             the complete elliptic integral of the first kind. Leaves out damping and the \
+                             bob's size (a point mass on a massless rod).",
+                        ),
                 );
             }
             if let Some(measured) = self.measured_period() {
                 out.push(
                     Readout::new("period measured over the last swing", format!("{measured:.3} s"))
-                        .with_f64("period_s", measured),
+                        .with_f64("period_s", measured)
+                        .help(
+                            "Measured: the time between the bob's last two crossings of the vertical below \
+                             the pivot moving the same way, each placed within its step where it falls.",
+                        ),
                 );
             }
         }

@@ -242,15 +242,30 @@ impl Scene for Pile {
         let quality = quality(&self.world, self.params.get("width"));
         let spheres = self.world.particles.len();
         vec![
-            Readout::new("spheres", spheres.to_string()).with("spheres", spheres as f32),
+            Readout::new("spheres", spheres.to_string())
+                .with("spheres", spheres as f32)
+                .help("Spheres poured into the box, all of one size"),
             Readout::new("median speed", format!("{:.4} m/s", quality.median_speed))
-                .with("median_speed_m_s", quality.median_speed),
+                .with("median_speed_m_s", quality.median_speed)
+                .help(
+                    "Half the spheres move slower than this. A settled pile is near zero; a solver that \
+                     leaves the pile boiling shows here first.",
+                ),
             Readout::new("fastest sphere", format!("{:.3} m/s", quality.max_speed))
-                .with("fastest_m_s", quality.max_speed),
+                .with("fastest_m_s", quality.max_speed)
+                .help("The speed of the fastest sphere"),
             Readout::new("deepest overlap", format!("{:.4} m", quality.deepest_overlap))
-                .with("deepest_overlap_m", quality.deepest_overlap),
+                .with("deepest_overlap_m", quality.deepest_overlap)
+                .help(
+                    "How far the deepest pair of spheres (or a sphere and a wall or the ground) sink into \
+                     each other: the sum of radii less the distance of centres. Soft contacts give under \
+                     load like a stiff spring; real spheres would not overlap at all.",
+                ),
             Readout::new("outside the box", quality.escaped.to_string())
-                .with("outside_box", quality.escaped as f32),
+                .with("outside_box", quality.escaped as f32)
+                .help(
+                    "Spheres whose centre is outside the box or below the ground: a solver's failure, 0 here",
+                ),
         ]
     }
 }

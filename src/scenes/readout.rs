@@ -14,13 +14,23 @@ pub struct Readout {
     /// (`period_s`, `flow_kg_s`; counts and ratios have none), as `simulate` prints
     /// them: unrounded, in the precision the scene computed them in.
     pub values: Vec<(&'static str, f64)>,
+    /// The panel's tooltip: what it is, how it is measured, and for a prediction its
+    /// formula and what the formula leaves out.
+    pub help: &'static str,
 }
 
 impl Readout {
     /// A row with no numbers yet: add them with [`Readout::with`].
     #[must_use]
     pub fn new(label: &'static str, text: impl Into<String>) -> Self {
-        Self { label, text: text.into(), values: Vec::new() }
+        Self { label, text: text.into(), values: Vec::new(), help: "" }
+    }
+
+    /// The row with its tooltip.
+    #[must_use]
+    pub fn help(mut self, help: &'static str) -> Self {
+        self.help = help;
+        self
     }
 
     /// The row with one more number, computed in f32, under `key`. It is kept as the

@@ -168,6 +168,14 @@ fn float_buoyancy(target: ParticleId, g: f32) -> Buoyancy {
     Buoyancy { target, surface: POOL.height, half_height: RADIUS, volume: FLOAT_VOLUME, density: 1000.0, g }
 }
 
+/// How the bob's period is timed.
+const PERIOD_HELP: &str = "Measured: the time between the bob's last two turns at the bottom of its swing \
+    (its vertical velocity going from down to up), each placed within its step where it falls.";
+
+/// What the bob's distance from its exact path is.
+const EXACT_HELP: &str = "How far the bob is from the exact solution of its motion (the ghost), a damped \
+    oscillation computed in closed form from the same start: the integrator's error so far.";
+
 impl Scene for SpringForces {
     scene_basics!();
 
@@ -322,28 +330,43 @@ impl Scene for SpringForces {
         let bob_y = self.world.particles.index(self.bob).map_or(0.0, |i| self.world.particles.position[i].y);
         let predicted = std::f32::consts::TAU / omega;
         let measured = match self.stopwatch.2 {
-            Some(period) => {
-                Readout::new("bob's period, measured", format!("{period:.3} s")).with_f64("period_s", period)
-            }
-            None => Readout::new("bob's period, measured", "timing…"),
+            Some(period) => Readout::new("bob's period, measured", format!("{period:.3} s"))
+                .with_f64("period_s", period)
+                .help(PERIOD_HELP),
+            None => Readout::new("bob's period, measured", "timing…").help(PERIOD_HELP),
         };
         let error = match self.exact_error() {
             Some(e) => Readout::new("bob from its exact path", format!("{:.2} mm", e * 1000.0))
-                .with("exact_path_error_m", e),
-            None => Readout::new("bob from its exact path", "—"),
+                .with("exact_path_error_m", e)
+                .help(EXACT_HELP),
+            None => Readout::new("bob from its exact path", "—").help(EXACT_HELP),
         };
         vec![
             Readout::new("spring period 2π√(m/k)", format!("{predicted:.3} s"))
-                .with("period_predicted_s", predicted),
+                .with("period_predicted_s", predicted)
+                .help(
+                    "The period of a mass m on a spring of stiffness k: 2π√(m/k). Leaves out damping, \
+                     which makes a swing slightly longer.",
+                ),
             measured,
             Readout::new("spring ω·dt (explicit limit 2)", format!("{:.3} ({})", omega * dt, verdict(omega)))
-                .with("omega_dt", omega * dt),
+                .with("omega_dt", omega * dt)
+                .help(
+                    "The spring's angular frequency ω = √(k/m) times the step: explicit Euler blows up \
+                     above 2, and every integrator gets less accurate as it grows.",
+                ),
             Readout::new(
                 "stiff spring ω·dt",
                 format!("{:.2} ({}; solved exactly)", stiff_omega * dt, verdict(stiff_omega)),
             )
-            .with("stiff_omega_dt", stiff_omega * dt),
-            Readout::new("bob height", format!("{bob_y:.3} m")).with("bob_height_m", bob_y),
+            .with("stiff_omega_dt", stiff_omega * dt)
+            .help(
+                "The same number for the stiff spring, which the paper solves in closed form each step, \
+                 so it stays stable however large it is.",
+            ),
+            Readout::new("bob height", format!("{bob_y:.3} m"))
+                .with("bob_height_m", bob_y)
+                .help("Height of the bob's centre above the ground"),
             error,
         ]
     }

@@ -54,6 +54,8 @@ pub struct LabUi {
     /// Where each section shown in the last frame was drawn (its header and body),
     /// top to bottom, in points.
     pub drawn: Vec<(Section, Rect)>,
+    /// The scene the panel was last drawn for: another one opens at the panel's top.
+    panel_scene: String,
 }
 
 impl LabUi {
@@ -94,8 +96,16 @@ impl LabUi {
         }
         self.drawn.clear();
         if self.layout.open {
+            // A new scene opens at the top of its panel, not scrolled to where the last
+            // one was read (the builder's edits keep the scene's name, and their place).
+            let scene = &*lab.entry.info().name;
+            let mut scroll = egui::ScrollArea::vertical();
+            if self.panel_scene != scene {
+                self.panel_scene = scene.to_string();
+                scroll = scroll.vertical_scroll_offset(0.0);
+            }
             egui::Panel::left("controls").exact_size(PANEL_WIDTH).resizable(false).show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
+                scroll.show(ui, |ui| {
                     // Long read-outs wrap instead of widening the panel.
                     ui.set_max_width(PANEL_WIDTH - 16.0);
                     self.side_panel(ui, lab);

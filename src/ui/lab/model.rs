@@ -84,7 +84,7 @@ pub struct Lab {
     pub scene_file: Option<Watch>,
     pub(super) last_frame: Option<Instant>,
     /// The scene's read-outs as last computed, and when, at which step and time step.
-    pub(super) readouts: Vec<(String, String)>,
+    pub(super) readouts: Vec<crate::scenes::Readout>,
     pub(super) readouts_taken: Option<(Instant, u64, f32)>,
     /// The scene has more than [`MSAA_LIMIT`] particles.
     pub(super) crowded: bool,
@@ -464,13 +464,13 @@ impl Lab {
     /// The scene's read-outs for the panel. While the scene runs they are recomputed
     /// at most every [`READOUT_INTERVAL`]; at once after a reset, a parameter change,
     /// an action, a single step or a new time step.
-    pub fn readouts(&mut self) -> &[(String, String)] {
+    pub fn readouts(&mut self) -> &[crate::scenes::Readout] {
         let (now, steps, dt) = (Instant::now(), self.scene.world().steps(), self.dt());
         let fresh = self.readouts_taken.is_some_and(|(taken, at_step, at_dt)| {
             at_dt == dt && (at_step == steps || now.duration_since(taken) < READOUT_INTERVAL)
         });
         if !fresh {
-            self.readouts = self.scene.readouts(dt);
+            self.readouts = self.scene.readout_rows(dt);
             self.readouts_taken = Some((now, steps, dt));
         }
         &self.readouts

@@ -13,9 +13,13 @@ impl Readouts {
     /// Draws the read-outs grid and the keys.
     pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
         egui::Grid::new("readouts").num_columns(2).striped(true).show(ui, |ui| {
-            for (name, value) in lab.readouts() {
-                ui.label(name.as_str());
-                ui.add(egui::Label::new(value.as_str()).wrap());
+            for row in lab.readouts() {
+                let name = ui.label(row.label);
+                let value = ui.add(egui::Label::new(row.text.as_str()).wrap());
+                if !row.help.is_empty() {
+                    name.on_hover_text(row.help);
+                    value.on_hover_text(row.help);
+                }
                 ui.end_row();
             }
         });
