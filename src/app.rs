@@ -71,10 +71,12 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
     }
     // A scene from a file reloads when the file changes.
     lab.watch_scene_file();
-    let event_loop =
-        EventLoop::new().map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
+    let event_loop = EventLoop::<AppEvent>::with_user_event()
+        .build()
+        .map_err(|e| AppError::Fatal(crate::messages::no_display(&e.to_string())))?;
     let mut app = App::new(lab, layout, store, window_size);
     app.kept = kept;
+    app.proxy = Some(event_loop.create_proxy());
     event_loop.run_app(&mut app).map_err(|e| {
         AppError::Fatal(format!("the window's event loop failed: {}", crate::messages::plain(&e.to_string())))
     })?;
@@ -84,8 +86,28 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
     }
 }
 
+/// What the window's event loop is told besides the window's own events: on the
+/// desktop, a screen reader's requests through AccessKit (egui-winit's adapter).
+#[derive(Debug)]
+pub enum AppEvent {
+    /// A request from the accessibility adapter: the panel's tree, an action on a
+    /// control, or that no screen reader listens any more.
+    #[cfg(not(target_arch = "wasm32"))]
+    Access(egui_winit::accesskit_winit::Event),
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl From<egui_winit::accesskit_winit::Event> for AppEvent {
+    fn from(event: egui_winit::accesskit_winit::Event) -> Self {
+        Self::Access(event)
+    }
+}
+
 /// The window's application: the lab, its interface and, once open, the window.
 pub struct App {
+    /// The desktop event loop's way back in, for the accessibility adapter.
+    #[cfg(not(target_arch = "wasm32"))]
+    proxy: Option<winit::event_loop::EventLoopProxy<AppEvent>>,
     lab: Lab,
     /// The interface: its views and the panel's layout.
     ui: LabUi,
@@ -166,6 +188,8 @@ impl App {
         window_size: [u32; 2],
     ) -> Self {
         Self {
+            #[cfg(not(target_arch = "wasm32"))]
+            proxy: None,
             lab,
             ui: LabUi::new(layout),
             window: None,
@@ -201,13 +225,32 @@ impl App {
     }
 }
 
-impl ApplicationHandler for App {
+impl ApplicationHandler<AppEvent> for App {
+    #[cfg(not(target_arch = "wasm32"))]
+    fn user_event(&mut self, _event_loop: &ActiveEventLoop, event: AppEvent) {
+        use egui_winit::accesskit_winit::WindowEvent as Access;
+        let Some(state) = &mut self.window else { return };
+        let AppEvent::Access(event) = event;
+        match event.window_event {
+            Access::InitialTreeRequested => {
+                log::info!("a screen reader asked for the panel: AccessKit on");
+                state.egui.enable_accesskit();
+                state.window.request_redraw();
+            }
+            Access::ActionRequested(request) => {
+                state.egui_winit.on_accesskit_action_request(request);
+                state.window.request_redraw();
+            }
+            Access::AccessibilityDeactivated => state.egui.disable_accesskit(),
+        }
+    }
+
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.window.is_some() {
             return;
         }
         #[cfg(not(target_arch = "wasm32"))]
-        match WindowState::open(event_loop, self.window_size) {
+        match WindowState::open(event_loop, self.window_size, self.proxy.clone()) {
             Ok((state, opened_at)) => {
                 log::info!("window open: scene {}", self.lab.entry.info().name);
                 // A size cut to fit is what the settings keep from now on.
@@ -409,10 +452,16 @@ impl WindowState {
     /// Opens a window of `size` logical pixels, or the screen's size where that is
     /// smaller, with its GPU; returns it and the size it was opened at.
     #[cfg(not(target_arch = "wasm32"))]
-    fn open(event_loop: &ActiveEventLoop, size: [u32; 2]) -> Result<(Self, [u32; 2]), String> {
+    fn open(
+        event_loop: &ActiveEventLoop,
+        size: [u32; 2],
+        proxy: Option<winit::event_loop::EventLoopProxy<AppEvent>>,
+    ) -> Result<(Self, [u32; 2]), String> {
         let (size, note) = fit_screen(event_loop, size);
         let [min_width, min_height] = settings::MIN_WINDOW;
+        // Shown once AccessKit's adapter is in place, as the adapter requires.
         let attributes = Window::default_attributes()
+            .with_visible(false)
             .with_title("particle-lab")
             .with_inner_size(LogicalSize::new(size[0], size[1]))
             .with_min_inner_size(LogicalSize::new(min_width, min_height));
@@ -428,6 +477,10 @@ impl WindowState {
             .map_err(|e| crate::render::gpu::surface_error(&instance, &e.to_string()).to_string())?;
         let gpu = Gpu::with_instance(instance, Some(&surface)).map_err(|e| e.to_string())?;
         let mut state = Self::new(window, surface, gpu)?;
+        if let Some(proxy) = proxy {
+            state.egui_winit.init_accesskit(event_loop, &state.window, proxy);
+        }
+        state.window.set_visible(true);
         // No window larger than the device's largest texture: the window manager keeps
         // a resize within it, and one already larger is asked to shrink.
         let side = state.max_side;

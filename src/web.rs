@@ -83,7 +83,7 @@ pub fn start() {
         lab.status = problems.join("; ");
         log::warn!("{}", lab.status);
     }
-    let event_loop = match EventLoop::new() {
+    let event_loop = match EventLoop::<crate::app::AppEvent>::with_user_event().build() {
         Ok(event_loop) => event_loop,
         Err(error) => {
             page::show_failure(&format!("particle-lab cannot start: {error}"));
