@@ -61,10 +61,11 @@ pub fn run(launch: &Launch) -> Result<(), AppError> {
         lab.frame_scene();
         log::info!("opened snapshot {} at step {}", path.display(), lab.scene.world().steps());
     }
-    // A link's view and camera, then its `steps=N`: N steps at once, then paused
-    // there, as the page does.
+    // A link's view and camera, then its `steps=N`: a launcher's round at step 0 and N
+    // steps at once, then paused there, as the page does (and `simulate --steps N`).
     launch.view.apply(&mut lab);
     if let Some(steps) = launch.steps {
+        lab.fire_at_start();
         lab.run_steps_recorded(steps);
         lab.paused = true;
         log::info!("paused at step {}, state hash {}", lab.scene.world().steps(), lab.state_hash());

@@ -42,7 +42,7 @@ fn scenes_lists_every_scene_in_text_and_json() {
     assert_eq!(list.len(), 11, "seven compiled scenes and four shipped files");
     let projectile = list.iter().find(|s| s["name"] == "projectile").unwrap();
     let g = projectile["params"].as_array().unwrap().iter().find(|p| p["name"] == "g").unwrap();
-    assert_eq!(g["default"], 20.0);
+    assert_eq!(g["default"], 9.81, "Earth's g (issue 37)");
     assert_eq!(g["unit"], "m/s²");
     assert!(projectile["dt"].as_f64().unwrap() > 0.0);
     for name in ["speed", "angle", "mass", "damping", "height"] {

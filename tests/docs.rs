@@ -177,6 +177,8 @@ fn every_read_out_of_every_scene_is_in_the_cli_reference() {
         let name = &*entry.info().name;
         let section = under(&page, &format!("`{name}`"));
         let mut scene = scenes::build_entry(entry, &[]).unwrap();
+        // As `simulate` starts it: the projectile's round fired at step 0.
+        scenes::fire_at_start(scene.as_mut());
         let dt = scene.info().dt;
         // Some read-outs appear only once something happened (a round landed, a
         // second of flow measured): look along a run of up to 10 s.

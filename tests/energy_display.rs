@@ -114,6 +114,7 @@ fn the_exact_answer_plot_breaks_between_rounds() {
     let entry = scenes::find("projectile").unwrap();
     let mut lab = Lab::from_entry(entry, &["speed=5".into()], Default::default()).unwrap();
     // The first round lands and goes (no exact answer then), a second is fired.
+    lab.act(SceneAction::Fire);
     for _ in 0..400 {
         lab.run_steps(1);
     }

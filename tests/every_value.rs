@@ -107,6 +107,8 @@ fn window_doors(gpu: &mut FrameCapture, entry: &'static SceneEntry, name: &'stat
     let steps = steps_for(scene, name, f64::from(value));
     // The slider: the scene runs a little, then the value is set, as a drag does.
     let mut lab = Lab::from_entry(entry, &[], Default::default()).unwrap();
+    // A launcher's round in flight, as `render` fires it at step 0.
+    lab.fire_at_start();
     lab.run_steps(5);
     lab.set_param(name, value);
     lab.run_steps(steps);
@@ -117,6 +119,7 @@ fn window_doors(gpu: &mut FrameCapture, entry: &'static SceneEntry, name: &'stat
     let assignment = format!("{name}={value}");
     let mut lab = Lab::from_entry(entry, &[assignment], Default::default()).unwrap();
     lab.start_compare(Change::Param(name.to_string(), value));
+    lab.fire_at_start();
     lab.run_steps(steps);
     gpu.render(&mut lab, SIZE, true).unwrap_or_else(|e| panic!("{scene} {name}={value}: {e}"));
 }
@@ -185,8 +188,10 @@ proptest! {
         }
         let mut lab = Lab::from_entry(entry, &assignments, solver)
             .map_err(|e| TestCaseError::fail(format!("{}: {e}", entry.info().name)))?;
+        lab.fire_at_start();
         lab.run_steps(STEPS);
         let mut lab = Lab::from_entry(entry, &[], solver).unwrap();
+        lab.fire_at_start();
         lab.run_steps(3);
         for (name, value) in values {
             lab.set_param(name, value);

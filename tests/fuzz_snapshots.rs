@@ -53,6 +53,8 @@ fn seeds() -> Vec<(String, String)> {
         let small = matches!(name, "pile" | "hourglass");
         let set: Vec<String> = if small { vec!["count=40".into()] } else { Vec::new() };
         let mut scene = scenes::build_entry(entry, &set).unwrap();
+        // The projectile's round in flight, as `simulate` fires it at step 0.
+        scenes::fire_at_start(scene.as_mut());
         let dt = entry.info().dt;
         for _ in 0..90 {
             scene.step(dt).unwrap();

@@ -63,12 +63,45 @@ fn reset_keeps_parameters_and_switching_scenes_works() {
     lab.reset();
     assert_eq!(lab.scene.world().steps(), 0);
     assert_eq!(lab.scene.params().get("g"), 7.0, "reset keeps the user's settings");
-    assert_eq!(lab.scene.world().particles.len(), 1);
+    assert_eq!(lab.scene.world().particles.len(), 0, "no round until the user fires (issue 37)");
     for entry in particle_lab::scenes::SCENES {
         lab.switch_scene(entry);
         assert_eq!(lab.entry.info().name, entry.info().name);
         assert_eq!(lab.view.trails, entry.info().trails);
     }
+}
+
+/// Issue 37: the projectile fired a round by itself when it opened and on Reset, while
+/// the view said "Press F". In the window nothing flies until the user fires: not on
+/// opening, not while it runs, not after Reset, Restore defaults or a switch of scene;
+/// Fire sends one round.
+#[test]
+fn the_window_fires_nothing_until_the_user_fires() {
+    let in_flight = |lab: &Lab| {
+        let values = lab.scene.readout_values(lab.dt());
+        let rounds = values.iter().find(|(key, _)| *key == "rounds_in_flight").expect("the read-out").1;
+        assert_eq!(rounds as usize, lab.scene.world().particles.len(), "every particle is a round");
+        rounds
+    };
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    assert_eq!(in_flight(&lab), 0.0, "just opened");
+    lab.run_steps(240);
+    assert_eq!(in_flight(&lab), 0.0, "a second later");
+    lab.act(SceneAction::Fire);
+    assert_eq!(in_flight(&lab), 1.0, "Fire sends one round");
+    lab.run_steps(60);
+    assert_eq!(in_flight(&lab), 1.0);
+    lab.reset();
+    assert_eq!((lab.scene.world().steps(), in_flight(&lab)), (0, 0.0), "after Reset");
+    lab.run_steps(240);
+    assert_eq!(in_flight(&lab), 0.0, "a second after Reset");
+    lab.act(SceneAction::Fire);
+    assert_eq!(in_flight(&lab), 1.0, "Fire after Reset");
+    lab.restore_defaults();
+    assert_eq!(in_flight(&lab), 0.0, "after Restore defaults");
+    lab.switch_scene(scenes::find("bridge").unwrap());
+    lab.switch_scene(scenes::find("projectile").unwrap());
+    assert_eq!(in_flight(&lab), 0.0, "after switching back to it");
 }
 
 #[test]
@@ -205,8 +238,9 @@ fn the_inspector_shows_the_forces_of_the_state_the_moment_a_particle_is_selected
     // Issue 18, item 4: paused with a 200 kg round in flight selected, the inspector
     // showed a weight of 4,000 N and a net force of zero until a step was taken, and
     // "contacts and links" of (0.1, -0.1, 0) N on a round that touched nothing.
-    let mut lab = Lab::new("projectile", &["damping=1".into()]).unwrap();
+    let mut lab = Lab::new("projectile", &["damping=1".into(), "g=20".into()]).unwrap();
     lab.paused = true;
+    lab.act(SceneAction::Fire);
     let id = lab.scene.world().particles.ids()[0];
     lab.select(Some(id));
     let weight = glam::Vec3::new(0.0, -200.0 * 20.0, 0.0);
@@ -221,7 +255,8 @@ fn the_inspector_shows_the_forces_of_the_state_the_moment_a_particle_is_selected
         assert_eq!(lab.net_force(id), weight, "nothing but its weight acts in flight");
     }
     // With damping, the net force is weight plus m ln(d) v from the velocity now.
-    let mut lab = Lab::new("projectile", &["damping=0.9".into(), "mass=2".into()]).unwrap();
+    let mut lab = Lab::new("projectile", &["damping=0.9".into(), "mass=2".into(), "g=20".into()]).unwrap();
+    lab.act(SceneAction::Fire);
     let id = lab.scene.world().particles.ids()[0];
     lab.select(Some(id));
     lab.run_steps(10);
@@ -426,6 +461,7 @@ fn the_side_view_is_orthographic_and_follow_tracks_the_newest_round() {
     assert!(!lab.camera.orthographic);
 
     lab.follow = true;
+    lab.act(SceneAction::Fire);
     lab.run_steps(120);
     let round = lab.scene.world().particles.positions()[0];
     assert!(

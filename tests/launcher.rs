@@ -1,9 +1,10 @@
 //! A scene file's `[launcher]`: the projectile scene's launcher in the format. Its
 //! rounds fly as the closed form says, a slider that moves only the aim does not
-//! restart the scene, Fire works, and a snapshot taken mid-flight reopens.
+//! restart the scene, Fire works, a snapshot taken mid-flight reopens, and it fires by
+//! itself only at the start of a headless run, unless `fire_at_start = false`.
 
 use particle_lab::scenes::snapshot::Snapshot;
-use particle_lab::scenes::{Scene, SceneAction, file};
+use particle_lab::scenes::{self, Scene, SceneAction, file};
 
 const DT: f32 = 1.0 / 240.0;
 
@@ -33,8 +34,11 @@ radius = 0.2
 target = 20
 "#;
 
+/// The field as a headless run starts it: its first round fired at step 0.
 fn field() -> Box<dyn Scene> {
-    file::load_text(FIELD, "field", None).expect("the field loads").create_default()
+    let mut scene = file::load_text(FIELD, "field", None).expect("the field loads").create_default();
+    assert!(scenes::fire_at_start(scene.as_mut()), "fire_at_start is true unless it says otherwise");
+    scene
 }
 
 /// A read-out's value by its JSON name.
@@ -105,6 +109,39 @@ fn a_snapshot_mid_flight_reopens_and_runs_on_the_same() {
     run(reopened.as_mut(), 600);
     assert_eq!(reopened.world().state_hash(), scene.world().state_hash());
     assert_eq!(readout(reopened.as_ref(), "range_m"), readout(scene.as_ref(), "range_m"));
+}
+
+/// Issue 37: built, a launcher fires nothing (the window waits for Fire, after a Reset
+/// and after a slider that rebuilds the world too); a headless run fires one round at
+/// step 0, once, and none with `fire_at_start = false`.
+#[test]
+fn a_launcher_fires_by_itself_only_at_the_start_of_a_headless_run() {
+    let text = FIELD.replace(
+        "[[particle]]",
+        "[[param]]\nname = \"post\"\ndefault = 8\nmin = 1\nmax = 20\n\n[[particle]]",
+    );
+    let text = text.replace("position = [8, 1.5, 3]", "position = [\"post\", 1.5, 3]");
+    let definition = file::load_text(&text, "field", None).expect("the field loads");
+    let mut scene = definition.create_default();
+    assert_eq!(scene.world().particles.len(), 1, "built: the post, no round");
+    assert_eq!(readout(scene.as_ref(), "rounds_in_flight"), Some(0.0));
+    // A slider that moves the post rebuilds the world: still no round.
+    scene.set_param("post", 12.0).expect("in range");
+    assert_eq!(scene.world().particles.len(), 1, "rebuilt: the post, no round");
+    assert!(scenes::fires_at_start(scene.as_ref()));
+    assert!(scenes::fire_at_start(scene.as_mut()));
+    assert_eq!(readout(scene.as_ref(), "rounds_in_flight"), Some(1.0));
+    assert!(!scenes::fire_at_start(scene.as_mut()), "once");
+    // Not at a later step either, for a launcher that has not fired yet.
+    let mut later = definition.create_default();
+    run(later.as_mut(), 1);
+    assert!(!scenes::fire_at_start(later.as_mut()), "only at step 0");
+    // fire_at_start = false: a headless run waits for Fire as the window does.
+    let quiet = text.replace("target = 20", "target = 20\nfire_at_start = false");
+    let mut scene = file::load_text(&quiet, "field", None).expect("it loads").create_default();
+    assert!(!scenes::fire_at_start(scene.as_mut()));
+    assert_eq!(readout(scene.as_ref(), "rounds_in_flight"), Some(0.0));
+    assert!(scene.act(SceneAction::Fire), "Fire still fires");
 }
 
 /// Bad launcher values are refused in one line naming the key.

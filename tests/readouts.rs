@@ -49,9 +49,10 @@ fn close(a: f64, b: f64, relative: f64) -> bool {
 
 #[test]
 fn projectile_predictions_are_the_closed_forms_and_its_range_is_where_the_round_came_down() {
-    let (v, angle, h, g, target) = (25.0_f64, 45.0_f64.to_radians(), 1.5, 20.0, 30.0);
-    // No drag, so the round flies the closed-form parabola the predictions describe.
-    let run = frames(&["--scene", "projectile", "--set", "damping=1", "--steps", "600", "--every", "1"]);
+    let (v, angle, h, g, target) = (25.0_f64, 45.0_f64.to_radians(), 1.5, 9.81, 30.0);
+    // The defaults: no damping, no drag, so the round flies the closed-form parabola the
+    // predictions describe, and lands after 3.69 s (885 steps).
+    let run = frames(&["--scene", "projectile", "--steps", "1000", "--every", "1"]);
     let (vx, vy) = (v * angle.cos(), v * angle.sin());
     let first = &run[0];
     let ground = vx * (vy + (vy * vy + 2.0 * g * h).sqrt()) / g;
@@ -90,6 +91,7 @@ fn projectile_predictions_are_the_closed_forms_and_its_range_is_where_the_round_
         );
     }
     assert_eq!(must(first, "rounds_in_flight"), particles(first).len() as f64);
+    assert_eq!(must(first, "rounds_in_flight"), 1.0, "fired at step 0");
 }
 
 /// Times of the upward crossings of `level` by the series (t, y), interpolated.

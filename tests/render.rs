@@ -84,6 +84,8 @@ fn every_scene_matches_its_reference_image() {
     let mut capture = capture();
     for entry in SCENES {
         let mut lab = Lab::new(&entry.info().name, &[]).unwrap();
+        // As `render` draws it: the projectile's round fired at step 0.
+        lab.fire_at_start();
         lab.run_steps_recorded(STEPS);
         let image = capture.render(&mut lab, SIZE, false).unwrap();
         assert_eq!(image.len(), (SIZE[0] * SIZE[1] * 4) as usize);
@@ -101,6 +103,7 @@ fn spheres_drawn_as_instances_look_as_spheres_read_from_storage() {
     let mut instanced = FrameCapture::with_sphere_path(Some(SpherePath::Instanced)).unwrap();
     for entry in SCENES {
         let mut lab = Lab::new(&entry.info().name, &[]).unwrap();
+        lab.fire_at_start();
         lab.run_steps_recorded(STEPS);
         let a = storage.render(&mut lab, SIZE, false).unwrap();
         let b = instanced.render(&mut lab, SIZE, false).unwrap();
@@ -143,6 +146,7 @@ fn each_particle_is_drawn_where_the_camera_projects_it() {
     let mut capture = capture();
     for entry in SCENES {
         let mut lab = Lab::new(&entry.info().name, &[]).unwrap();
+        lab.fire_at_start();
         lab.run_steps_recorded(STEPS);
         let size = Vec2::new(SIZE[0] as f32, SIZE[1] as f32);
         // The first particle in sight: picking at its projected centre finds it (in a
@@ -405,6 +409,7 @@ fn swept_paths_show_how_far_a_fast_round_went_in_the_last_step() {
     use particle_lab::render::{FrameBuilder, ViewOptions};
     let set = ["speed=150".to_string(), "angle=10".to_string()];
     let mut scene = particle_lab::scenes::build("projectile", &set).unwrap();
+    assert!(particle_lab::scenes::fire_at_start(scene.as_mut()));
     for _ in 0..3 {
         scene.step(1.0 / 60.0).unwrap();
     }
@@ -448,6 +453,8 @@ fn the_lab_tools_match_their_reference_images() {
         if name == "tools-forces" {
             lab.select(Some(particle_lab::physics::ParticleId(0)));
         }
+        // A flight to draw: the projectile's round, fired at step 0 as `render` fires it.
+        lab.fire_at_start();
         lab.run_steps_recorded(steps);
         let image = capture.render(&mut lab, SIZE, false).unwrap();
         compare_with_golden(name, &image, SIZE);

@@ -229,7 +229,7 @@ fn a_saved_side_view_comes_back_orthographic_with_its_camera() {
     let dir = temp_dir("side");
     let mut lab = Lab::new("projectile", &[]).unwrap();
     lab.set_side_view(true);
-    // Follow comes back too (it then puts the target on the round at the launcher).
+    // Follow comes back too (it then puts the target on the newest round, once fired).
     lab.follow = true;
     lab.camera.target.x = 12.0;
     lab.camera.distance = 30.0;

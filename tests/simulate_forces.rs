@@ -23,8 +23,9 @@ fn vector(value: &Value) -> [f64; 3] {
 
 #[test]
 fn a_free_particles_net_force_is_m_g_exactly_at_step_zero() {
-    // A 200 kg round, undamped, in flight: weight alone.
-    let lines = simulate(&["--scene", "projectile", "--set", "damping=1", "--steps", "0"]);
+    // A 200 kg round, undamped, in flight: weight alone (under the paper's g, a round
+    // 4,000 N).
+    let lines = simulate(&["--scene", "projectile", "--set", "g=20", "--set", "damping=1", "--steps", "0"]);
     let round = &lines[0]["particles"][0];
     assert_eq!(vector(&round["f"]), [0.0, -200.0 * 20.0, 0.0], "{round}");
     assert_eq!(vector(&round["forces"]["weight"]), [0.0, -4000.0, 0.0]);
@@ -81,7 +82,8 @@ fn no_printed_figure_reads_minus_zero() {
     // Issue 18, item 3: "kinetic": -0.0 once the sky was empty, "tension": -0.0 on a
     // slack rod, a damping force's untouched z of -0.0.
     let scenes: [&[&str]; 3] = [
-        &["--scene", "projectile", "--steps", "700", "--every", "100"],
+        // The round lands after 885 steps: the sky is empty by the last frame.
+        &["--scene", "projectile", "--steps", "1000", "--every", "100"],
         &["--scene", "bridge", "--steps", "300", "--every", "100"],
         &["--scene", "springForces", "--steps", "300", "--every", "100"],
     ];

@@ -176,6 +176,8 @@ fn simulate_prints_the_state_hash_of_every_line() {
 /// A lab on `name` run a little, and a snapshot of it taken later, to load over it.
 fn lab_and_snapshot(name: &str) -> (Lab, String) {
     let mut lab = Lab::new(name, &quick_params(name)).unwrap();
+    // The projectile's round in flight, as the user fires it (a no-op elsewhere).
+    lab.act(particle_lab::scenes::SceneAction::Fire);
     lab.run_steps(30);
     let text = lab.snapshot().unwrap().to_json();
     lab.run_steps(20);

@@ -23,6 +23,8 @@ fn soak(name: &str, seed: u64) {
     let entry = scenes::find(name).unwrap();
     let start = if matches!(name, "pile" | "hourglass") { vec!["count=300".to_string()] } else { Vec::new() };
     let mut lab = Lab::new(name, &start).unwrap();
+    // The projectile's first round, as a headless run fires it at step 0.
+    lab.fire_at_start();
     let mut random = Random(seed);
     let mut changes = Vec::new();
     let mut stepped = 0;

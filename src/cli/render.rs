@@ -103,6 +103,10 @@ pub fn render(args: &RenderArgs) -> Result<String, (u8, String)> {
             return Err((2, std::mem::take(&mut lab.status)));
         }
     }
+    if args.from.is_none() {
+        // As `simulate` does: a launcher's round at step 0 (the copy compared fires too).
+        lab.fire_at_start();
+    }
     if let Some(id) = args.select {
         let id = crate::physics::ParticleId(id);
         if lab.scene.world().particles.index(id).is_none() {

@@ -97,6 +97,9 @@ pub fn prepare(args: &SimulateArgs) -> Result<(Box<dyn Scene>, RunPlan), String>
             let solver = args.choice.solver.settings_for(&entry)?;
             let mut scene = scenes::build_entry(&entry, &args.choice.set)?;
             scene.world_mut().set_solver(solver).map_err(|e| e.to_string())?;
+            // A launcher fires one round at step 0, as pressing F at once would; a
+            // snapshot goes on as it was saved.
+            scenes::fire_at_start(scene.as_mut());
             (scene, None)
         }
     };

@@ -518,22 +518,17 @@ struct FileScene {
     states: Vec<LinkState>,
     /// The walls' patches as drawn (see [`wall_outlines`]), made when the world is built.
     walls: Vec<(Vec3, Vec3)>,
-    /// The `[launcher]`, with its rounds.
+    /// The `[launcher]`, with its rounds. It fires none when built (see
+    /// [`super::fire_at_start`]), so every particle of the world as built is the file's.
     launcher: Option<Launcher>,
-    /// The round it fired at the start: the one particle of the world as built that a
-    /// later world need not hold (it goes when it lands).
-    start_round: Option<ParticleId>,
     /// The state hash of the world as built, before any round: a parameter change that
     /// builds the same world changes only the launcher's aim, and the motion goes on.
     built_hash: u64,
 }
 
-/// The launcher `built` asks for, armed, with the round it fires at the start.
-fn arm(built: &mut Built) -> Result<(Option<Launcher>, Option<ParticleId>), PhysicsError> {
-    let Some((aim, fire)) = built.launcher else { return Ok((None, None)) };
-    let mut launcher = Launcher::new(aim);
-    let round = if fire { Some(launcher.fire(&mut built.world)?) } else { None };
-    Ok((Some(launcher), round))
+/// The launcher `built` asks for, no round fired yet.
+fn arm(built: &Built) -> Option<Launcher> {
+    built.launcher.map(|(aim, fire_at_start)| Launcher::new(aim, fire_at_start))
 }
 
 /// The lines that draw `built`'s walls: every plane but the ground the view draws (at
@@ -572,25 +567,11 @@ fn particle_box(world: &World) -> (Vec3, Vec3) {
 
 impl FileScene {
     fn new(definition: Arc<Definition>, params: ParamValues) -> Result<Self, FileError> {
-        let mut built = definition.build(&params)?;
+        let built = definition.build(&params)?;
         let walls = wall_outlines(&built);
         let built_hash = built.world.state_hash();
-        let (launcher, start_round) = arm(&mut built).map_err(|e| FileError {
-            file: definition.shown.clone(),
-            position: None,
-            message: format!("[launcher]: {e}"),
-        })?;
-        Ok(Self {
-            definition,
-            params,
-            built,
-            torn: 0,
-            states: Vec::new(),
-            walls,
-            launcher,
-            start_round,
-            built_hash,
-        })
+        let launcher = arm(&built);
+        Ok(Self { definition, params, built, torn: 0, states: Vec::new(), walls, launcher, built_hash })
     }
 
     /// Breaks every link pulled harder than its `tear` tension in the last step.
@@ -664,7 +645,7 @@ impl Scene for FileScene {
             return Ok(());
         }
         let rejected = |reason: String| ParamError::Rejected { key: name.to_string(), reason };
-        let mut built = self.definition.build(&params).map_err(|e| rejected(e.to_string()))?;
+        let built = self.definition.build(&params).map_err(|e| rejected(e.to_string()))?;
         let built_hash = built.world.state_hash();
         let same_world = built_hash == self.built_hash && built.links.iter().all(|l| l.tear.is_none());
         if let (true, Some(launcher), Some((aim, _))) = (same_world, &mut self.launcher, built.launcher) {
@@ -674,10 +655,10 @@ impl Scene for FileScene {
             return Ok(());
         }
         self.walls = wall_outlines(&built);
-        let (launcher, start_round) = arm(&mut built).map_err(|e| rejected(format!("[launcher]: {e}")))?;
+        let launcher = arm(&built);
         let running = std::mem::replace(&mut self.built, built);
         super::keep_solver(&running.world, &mut self.built.world);
-        (self.launcher, self.start_round, self.built_hash) = (launcher, start_round, built_hash);
+        (self.launcher, self.built_hash) = (launcher, built_hash);
         self.params = params;
         self.torn = 0;
         Ok(())
@@ -700,10 +681,6 @@ impl Scene for FileScene {
             (SceneAction::Fire, Some(launcher)) => launcher.fire(&mut self.built.world).is_ok(),
             _ => false,
         }
-    }
-
-    fn keeps_particle(&self, id: ParticleId) -> bool {
-        self.start_round != Some(id)
     }
 
     /// The links still whole (a torn one's generator is gone from the world) and how

@@ -1,7 +1,8 @@
 //! A launcher, the projectile scene's and a scene file's (`[launcher]`): it fires
 //! rounds at an aim, records each flight (its path, apex and landing), removes a round
-//! when it lands, draws where the next round would go without drag, and follows each
-//! round with its exact path (a [`Ghost`]).
+//! when it lands, draws where the next round would go without drag or damping, and
+//! follows each round with its exact path (a [`Ghost`]). It fires only when told: Fire
+//! in the window, or once at step 0 of a headless run ([`super::fire_at_start`]).
 //!
 //! The ground a round lands on is the plane y = 0: a round goes when its centre
 //! crosses it (there is no ground contact for it to bounce off, as in the paper's
@@ -104,6 +105,9 @@ pub struct Aim {
 pub struct Launcher {
     /// What the next round is fired with.
     pub aim: Aim,
+    /// Whether a headless run fires a round at step 0 (see
+    /// [`fire_at_start`](super::fire_at_start)); the window never fires by itself.
+    pub fire_at_start: bool,
     /// Live rounds and the time each was fired (s).
     rounds: Vec<(ParticleId, f64)>,
     /// The exact path of each round without quadratic drag (k2 = 0): the drag-free
@@ -213,10 +217,24 @@ pub fn run_row(aim: &Aim, range: f32, apex: Option<f32>, flight: f64) -> Vec<f64
 }
 
 impl Launcher {
-    /// A launcher with no round fired yet.
+    /// A launcher with no round fired yet; with `fire_at_start`, a headless run fires
+    /// one at step 0.
     #[must_use]
-    pub fn new(aim: Aim) -> Self {
-        Self { aim, rounds: Vec::new(), ghosts: Vec::new(), flights: Vec::new(), runs: Vec::new() }
+    pub fn new(aim: Aim, fire_at_start: bool) -> Self {
+        Self {
+            aim,
+            fire_at_start,
+            rounds: Vec::new(),
+            ghosts: Vec::new(),
+            flights: Vec::new(),
+            runs: Vec::new(),
+        }
+    }
+
+    /// Whether it has fired no round yet (a round that landed still counts as fired).
+    #[must_use]
+    pub fn fired_none(&self) -> bool {
+        self.flights.is_empty()
     }
 
     /// The table of runs: a row for each round that landed.
@@ -426,8 +444,8 @@ impl Launcher {
         Ok(())
     }
 
-    /// Where the next round would fly without drag (m): the launcher, then a point
-    /// every [`PATH_INTERVAL`] of flight (further apart when more than
+    /// Where the next round would fly without drag or damping (m): the launcher, then a
+    /// point every [`PATH_INTERVAL`] of flight (further apart when more than
     /// [`PREDICTED_DOTS`] would be needed) until it lands, however far. A round that
     /// never lands (gravity off or upwards) is followed for [`UNLANDED_SHOWN`] or to
     /// [`MAX_DISTANCE`], whichever comes first.
@@ -528,7 +546,7 @@ impl Launcher {
             let position = launcher + barrel * (0.15 * k as f32);
             out.push(Marker { position, radius: 0.16, color: [0.42, 0.44, 0.48] });
         }
-        // Where the next round would go without drag, to its landing.
+        // Where the next round would go without drag or damping, to its landing.
         let mut path = Vec::new();
         self.predicted_path(&mut path);
         for &position in &path[1..] {
@@ -549,8 +567,8 @@ impl Launcher {
     }
 
     /// The read-outs: rounds in flight, the last landing against the target, its
-    /// range, the newest round's distance from its exact path, and the drag-free
-    /// predictions for the next round.
+    /// range, the newest round's distance from its exact path, and the predictions for
+    /// the next round, which leave out drag and damping (each label says so).
     #[must_use]
     pub fn readout_rows(&self, world: &World) -> Vec<Readout> {
         let Aim { g, speed: v, angle, .. } = self.aim;
@@ -589,19 +607,22 @@ impl Launcher {
         if g > 0.0 {
             let (vx, vy) = (v * angle.cos(), v * angle.sin());
             let peak = h + vy.max(0.0).powi(2) / (2.0 * g);
-            out.push(Readout::new("peak (no drag)", format!("{peak:.2} m")).with("peak_predicted_m", peak));
+            out.push(
+                Readout::new("peak (no drag, no damping)", format!("{peak:.2} m"))
+                    .with("peak_predicted_m", peak),
+            );
             let ground = ground_range(vx, vy, h, g);
             out.push(
-                Readout::new("range to the ground (no drag)", format!("{ground:.2} m"))
+                Readout::new("range to the ground (no drag, no damping)", format!("{ground:.2} m"))
                     .with("range_predicted_m", ground),
             );
             // Back at launch height only if it went up first.
             let level = if vy > 0.0 {
                 let level = 2.0 * vx * vy / g;
-                Readout::new("range at launch height (no drag)", format!("{level:.2} m"))
+                Readout::new("range at launch height (no drag, no damping)", format!("{level:.2} m"))
                     .with("range_level_predicted_m", level)
             } else {
-                Readout::new("range at launch height (no drag)", "never comes back up")
+                Readout::new("range at launch height (no drag, no damping)", "never comes back up")
             };
             out.push(level);
         }

@@ -521,6 +521,22 @@ pub fn create_entry(entry: &SceneEntry, values: ParamValues) -> Result<Box<dyn S
     }
 }
 
+/// Whether a headless run starting on `scene` fires a round first: the scene has a
+/// launcher that fires at the start (the projectile's does; a file's `[launcher]` unless
+/// `fire_at_start = false`), it has fired none, and the world is at step 0.
+#[must_use]
+pub fn fires_at_start(scene: &dyn Scene) -> bool {
+    let ready = scene.launcher().is_some_and(|l| l.fire_at_start && l.fired_none());
+    ready && scene.world().steps() == 0
+}
+
+/// The start of a headless run (`simulate`, `render`, a link with `steps`): fires one
+/// round, as pressing F at step 0 would, when [`fires_at_start`] says so. The window
+/// never calls it: there nothing flies until the user fires. Returns whether it fired.
+pub fn fire_at_start(scene: &mut dyn Scene) -> bool {
+    fires_at_start(scene) && scene.act(SceneAction::Fire)
+}
+
 /// A scene's saved state ([`Scene::restore_state`]) read straight from its JSON text
 /// into the scene's own type `T`; the error is serde's, in one line.
 pub(crate) fn read_state<T: serde::de::DeserializeOwned>(state: &RawValue) -> Result<T, String> {

@@ -1,5 +1,11 @@
-//! projectile: rounds fired from a launcher, as in the paper (g exaggerated to 20 m/s²,
-//! 200 kg, damping 0.99) with Cyclone's ammo types as presets.
+//! projectile: rounds fired from a launcher. It opens as the textbook's problem (Earth's
+//! g = 9.81 m/s², no damping, no drag), so the drag-free predictions are the answer;
+//! the paper's round (g exaggerated to 20 m/s², 200 kg, damping 0.99) and Cyclone's
+//! ammo types are presets.
+//!
+//! Nothing is fired until the user fires: the window opens, and resets, with no round
+//! in flight. A headless run (`simulate`, `render`, a link with `steps`) fires one round
+//! at step 0, as pressing F at once would ([`super::fire_at_start`]).
 
 use std::borrow::Cow;
 
@@ -14,11 +20,11 @@ use crate::physics::{ParticleId, PhysicsError, ResolveReport, SphereCollisions, 
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
-    Param { name: Cow::Borrowed("g"), unit: Cow::Borrowed("m/s²"), default: 20.0, min: -5.0, max: 50.0, help: Cow::Borrowed("Gravitational acceleration, downwards (negative floats up)"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("g"), unit: Cow::Borrowed("m/s²"), default: 9.81, min: -5.0, max: 50.0, help: Cow::Borrowed("Gravitational acceleration, downwards (negative floats up)"), logarithmic: false, integer: false },
     Param { name: Cow::Borrowed("speed"), unit: Cow::Borrowed("m/s"), default: 25.0, min: 0.0, max: 200.0, help: Cow::Borrowed("Launch speed of the next round"), logarithmic: false, integer: false },
     Param { name: Cow::Borrowed("angle"), unit: Cow::Borrowed("°"), default: 45.0, min: -90.0, max: 90.0, help: Cow::Borrowed("Launch elevation above the horizontal"), logarithmic: false, integer: false },
     Param { name: Cow::Borrowed("mass"), unit: Cow::Borrowed("kg"), default: 200.0, min: 0.1, max: 1000.0, help: Cow::Borrowed("Mass of the next round (matters when rounds collide)"), logarithmic: true, integer: false },
-    Param { name: Cow::Borrowed("damping"), unit: Cow::Borrowed(""), default: 0.99, min: 0.5, max: 1.0, help: Cow::Borrowed("Fraction of velocity a round keeps per second (1 = no drag)"), logarithmic: false, integer: false },
+    Param { name: Cow::Borrowed("damping"), unit: Cow::Borrowed(""), default: 1.0, min: 0.5, max: 1.0, help: Cow::Borrowed("Fraction of velocity a round keeps per second (1: no damping)"), logarithmic: false, integer: false },
     Param { name: Cow::Borrowed("height"), unit: Cow::Borrowed("m"), default: 1.5, min: 0.0, max: 50.0, help: Cow::Borrowed("Height of the launcher above the ground"), logarithmic: false, integer: false },
     Param { name: Cow::Borrowed("k1"), unit: Cow::Borrowed("N·s/m"), default: 0.0, min: 0.0, max: 100.0, help: Cow::Borrowed("Linear drag of the next round, F = -k1 v (the paper's drag)"), logarithmic: false, integer: false },
     Param { name: Cow::Borrowed("k2"), unit: Cow::Borrowed("N·s²/m²"), default: 0.0, min: 0.0, max: 10.0, help: Cow::Borrowed("Quadratic drag of the next round, F = -k2 |v| v"), logarithmic: false, integer: false },
@@ -27,7 +33,7 @@ static PARAMS: &[Param] = &[
 
 #[rustfmt::skip]
 static PRESETS: &[Preset] = &[
-    Preset { name: "paper", help: "The paper's round: 200 kg, g = 20 m/s²", values: &[("g", 20.0), ("speed", 25.0), ("angle", 45.0), ("mass", 200.0), ("damping", 0.99)] },
+    Preset { name: "paper", help: "The paper's round: 200 kg at 25 m/s and 45° from 1.5 m, g = 20 m/s², damping 0.99, no drag", values: &[("g", 20.0), ("speed", 25.0), ("angle", 45.0), ("mass", 200.0), ("damping", 0.99), ("height", 1.5), ("k1", 0.0), ("k2", 0.0)] },
     Preset { name: "pistol", help: "2 kg at 35 m/s, weak gravity", values: &[("g", 1.0), ("speed", 35.0), ("angle", 0.0), ("mass", 2.0), ("damping", 0.99)] },
     Preset { name: "artillery", help: "200 kg at (40, 30) m/s, g = 20 m/s²", values: &[("g", 20.0), ("speed", 50.0), ("angle", 36.869_9), ("mass", 200.0), ("damping", 0.99)] },
     Preset { name: "fireball", help: "1 kg at 10 m/s that floats upwards", values: &[("g", -0.6), ("speed", 10.0), ("angle", 0.0), ("mass", 1.0), ("damping", 0.9)] },
@@ -40,9 +46,12 @@ static PRESETS: &[Preset] = &[
 
 static INFO: SceneInfo = SceneInfo {
     name: Cow::Borrowed("projectile"),
-    summary: Cow::Borrowed("Rounds fired from a launcher: semi-implicit Euler with gravity and damping"),
+    summary: Cow::Borrowed(
+        "Rounds fired from a launcher: Earth's g, no damping, no drag (the paper's round is a preset)",
+    ),
     dt: 1.0 / 240.0,
-    default_steps: 600,
+    // 4 s: the default round (25 m/s at 45° from 1.5 m) lands after 3.69 s.
+    default_steps: 960,
     params: ParamTable::Static(PARAMS),
     presets: PRESETS,
     actions: super::launcher::FIRE,
@@ -55,8 +64,8 @@ pub(super) const ENTRY: SceneEntry = SceneEntry::Compiled { info: &INFO, create 
 fn create(params: ParamValues) -> Box<dyn Scene> {
     let mut world = World::new();
     world.add_contact_generator(SphereCollisions::elastic(0.8)).expect("a constant restitution in range");
-    let mut launcher = Launcher::new(aim(&params));
-    launcher.fire(&mut world).expect("default parameters describe a valid round");
+    // No round yet: the window waits for Fire; a headless run fires one at step 0.
+    let launcher = Launcher::new(aim(&params), true);
     Box::new(Projectile { world, params, launcher })
 }
 
@@ -88,7 +97,7 @@ impl Scene for Projectile {
 
     fn keeps_particle(&self, _id: ParticleId) -> bool {
         // Every particle is a round, removed when it lands: a later world need not
-        // hold the one fired at the start. The rounds the state names are checked.
+        // hold any. The rounds the state names are checked.
         false
     }
 

@@ -226,7 +226,7 @@ pub struct Sketch {
     pub drags: Vec<DragField>,
     /// Liquids lifting particles.
     pub floats: Vec<Float>,
-    /// A launcher's aim, and whether it fires a round at the start.
+    /// A launcher's aim, and whether a headless run fires a round at step 0.
     pub launcher: Option<(Aim, bool)>,
     /// The solver, substeps and integrator it names as its own (`[scene] solver`, …);
     /// what it does not name is the default.
@@ -446,9 +446,11 @@ impl Sketch {
     }
 
     /// The scene as it stands, as a sketch named `name`, with what it leaves out
-    /// named: [`Self::from_world`] and the scene's launcher. At the start, the round
-    /// the launcher fired is left to the launcher to fire again; later, rounds in
-    /// flight are particles like any other, and the launcher waits to be fired.
+    /// named: [`Self::from_world`] and the scene's launcher. At step 0 the copy's
+    /// launcher fires at the start as the scene's does (a headless run fires one round
+    /// there, [`super::fire_at_start`]), and any round already fired is left to it to
+    /// fire again; later, rounds in flight are particles like any other, and the
+    /// launcher waits to be fired.
     #[must_use]
     pub fn from_scene(scene: &dyn Scene, name: &str) -> (Self, Vec<String>) {
         let world = scene.world();
@@ -474,7 +476,7 @@ impl Sketch {
             // A round's own drag goes with it: the launcher gives the next one its own.
             sketch.drags.retain(|d| d.targets.as_ref().is_none_or(|t| t.iter().all(|k| !rounds.contains(k))));
         }
-        sketch.launcher = Some((launcher.aim, at_start));
+        sketch.launcher = Some((launcher.aim, at_start && launcher.fire_at_start));
         (sketch, left_out)
     }
 

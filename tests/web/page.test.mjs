@@ -1,6 +1,7 @@
 // The web build in headless Chromium (issue 20), on WebGPU and on WebGL2:
 // - every compiled scene opened through a link with steps=N (its default run) reaches
-//   step N with the state hash `simulate --steps N` prints on the desktop (the same bits);
+//   step N with the state hash `simulate --steps N` prints on the desktop (the same bits),
+//   and so does `particle-lab link --scene projectile --steps 240`, its round in flight;
 // - the page drew the scene and the panel (pixels of a screenshot, not "no error");
 // - dragging a slider changes the parameter, and the Scene menu switches scene;
 // - a bad link shows its one-line message in the status line and the lab still opens.
@@ -315,6 +316,14 @@ const ownHash = (() => {
   return JSON.parse(lines[lines.length - 1]).hash;
 })();
 
+// A projectile link that stops while its round flies (issue 37): the page fires the
+// round at step 0 as `simulate` does, which the default run cannot show (a world whose
+// round has landed and gone hashes as one that never fired).
+const FLIGHT_STEPS = 240;
+const flightLink = execFileSync(binary,
+  ['link', '--scene', 'projectile', '--steps', String(FLIGHT_STEPS)], { encoding: 'utf8' }).trim();
+const flightHash = nativeHash('projectile', FLIGHT_STEPS);
+
 const PANEL = [0, 30, 320, 400];
 const VIEW = [340, 30, 1270, 790];
 const BACKGROUND = [60, 63, 72];
@@ -351,6 +360,11 @@ try {
         check(view.share > 0.01 && view.colours >= 16, `${gpu} ${scene}: the scene is drawn`,
           `${(view.share * 100).toFixed(1)}% off the background, ${view.colours} colours`);
       }
+
+      const flight = await open(page, `${flightLink}&gpu=${gpu}`, FLIGHT_STEPS);
+      check(flight.failure === '' && flight.hash === flightHash,
+        `${gpu}: a projectile link stopped mid-flight has simulate's hash, its round fired at step 0`,
+        `${flight.hash} vs ${flightHash}`);
 
       // The scene file carried in a link opens, runs to the link's step and has the
       // desktop's hash. (The query makes the address differ from the last page's, so

@@ -549,7 +549,8 @@ table! {
         pub k2: Option<SNum>,
         /// Distance of a target on the ground from the launcher, along x (m); default none.
         pub target: Option<SNum>,
-        /// Whether a round is fired when the scene starts, default true.
+        /// Whether a headless run (`simulate`, `render`, a link with `steps`) fires a
+        /// round at step 0, default true; the window waits for Fire.
         pub fire_at_start: Option<bool>,
     }
 }

@@ -3,8 +3,9 @@
 //! `--scene=bridge --set=load_x=1.5 --set=g=5 --solver=paper --integrator=rk4`, so it is
 //! checked by the same parser (`settings::Launch::from_args`), and refused with the same
 //! one-line messages, as those flags typed. Besides the command line's keys a link has the page's own: `steps=N`
-//! runs N physics steps at once and pauses there (a link can show a moment, and a
-//! test can compare it with `simulate --steps N`), `view=side|3d` and `camera=…` say how
+//! runs N physics steps at once and pauses there, a launcher's round fired at step 0
+//! as `simulate` fires it (a link can show a moment, and a test can compare it with
+//! `simulate --steps N`), `view=side|3d` and `camera=…` say how
 //! it is looked at, and `gpu=webgl2` leaves WebGPU out.
 //! [`Link::of`] writes the link of what is on screen. A scene file that is not shipped
 //! travels in the link itself (`#file=…`, see [`carried`](super::carried)), so a link to
@@ -235,9 +236,12 @@ fn encode(text: &str) -> String {
 
 impl Link {
     /// `steps=N`: runs N physics steps at once, as `simulate --steps N` does, and
-    /// pauses there. Without it, nothing.
+    /// pauses there: a launcher fires its round at step 0 first, as `simulate`'s does,
+    /// so the page reaches `simulate`'s state hash. Without it, nothing (and nothing
+    /// fires until the user does).
     pub fn run_steps(&self, lab: &mut Lab) {
         if let Some(steps) = self.steps {
+            lab.fire_at_start();
             lab.paused = false;
             lab.run_steps_recorded(steps);
             lab.paused = true;

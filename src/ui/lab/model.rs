@@ -451,6 +451,16 @@ impl Lab {
         }
     }
 
+    /// The start of a run the user does not drive (`render`, a link with `steps`): a
+    /// launcher fires one round at step 0, as `simulate` does
+    /// ([`crate::scenes::fire_at_start`]), and the copy being compared fires with it.
+    /// Opening and Reset never call it: in the window nothing flies until the user fires.
+    pub fn fire_at_start(&mut self) {
+        if crate::scenes::fires_at_start(self.scene.as_ref()) {
+            self.act(SceneAction::Fire);
+        }
+    }
+
     /// The integrator's step (s): the physics step, divided by the substeps for the
     /// soft solver.
     #[must_use]

@@ -97,7 +97,8 @@ pub struct Built {
     /// Whether `g` appears in an expression other than `[scene] gravity` (a change of `g`
     /// then needs a rebuild).
     pub g_elsewhere: bool,
-    /// The `[launcher]`'s aim, and whether it fires a round at the start.
+    /// The `[launcher]`'s aim, and whether a headless run fires a round at step 0
+    /// (`fire_at_start`).
     pub launcher: Option<(crate::scenes::launcher::Aim, bool)>,
     /// Particles a `color` was given, by id (ascending: made in order).
     pub colors: Vec<(ParticleId, [f32; 3])>,

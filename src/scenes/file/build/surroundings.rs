@@ -170,8 +170,8 @@ impl Builder<'_> {
         ])
     }
 
-    /// The `[launcher]` table: the aim it fires with under gravity `g`, and whether it
-    /// fires at the start.
+    /// The `[launcher]` table: the aim it fires with under gravity `g`, and whether a
+    /// headless run fires a round at step 0.
     pub(super) fn launcher(&mut self, doc: &Document, g: f32) -> Result<Option<(Aim, bool)>, Located> {
         let Some(l) = &doc.launcher else { return Ok(None) };
         let position = self.compile_vec_or(l.position.as_ref(), Vec3::new(0.0, 1.5, 0.0), &[])?;
