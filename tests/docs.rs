@@ -167,34 +167,51 @@ fn every_key_binding_is_in_the_guide_and_the_help_window() {
     assert!(missing.is_empty(), "{missing:#?}");
 }
 
+/// Every read-out row a scene shows along a run of up to 10 s (some appear only once
+/// something happened: a round landed, a second of flow measured), looked at every 30
+/// steps; for each of the seven compiled scenes and four shipped files.
+fn rows_along_a_run() -> &'static [(String, Vec<particle_lab::scenes::Readout>)] {
+    static ROWS: std::sync::OnceLock<Vec<(String, Vec<particle_lab::scenes::Readout>)>> =
+        std::sync::OnceLock::new();
+    ROWS.get_or_init(run_every_scene)
+}
+
+fn run_every_scene() -> Vec<(String, Vec<particle_lab::scenes::Readout>)> {
+    let entries: Vec<&'static SceneEntry> = SCENES.iter().chain(file::shipped()).collect();
+    assert!(entries.len() >= 11, "seven compiled scenes and four shipped files");
+    entries
+        .into_iter()
+        .map(|entry| {
+            let mut scene = scenes::build_entry(entry, &[]).unwrap();
+            // As `simulate` starts it: the projectile's round fired at step 0.
+            scenes::fire_at_start(scene.as_mut());
+            let dt = scene.info().dt;
+            let steps = (10.0 / dt) as usize;
+            let mut rows = Vec::new();
+            for step in 0..=steps {
+                if step % 30 == 0 {
+                    rows.extend(scene.readout_rows(dt));
+                }
+                if step < steps {
+                    scene.step(dt).unwrap();
+                }
+            }
+            (entry.info().name.to_string(), rows)
+        })
+        .collect()
+}
+
 #[test]
 fn every_read_out_of_every_scene_is_in_the_cli_reference() {
     let page = read("docs/cli.md");
-    let entries: Vec<&'static SceneEntry> = SCENES.iter().chain(file::shipped()).collect();
-    assert!(entries.len() >= 11, "seven compiled scenes and four shipped files");
     let mut missing = BTreeSet::new();
-    for entry in entries {
-        let name = &*entry.info().name;
+    for (name, rows) in rows_along_a_run() {
         let section = under(&page, &format!("`{name}`"));
-        let mut scene = scenes::build_entry(entry, &[]).unwrap();
-        // As `simulate` starts it: the projectile's round fired at step 0.
-        scenes::fire_at_start(scene.as_mut());
-        let dt = scene.info().dt;
-        // Some read-outs appear only once something happened (a round landed, a
-        // second of flow measured): look along a run of up to 10 s.
-        let steps = (10.0 / dt) as usize;
         let mut seen = BTreeSet::new();
-        for step in 0..=steps {
-            if step % 30 == 0 {
-                for row in scene.readout_rows(dt) {
-                    seen.insert(row.label.trim().to_string());
-                    // Each number's key, as `simulate` prints it, in the same section.
-                    seen.extend(row.values.iter().map(|(key, _)| key.to_string()));
-                }
-            }
-            if step < steps {
-                scene.step(dt).unwrap();
-            }
+        for row in rows {
+            seen.insert(row.label.trim().to_string());
+            // Each number's key, as `simulate` prints it, in the same section.
+            seen.extend(row.values.iter().map(|(key, _)| key.to_string()));
         }
         for label in seen {
             if !section.contains(&format!("`{label}`")) {
@@ -206,6 +223,28 @@ fn every_read_out_of_every_scene_is_in_the_cli_reference() {
         missing.is_empty(),
         "docs/cli.md lacks, under each scene's heading, the read-outs or their keys: {missing:#?}"
     );
+}
+
+/// Issue 37, "read-outs a student understands": every read-out the panel shows has a
+/// tooltip saying what it is; a prediction's (a value under a `…_predicted_…` or
+/// `…_exact_s` key) also says what its formula leaves out.
+#[test]
+fn every_read_out_has_a_tooltip_and_a_prediction_says_what_it_leaves_out() {
+    let mut missing = BTreeSet::new();
+    for (name, rows) in rows_along_a_run() {
+        for row in rows {
+            let label = row.label.trim();
+            if row.help.len() < 25 {
+                missing.insert(format!("{name}: `{label}` has no tooltip"));
+            }
+            let predicted =
+                row.values.iter().any(|(key, _)| key.contains("_predicted") || key.ends_with("_exact_s"));
+            if predicted && !row.help.to_lowercase().contains("leaves out") {
+                missing.insert(format!("{name}: `{label}` does not say what it leaves out"));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "{missing:#?}");
 }
 
 #[test]

@@ -575,7 +575,9 @@ impl Launcher {
         let (h, angle) = (self.aim.position.y, angle.to_radians());
         let flying = self.rounds.len();
         let mut out = vec![
-            Readout::new("rounds in flight", flying.to_string()).with("rounds_in_flight", flying as f32),
+            Readout::new("rounds in flight", flying.to_string())
+                .with("rounds_in_flight", flying as f32)
+                .help("Rounds fired and not yet landed; a round is removed when its centre reaches y = 0"),
         ];
         if let Some(flight) = self.flights.iter().rev().find(|f| f.landing.is_some()) {
             let (t, p) = flight.landing.expect("found by its landing");
@@ -588,20 +590,36 @@ impl Launcher {
                 };
                 let hit = if flight.hit(target) == Some(true) { 1.0 } else { 0.0 };
                 out.push(
-                    Readout::new("last landing", verdict).with("hit", hit).with("landing_off_target_m", off),
+                    Readout::new("last landing", verdict)
+                        .with("hit", hit)
+                        .with("landing_off_target_m", off)
+                        .help(
+                            "Where the last round to land came down against the target: a hit within the \
+                             target's half width of its centre, else how far long (beyond) or short",
+                        ),
                 );
             }
             let range = p.x - flight.launch.1.x;
             out.push(
                 Readout::new("  its range, flight time", format!("{range:.2} m in {t:.2} s"))
                     .with("range_m", range)
-                    .with_f64("flight_time_s", t),
+                    .with_f64("flight_time_s", t)
+                    .help(
+                        "Measured: how far along x the last round came down from the launcher, and the time \
+                         from launch to landing; the landing is placed between the two steps either side of \
+                         the ground",
+                    ),
             );
         }
         if let Some(error) = self.exact_error(world) {
             out.push(
                 Readout::new("newest round from its exact path", format!("{:.1} mm", error * 1000.0))
-                    .with("exact_path_error_m", error),
+                    .with("exact_path_error_m", error)
+                    .help(
+                        "How far the newest round is from its exact path (the ghost), computed in closed form \
+                         from the same launch with the same gravity, damping and linear drag: the \
+                         integrator's error so far. None with quadratic drag, which has no closed form.",
+                    ),
             );
         }
         if g > 0.0 {
@@ -609,26 +627,42 @@ impl Launcher {
             let peak = h + vy.max(0.0).powi(2) / (2.0 * g);
             out.push(
                 Readout::new("peak (no drag, no damping)", format!("{peak:.2} m"))
-                    .with("peak_predicted_m", peak),
+                    .with("peak_predicted_m", peak)
+                    .help(
+                        "Predicted highest point of the next round: h + (v sin θ)² / 2g. Leaves out drag and \
+                         damping, which bring the peak lower.",
+                    ),
             );
             let ground = ground_range(vx, vy, h, g);
             out.push(
                 Readout::new("range to the ground (no drag, no damping)", format!("{ground:.2} m"))
-                    .with("range_predicted_m", ground),
+                    .with("range_predicted_m", ground)
+                    .help(
+                        "Predicted range of the next round to the ground: vx (vy + √(vy² + 2 g h)) / g, with \
+                         vx = v cos θ, vy = v sin θ and h the launcher's height. Leaves out drag and \
+                         damping, which shorten it.",
+                    ),
             );
             // Back at launch height only if it went up first.
             let level = if vy > 0.0 {
                 let level = 2.0 * vx * vy / g;
                 Readout::new("range at launch height (no drag, no damping)", format!("{level:.2} m"))
                     .with("range_level_predicted_m", level)
+                    .help(LEVEL_HELP)
             } else {
                 Readout::new("range at launch height (no drag, no damping)", "never comes back up")
+                    .help(LEVEL_HELP)
             };
             out.push(level);
         }
         out
     }
 }
+
+/// What the range at launch height is.
+const LEVEL_HELP: &str = "Predicted distance at which the next round is back at the launcher's height, the \
+    textbook's range on level ground: 2 vx vy / g = v² sin 2θ / g. Leaves out drag and damping, and the \
+    launcher's height above the ground (see the range to the ground).";
 
 /// Whether a round moving up at `vy` (m/s) under gravity `g` (m/s², downwards) can
 /// still reach the ground: always while gravity pulls down; with gravity off or
