@@ -43,6 +43,7 @@ fn changed_lab() -> Lab {
     lab.view.msaa = false;
     lab.view.trails = false;
     lab.view.contacts = true;
+    lab.view.predictions = false;
     lab.camera.target = Vec3::new(1.0, 2.0, -3.0);
     lab.camera.distance = 7.5;
     lab.camera.yaw = 0.75;

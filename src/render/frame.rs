@@ -99,6 +99,9 @@ pub struct ViewOptions {
     /// Debug drawing like Box2D's: contact points, normals and overlaps, and the limits
     /// of links (a cable's full length, a spring's natural length).
     pub contacts: bool,
+    /// What the scene predicts (the exact path's ghost, the next round's drag-free path)
+    /// and the predicted read-outs; off so that a class predicts before it measures.
+    pub predictions: bool,
 }
 
 /// Most particles that get arrows when [`ViewOptions::all_vectors`] is on.
@@ -118,6 +121,7 @@ impl Default for ViewOptions {
             forces: true,
             all_vectors: false,
             contacts: false,
+            predictions: true,
         }
     }
 }
@@ -380,6 +384,9 @@ impl FrameBuilder {
         }
         self.markers.clear();
         scene.markers(&mut self.markers);
+        if options.predictions {
+            scene.predictions(&mut self.markers);
+        }
         for marker in &self.markers {
             let [r, g, b] = marker.color;
             frame.spheres.push(SphereInstance {

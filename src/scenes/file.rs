@@ -297,7 +297,7 @@ pub fn writable(entry: &SceneEntry) -> Result<&Definition, String> {
     match definition(entry) {
         Some(definition) => Ok(definition),
         None => Err(format!(
-            "'{}' is built into the program: Scene → Edit a copy of this scene (B) makes one of its particles \
+            "'{}' is built into the program: Scene > Edit a copy of this scene (B) makes one of its particles \
              and links that saves as a scene file",
             entry.info().name
         )),
@@ -733,7 +733,13 @@ impl Scene for FileScene {
 
     fn markers(&self, out: &mut Vec<super::Marker>) {
         if let Some(launcher) = &self.launcher {
-            launcher.markers(&self.built.world, out);
+            launcher.markers(out);
+        }
+    }
+
+    fn predictions(&self, out: &mut Vec<super::Marker>) {
+        if let Some(launcher) = &self.launcher {
+            launcher.predictions(&self.built.world, out);
         }
     }
 

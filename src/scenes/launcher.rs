@@ -513,7 +513,7 @@ impl Launcher {
 
     /// The flights, the target, the ghosts, the launcher and its barrel, and the next
     /// round's predicted path.
-    pub fn markers(&self, world: &World, out: &mut Vec<Marker>) {
+    pub fn markers(&self, out: &mut Vec<Marker>) {
         // Each kept flight: dots every 0.1 s of its path, and its launch (green), apex
         // (yellow) and landing (red) points.
         for flight in &self.flights {
@@ -534,10 +534,6 @@ impl Launcher {
             let color = if hit { [0.2, 0.9, 0.3] } else { [0.9, 0.2, 0.2] };
             out.push(Marker { position: target, radius: 0.3, color });
         }
-        for ghost in &self.ghosts {
-            let position = ghost.position(world);
-            out.push(Marker { position, radius: 0.8 * self.aim.radius, color: GHOST_COLOR });
-        }
         let launcher = self.aim.position;
         out.push(Marker { position: launcher, radius: 0.45, color: [0.3, 0.32, 0.35] });
         // The barrel, pointing where the next round goes: 1.5 m of overlapping balls.
@@ -546,7 +542,15 @@ impl Launcher {
             let position = launcher + barrel * (0.15 * k as f32);
             out.push(Marker { position, radius: 0.16, color: [0.42, 0.44, 0.48] });
         }
-        // Where the next round would go without drag or damping, to its landing.
+    }
+
+    /// What it predicts: each round's exact path as a ghost, and where the next round
+    /// would go without drag or damping, to its landing.
+    pub fn predictions(&self, world: &World, out: &mut Vec<Marker>) {
+        for ghost in &self.ghosts {
+            let position = ghost.position(world);
+            out.push(Marker { position, radius: 0.8 * self.aim.radius, color: GHOST_COLOR });
+        }
         let mut path = Vec::new();
         self.predicted_path(&mut path);
         for &position in &path[1..] {

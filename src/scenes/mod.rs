@@ -252,6 +252,11 @@ pub trait Scene: Send {
     /// Extra spheres to draw.
     fn markers(&self, _out: &mut Vec<Marker>) {}
 
+    /// What the scene predicts, drawn over it: the ghost following the exact solution,
+    /// the drag-free path of the next round. View → Predictions off (so a class
+    /// predicts before it measures) leaves them out, as it does the predicted read-outs.
+    fn predictions(&self, _out: &mut Vec<Marker>) {}
+
     /// Where to put the camera initially.
     fn camera(&self) -> CameraHint;
 

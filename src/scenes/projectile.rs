@@ -149,7 +149,11 @@ impl Scene for Projectile {
     }
 
     fn markers(&self, out: &mut Vec<Marker>) {
-        self.launcher.markers(&self.world, out);
+        self.launcher.markers(out);
+    }
+
+    fn predictions(&self, out: &mut Vec<Marker>) {
+        self.launcher.predictions(&self.world, out);
     }
 
     fn framing_points(&self, out: &mut Vec<Vec3>) {

@@ -26,6 +26,16 @@ impl Readout {
         Self { label, text: text.into(), values: Vec::new(), help: "" }
     }
 
+    /// Whether the row is a prediction (a value under a `…_predicted_…` or `…_exact_s`
+    /// key, or Beverloo's law and the flow against it), which View → Predictions off
+    /// hides so that a class predicts before it measures.
+    #[must_use]
+    pub fn is_prediction(&self) -> bool {
+        self.values.iter().any(|(key, _)| {
+            key.contains("predicted") || key.ends_with("_exact_s") || key.contains("beverloo")
+        })
+    }
+
     /// The row with its tooltip.
     #[must_use]
     pub fn help(mut self, help: &'static str) -> Self {

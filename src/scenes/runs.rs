@@ -25,6 +25,12 @@ impl Column {
     pub fn is_measured(&self) -> bool {
         self.help.starts_with("Measured")
     }
+
+    /// Whether the column is a prediction (its key says `predicted`).
+    #[must_use]
+    pub fn is_prediction(&self) -> bool {
+        self.key.contains("predicted")
+    }
 }
 
 /// A scene's table of runs: its columns and rows (one value per column; NaN where

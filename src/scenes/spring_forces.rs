@@ -288,7 +288,7 @@ impl Scene for SpringForces {
         }
     }
 
-    fn markers(&self, out: &mut Vec<Marker>) {
+    fn predictions(&self, out: &mut Vec<Marker>) {
         if let Some(ghost) = &self.ghost {
             out.push(Marker {
                 position: ghost.position(&self.world),

@@ -102,6 +102,8 @@ pub struct ViewSettings {
     pub side_view: bool,
     /// The camera follows the selected (or newest) particle.
     pub follow: bool,
+    /// Predictions drawn and read out (off: a class predicts before it measures).
+    pub predictions: bool,
 }
 
 impl Default for ViewSettings {
@@ -126,6 +128,7 @@ impl ViewSettings {
             contacts: view.contacts,
             side_view,
             follow,
+            predictions: view.predictions,
         }
     }
 
@@ -144,6 +147,7 @@ impl ViewSettings {
         view.forces = self.forces;
         view.all_vectors = self.all_vectors;
         view.contacts = self.contacts;
+        view.predictions = self.predictions;
         view
     }
 

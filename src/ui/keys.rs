@@ -164,7 +164,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     ),
     Shortcut {
         keys: "Ctrl+= / Ctrl++",
-        meaning: "larger text and controls (View → Text size)",
+        meaning: "larger text and controls (View > Text size)",
         binding: Binding::Keys(Modifiers::COMMAND, &[Key::Equals, Key::Plus]),
         command: Some(Command::TextSize(1)),
     },

@@ -145,6 +145,7 @@ impl Lab {
             "tension" => self.view.tension_colors = true,
             "no-labels" => self.view.labels = false,
             "no-trails" => self.view.trails = false,
+            "no-predictions" => self.view.predictions = false,
             "side" => self.set_side_view(true),
             "follow" => {
                 self.follow = true;
@@ -153,7 +154,7 @@ impl Lab {
             other => {
                 return Err(format!(
                     "--view {}: unknown view option; known: forces, no-forces, all-vectors, contacts, \
-                     tension, side, follow, no-labels, no-trails",
+                     tension, side, follow, no-labels, no-trails, no-predictions",
                     crate::messages::quote(other)
                 ));
             }

@@ -6,7 +6,8 @@
 //! runs N physics steps at once and pauses there, a launcher's round fired at step 0
 //! as `simulate` fires it (a link can show a moment, and a test can compare it with
 //! `simulate --steps N`), `view=side|3d` and `camera=…` say how
-//! it is looked at, and `gpu=webgl2` leaves WebGPU out.
+//! it is looked at, `predictions=hidden` hides what the lab predicts (a class predicts
+//! first), and `gpu=webgl2` leaves WebGPU out.
 //! [`Link::of`] writes the link of what is on screen. A scene file that is not shipped
 //! travels in the link itself (`#file=…`, see [`carried`](super::carried)), so a link to
 //! a teacher's own experiment is never dead.
@@ -27,6 +28,7 @@ const LINK_KEYS: &[&str] = &[
     "rate",
     "view",
     "camera",
+    "predictions",
 ];
 
 /// How the page names a scene file carried in a link, in its messages.
@@ -61,6 +63,8 @@ pub struct LinkView {
     pub side: Option<bool>,
     /// `camera=…`.
     pub camera: Option<[f32; 6]>,
+    /// `predictions=hidden` (false) or `predictions=shown` (true).
+    pub predictions: Option<bool>,
 }
 
 impl LinkView {
@@ -68,6 +72,9 @@ impl LinkView {
     pub fn apply(&self, lab: &mut Lab) {
         if let Some(side) = self.side {
             lab.set_side_view(side);
+        }
+        if let Some(shown) = self.predictions {
+            lab.view.predictions = shown;
         }
         if let Some([x, y, z, distance, yaw, pitch]) = self.camera {
             lab.camera.target = glam::Vec3::new(x, y, z);
@@ -143,6 +150,15 @@ impl Link {
                     });
                 }
                 "camera" => link.view.camera = Some(LinkView::camera(value)?),
+                "predictions" => {
+                    link.view.predictions = Some(match value.as_str() {
+                        "shown" => true,
+                        "hidden" => false,
+                        _ => {
+                            return Err(format!("invalid value '{value}' for 'predictions': shown or hidden"));
+                        }
+                    });
+                }
                 key if LINK_KEYS.contains(&key) => link.args.push(format!("--{key}={value}")),
                 _ => {
                     return Err(format!(
@@ -176,7 +192,7 @@ impl Link {
         let query = before.split_once('?').map_or("", |(_, query)| query);
         if query.is_empty() && fragment.is_empty() {
             return Err(format!(
-                "'{}' is not a link to an experiment: it has neither '?' nor '#' (copy it with File → Copy \
+                "'{}' is not a link to an experiment: it has neither '?' nor '#' (copy it with File > Copy \
                  link, or make it with `particle-lab link`)",
                 crate::messages::clip(text, 60)
             ));
@@ -280,6 +296,9 @@ impl Link {
             pairs.push(("steps".into(), lab.scene.world().steps().to_string()));
         }
         pairs.push(("view".into(), if lab.side_view { "side" } else { "3d" }.into()));
+        if !lab.view.predictions {
+            pairs.push(("predictions".into(), "hidden".into()));
+        }
         if lab.camera_moved {
             let c = lab.camera;
             let numbers =

@@ -28,7 +28,7 @@ pub fn link_key(ui: &mut egui::Ui, lab: &Lab) {
         }
         ui.horizontal_wrapped(|ui| {
             ui.label(egui::RichText::new("Links").strong())
-                .on_hover_text("View → Link colours by tension colours them by the force they carry");
+                .on_hover_text("View > Link colours by tension colours them by the force they carry");
             for kind in kinds {
                 let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), Sense::hover());
                 ui.painter().rect_filled(swatch, 2.0, srgb(link_color(kind)));

@@ -13,7 +13,8 @@ impl Readouts {
     /// Draws the read-outs grid and the keys.
     pub fn ui(&mut self, ui: &mut egui::Ui, lab: &mut Lab) {
         egui::Grid::new("readouts").num_columns(2).striped(true).show(ui, |ui| {
-            for row in lab.readouts() {
+            let predictions = lab.view.predictions;
+            for row in lab.readouts().iter().filter(|row| predictions || !row.is_prediction()) {
                 let name = ui.label(row.label);
                 let value = ui.add(egui::Label::new(row.text.as_str()).wrap());
                 if !row.help.is_empty() {
@@ -23,6 +24,9 @@ impl Readouts {
                 ui.end_row();
             }
         });
+        if !lab.view.predictions {
+            ui.label(egui::RichText::new("Predictions hidden: View > Predictions shows them").small());
+        }
         super::runs::ui(ui, lab);
         if lab.view.color_by_speed {
             ui.separator();

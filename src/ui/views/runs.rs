@@ -26,8 +26,12 @@ pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {
         // A parameter no run changed is said once beneath the table, not in every row.
         let first = &table.rows[0];
         let same = |c: usize| table.rows.iter().all(|row| row[c].to_bits() == first[c].to_bits());
-        let shown: Vec<usize> =
-            (0..table.columns.len()).filter(|&c| table.columns[c].always || !same(c)).collect();
+        // With View → Predictions off, the predicted columns are not shown (the CSV keeps them).
+        let predictions = lab.view.predictions;
+        let hidden = |c: usize| !predictions && table.columns[c].is_prediction();
+        let shown: Vec<usize> = (0..table.columns.len())
+            .filter(|&c| !hidden(c) && (table.columns[c].always || !same(c)))
+            .collect();
         egui::ScrollArea::horizontal().id_salt("runs scroll").show(ui, |ui| {
             egui::Grid::new("runs").striped(true).show(ui, |ui| {
                 ui.label("");
@@ -48,7 +52,7 @@ pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {
             });
         });
         let constant: Vec<String> = (0..table.columns.len())
-            .filter(|c| !shown.contains(c))
+            .filter(|&c| !shown.contains(&c) && !hidden(c))
             .map(|c| format!("{} {}", table.columns[c].heading, significant(first[c], FIGURES)))
             .collect();
         if !constant.is_empty() {
@@ -65,7 +69,7 @@ pub fn ui(ui: &mut egui::Ui, lab: &mut Lab) {
         if copy {
             ui.ctx().copy_text(table.tsv());
         }
-        super::runs_plot::ui(ui, &table);
+        super::runs_plot::ui(ui, &table, predictions);
     }
     if copy {
         lab.status = "table of runs copied as tab-separated text".into();

@@ -49,18 +49,30 @@ pub fn describe(fit: &Fit, table: &Table<'_>, x: Axis, y: Axis) -> String {
 
 /// Draws the plot of the table under it: two column pickers (each with a "squared" box),
 /// the points, the fitted line and its figures.
-pub fn ui(ui: &mut egui::Ui, table: &Table<'_>) {
+/// With `predictions` false (View → Predictions off) the predicted columns are not
+/// offered.
+pub fn ui(ui: &mut egui::Ui, table: &Table<'_>, predictions: bool) {
     egui::CollapsingHeader::new("Plot two columns").id_salt("runs plot").show(ui, |ui| {
         let id = egui::Id::unique("runs plot choice");
         let mut choice: Choice = ui.data(|d| d.get_temp(id)).unwrap_or_default();
+        if !predictions {
+            // A predicted column chosen before the predictions were hidden is dropped.
+            let predicted = |key: Option<&str>| key.is_some_and(|k| k.contains("predicted"));
+            if predicted(choice.x) {
+                choice.x = None;
+            }
+            if predicted(choice.y) {
+                choice.y = None;
+            }
+        }
         let (x, y) = choice.axes(table.columns);
         egui::Grid::new("runs plot axes").num_columns(3).show(ui, |ui| {
             ui.label("y");
-            pick(ui, "plot y", table.columns, y.column, &mut choice.y);
+            pick(ui, "plot y", table.columns, y.column, &mut choice.y, predictions);
             ui.checkbox(&mut choice.square_y, "squared").on_hover_text("Plot y² (period² against mass)");
             ui.end_row();
             ui.label("against x");
-            pick(ui, "plot x", table.columns, x.column, &mut choice.x);
+            pick(ui, "plot x", table.columns, x.column, &mut choice.x, predictions);
             ui.checkbox(&mut choice.square_x, "squared").on_hover_text("Plot x² (apex against speed²)");
             ui.end_row();
         });
@@ -103,16 +115,18 @@ pub fn ui(ui: &mut egui::Ui, table: &Table<'_>) {
     });
 }
 
-/// A column picker: sets `chosen` to the key picked.
+/// A column picker: sets `chosen` to the key picked; predicted columns only with
+/// `predictions`.
 fn pick(
     ui: &mut egui::Ui,
     salt: &str,
     columns: &[Column],
     current: usize,
     chosen: &mut Option<&'static str>,
+    predictions: bool,
 ) {
     egui::ComboBox::from_id_salt(salt).selected_text(columns[current].heading).show_ui(ui, |ui| {
-        for column in columns {
+        for column in columns.iter().filter(|c| predictions || !c.is_prediction()) {
             if ui.selectable_label(column.key == columns[current].key, column.heading).clicked() {
                 *chosen = Some(column.key);
             }

@@ -66,6 +66,11 @@ impl ViewMenu {
         );
         ui.checkbox(&mut lab.view.color_by_speed, "Colour by speed")
             .on_hover_text("Particles coloured by how fast they move; the scale is in the panel");
+        ui.checkbox(&mut lab.view.predictions, "Predictions").on_hover_text(
+            "The predicted read-outs and table columns, the next round's drag-free path and the ghost \
+             of the exact solution. Off, a class predicts before it measures; a link can carry it off \
+             (predictions=hidden).",
+        );
         ui.checkbox(&mut lab.view.tension_colors, "Link colours by tension");
         ui.checkbox(&mut lab.view.grid, "Grid");
         ui.checkbox(&mut lab.view.stats, "Stats");
