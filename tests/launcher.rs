@@ -159,3 +159,50 @@ fn bad_launcher_values_are_refused_by_name() {
         assert!(error.contains(key) && !error.contains('\n'), "{bad}: {error}");
     }
 }
+
+/// Paths that compare (issue 37): rounds fired at 30°, 45° and 60° are each labelled
+/// with the angle, the one setting that differs; a second difference (the speed) joins
+/// the labels; and Home frames every kept path's landing, not only the next round's.
+#[test]
+fn kept_paths_say_what_differs_and_home_frames_them_all() {
+    let mut lab = particle_lab::ui::lab::Lab::new("projectile", &[]).unwrap();
+    for angle in [30.0, 45.0, 60.0] {
+        lab.set_param("angle", angle);
+        lab.act(SceneAction::Fire);
+        lab.run_steps(1000);
+    }
+    let labels = |lab: &particle_lab::ui::lab::Lab| {
+        let mut out = Vec::new();
+        lab.scene.labels(&mut out);
+        out.into_iter().map(|(_, text)| text.to_string()).collect::<Vec<_>>()
+    };
+    let shown = labels(&lab);
+    for angle in ["30°", "45°", "60°"] {
+        assert!(shown.iter().any(|l| l == angle), "{angle} in {shown:?}");
+    }
+    // The next round at another speed: now both settings tell the paths apart.
+    lab.set_param("speed", 15.0);
+    lab.act(SceneAction::Fire);
+    lab.run_steps(1000);
+    let shown = labels(&lab);
+    assert!(shown.iter().any(|l| l == "30° · 25 m/s"), "{shown:?}");
+    assert!(shown.iter().any(|l| l == "60° · 15 m/s"), "{shown:?}");
+    // Aim the next round short and near: Home still frames the 45° round, the longest.
+    lab.set_param("angle", 80.0);
+    lab.set_param("speed", 5.0);
+    lab.home();
+    let size = glam::Vec2::new(1280.0, 720.0);
+    let mut points = Vec::new();
+    lab.scene.framing_points(&mut points);
+    let mut landings = Vec::new();
+    lab.scene.markers(&mut landings);
+    // The landing markers (red) of the kept flights.
+    let landed: Vec<glam::Vec3> =
+        landings.iter().filter(|m| m.color == [0.95, 0.25, 0.2]).map(|m| m.position).collect();
+    assert_eq!(landed.len(), 4);
+    for p in landed {
+        assert!(points.contains(&p), "Home frames the landing at {p}");
+        let s = lab.camera.project(p, size).expect("in front of the camera");
+        assert!((0.0..=size.x).contains(&s.x) && (0.0..=size.y).contains(&s.y), "{p} drawn at {s}");
+    }
+}

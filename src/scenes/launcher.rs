@@ -117,6 +117,28 @@ pub struct Launcher {
     flights: Vec<Flight>,
     /// The table of runs: a row for each round that landed, in [`RUN_COLUMNS`].
     runs: Vec<Vec<f64>>,
+    /// A label for each kept flight (parallel to `flights`): the launch settings that
+    /// tell the kept flights apart ("30°", "45° · 20 m/s"); empty where none differs.
+    /// Made again whenever the flights change ([`Self::relabel`]).
+    flight_labels: Vec<String>,
+}
+
+/// The launch settings a kept flight's label may name, each with how it is written.
+#[allow(clippy::type_complexity)]
+const TOLD_APART: [(fn(&Aim) -> f32, fn(f32) -> String); 8] = [
+    (|a| a.angle, |x| format!("{}°", round2(x))),
+    (|a| a.speed, |x| format!("{} m/s", round2(x))),
+    (|a| a.g, |x| format!("g {}", round2(x))),
+    (|a| a.mass, |x| format!("{} kg", round2(x))),
+    (|a| a.damping, |x| format!("damping {}", round2(x))),
+    (|a| a.k1, |x| format!("k1 {}", round2(x))),
+    (|a| a.k2, |x| format!("k2 {}", round2(x))),
+    (|a| a.position.y, |x| format!("h {} m", round2(x))),
+];
+
+/// `x` to two decimals at most, as a label writes it (45, 36.87, 0.99).
+fn round2(x: f32) -> f32 {
+    (x * 100.0).round() / 100.0
 }
 
 /// The columns of a launcher's table of runs: what the round was fired with, then
@@ -228,7 +250,34 @@ impl Launcher {
             ghosts: Vec::new(),
             flights: Vec::new(),
             runs: Vec::new(),
+            flight_labels: Vec::new(),
         }
+    }
+
+    /// Labels each kept flight with the launch settings that differ between the kept
+    /// flights, so that paths drawn side by side say what changed.
+    fn relabel(&mut self) {
+        let aims: Vec<Aim> = self.flights.iter().filter_map(|f| f.aim).collect();
+        let differing: Vec<_> = TOLD_APART
+            .iter()
+            .filter(|(get, _)| aims.iter().any(|a| get(a).to_bits() != get(&aims[0]).to_bits()))
+            .collect();
+        self.flight_labels = self
+            .flights
+            .iter()
+            .map(|f| match &f.aim {
+                Some(aim) => {
+                    differing.iter().map(|(get, write)| write(get(aim))).collect::<Vec<_>>().join(" · ")
+                }
+                None => String::new(),
+            })
+            .collect();
+    }
+
+    /// The labels of the kept flights, as [`Self::relabel`] made them.
+    #[must_use]
+    pub fn flight_labels(&self) -> &[String] {
+        &self.flight_labels
     }
 
     /// Whether it has fired no round yet (a round that landed still counts as fired).
@@ -297,6 +346,7 @@ impl Launcher {
         if aim.k2 == 0.0 {
             self.ghosts.extend(Ghost::new(world, id, self.motion(aim.k1, aim.mass, aim.damping)));
         }
+        self.relabel();
         Ok(id)
     }
 
@@ -441,6 +491,7 @@ impl Launcher {
         let runs = saved.runs.into_iter().map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect());
         (self.rounds, self.ghosts, self.flights) = (saved.rounds, saved.ghosts, saved.flights);
         self.runs = runs.collect();
+        self.relabel();
         Ok(())
     }
 
@@ -467,8 +518,15 @@ impl Launcher {
     }
 
     /// The names drawn beside the launcher, the target and the newest round.
-    pub fn labels<'a>(&self, world: &World, out: &mut Vec<(Vec3, &'a str)>) {
+    pub fn labels<'a>(&'a self, world: &World, out: &mut Vec<(Vec3, &'a str)>) {
         out.push((self.aim.position + Vec3::new(0.0, 0.9, 0.0), "launcher"));
+        // Each kept path, where it came down (or its last point), says what set it apart.
+        for (flight, label) in self.flights.iter().zip(&self.flight_labels) {
+            let end = flight.landing.or(flight.path.last().copied()).map(|(_, p)| p);
+            if let (Some(end), false) = (end, label.is_empty()) {
+                out.push((end + Vec3::new(0.0, 0.6, 0.0), label));
+            }
+        }
         if let Some(target) = self.target() {
             out.push((target + Vec3::new(0.0, 0.5, 0.0), "target"));
         }
@@ -558,10 +616,16 @@ impl Launcher {
         }
     }
 
-    /// The points a view frames: the next round's path and the target.
+    /// The points a view frames: the next round's path, the target and every kept path.
     pub fn framing_points(&self, out: &mut Vec<Vec3>) {
         self.predicted_path(out);
         out.extend(self.target());
+        // Every kept path, not only the next one's: its launch, apex and where it ends.
+        for flight in &self.flights {
+            out.push(flight.launch.1);
+            out.extend(flight.apex.map(|(_, p)| p));
+            out.extend(flight.landing.or(flight.path.last().copied()).map(|(_, p)| p));
+        }
     }
 
     /// Distance of the newest round from its exact path (m).

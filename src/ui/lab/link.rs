@@ -155,7 +155,9 @@ impl Link {
                         "shown" => true,
                         "hidden" => false,
                         _ => {
-                            return Err(format!("invalid value '{value}' for 'predictions': shown or hidden"));
+                            return Err(format!(
+                                "invalid value '{value}' for 'predictions': shown or hidden"
+                            ));
                         }
                     });
                 }
