@@ -34,10 +34,12 @@ struct Drain {
     d: f32,
     orifice: f32,
     grain_mass: f32,
-    /// The scene's own read-outs at the end.
+    /// The scene's own read-outs at the end, and their numbers.
     readouts: Vec<(String, String)>,
-    /// Grains through at the end, by the test's count.
+    values: Vec<(&'static str, f64)>,
+    /// Grains through at the end, by the test's count, of `count`.
     through: usize,
+    count: usize,
     /// (time, through) of every step.
     series: Vec<(f64, usize)>,
 }
@@ -77,7 +79,19 @@ fn drain(diameters: f32, count: usize, radius: f32) -> Drain {
     assert!(steady.len() > 60, "the steady part lasted {} steps", steady.len());
     let flow = slope(&steady) as f32;
     let through = count_through(scene.as_ref());
-    Drain { flow, packing, d, orifice, grain_mass, readouts: scene.readouts(dt), through, series }
+    let values = scene.readout_values(dt);
+    Drain {
+        flow,
+        packing,
+        d,
+        orifice,
+        grain_mass,
+        readouts: scene.readouts(dt),
+        values,
+        through,
+        count,
+        series,
+    }
 }
 
 /// Packing fraction of the grains whose centres lie in a cylindrical shell about the
@@ -161,6 +175,30 @@ fn check_readouts(run: &Drain) {
     );
     let ratio = value("flow / Beverloo");
     assert!((ratio - shown / beverloo_shown).abs() < 2e-3, "ratio shown {ratio}, {shown} / {beverloo_shown}");
+    // The steady flow the scene fitted to its record (a sample every 0.1 s) over the
+    // same part of the drain as the test's fit to every step: the two agree.
+    let number = |key: &str| {
+        run.values.iter().find(|(k, _)| *k == key).unwrap_or_else(|| panic!("no {key} in {:?}", run.values)).1
+            as f32
+    };
+    let steady = number("steady_flow_kg_s");
+    assert!(
+        (steady / run.flow - 1.0).abs() < 0.02,
+        "steady flow shown {steady}, the test's fit {}",
+        run.flow
+    );
+    let spread = number("steady_flow_spread_kg_s");
+    assert!(spread > 0.0 && spread < 0.25 * steady, "spread {spread} of a steady {steady}");
+    let (from, to) = (number("steady_from_s"), number("steady_to_s"));
+    let low = (0.10 * run.count as f32) as usize;
+    let started = run.series.iter().find(|&&(_, n)| n >= low).unwrap().0 as f32;
+    assert!(
+        from >= started - 1e-3 && from < started + 0.11,
+        "steady from {from} s; 10% through at {started} s"
+    );
+    assert!(to > from + 1.0);
+    let steady_ratio = number("steady_flow_over_beverloo");
+    assert!((steady_ratio - steady / beverloo_shown).abs() < 2e-3);
 }
 
 #[test]

@@ -33,6 +33,15 @@ pub const BEVERLOO_C: f32 = 0.58;
 pub const BEVERLOO_K: f32 = 1.5;
 /// The span the measured flow is averaged over (s).
 pub const FLOW_WINDOW: f64 = 1.0;
+/// The steady part of a drain, as fractions of the grains through: it starts once a
+/// tenth has passed (the start-up transient over) and ends when 45% have, while the
+/// bed is still deeper than the opening is wide and the flow does not depend on its
+/// depth, as Beverloo's law assumes. Below that the flow slows as the bed empties.
+pub const STEADY_PART: (f32, f32) = (0.10, 0.45);
+/// How often the drain's record takes a sample (s).
+pub const DRAIN_SAMPLE: f64 = 0.1;
+/// Most samples the drain's record keeps (an hour at [`DRAIN_SAMPLE`]).
+const DRAIN_SAMPLES_KEPT: usize = 36_000;
 
 #[rustfmt::skip]
 static PARAMS: &[Param] = &[
@@ -68,6 +77,7 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
         shape,
         samples: VecDeque::new(),
         packing: 0.0,
+        drain: Vec::new(),
     })
 }
 
@@ -185,6 +195,12 @@ pub fn starting_cloud(count: usize, radius: f32, width: f32, seed: u64) -> Vec<V
     positions
 }
 
+/// What the steady flow is and how it is measured.
+const STEADY_HELP: &str = "Measured: the least-squares slope of the mass through the opening against time, \
+    sampled every 0.1 s, from when a tenth of the grains had passed until 45% had: the bed is then still \
+    deeper than the opening is wide, as Beverloo's law assumes. ± is the spread (standard deviation) of \
+    the flow over each second of that part. Later the flow slows as the bed empties; that is not mixed in.";
+
 /// What the flow read-out is and how it is measured.
 const FLOW_HELP: &str = "The mass that fell through the opening in the last second of simulated time: grains \
     through now less a second ago, times a grain's mass, over the time between.";
@@ -233,6 +249,50 @@ struct Hourglass {
     /// The densest packing the bed has shown since the grains were poured: the bed at
     /// rest before the drain lowers it out of the measuring cell.
     packing: f32,
+    /// (time, grains through) every [`DRAIN_SAMPLE`] since the start: the record the
+    /// steady flow is fitted to.
+    drain: Vec<(f64, usize)>,
+}
+
+/// The steady flow of a drain: the least-squares slope of the discharged mass against
+/// time over [`STEADY_PART`], and the spread of the flow over each second in it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SteadyFlow {
+    /// Mass flow (kg/s).
+    pub flow: f32,
+    /// Standard deviation of the flows over the whole seconds in the steady part (kg/s).
+    pub spread: f32,
+    /// Where the steady part began and ended (s).
+    pub from: f64,
+    /// See `from`.
+    pub to: f64,
+}
+
+/// The steady flow of a drain recorded as `(time, grains through)` samples, `grains`
+/// in all of `grain_mass` kg each: `None` until the steady part has lasted a second.
+#[must_use]
+pub fn steady_flow(record: &[(f64, usize)], grains: usize, grain_mass: f32) -> Option<SteadyFlow> {
+    let (low, high) = (STEADY_PART.0 * grains as f32, STEADY_PART.1 * grains as f32);
+    let steady: Vec<(f64, usize)> =
+        record.iter().copied().filter(|&(_, n)| n as f32 >= low && n as f32 <= high).collect();
+    let (from, to) = (steady.first()?.0, steady.last()?.0);
+    if to - from < 1.0 {
+        return None;
+    }
+    let mass = f64::from(grain_mass);
+    let fit = super::runs::least_squares(steady.iter().map(|&(t, n)| (t, n as f64 * mass)))?;
+    // The flow over each whole second from the start of the steady part.
+    let mut flows = Vec::new();
+    let mut start = steady[0];
+    for &(t, n) in &steady[1..] {
+        if t - start.0 >= 1.0 - 1e-9 {
+            flows.push((n - start.1) as f64 * mass / (t - start.0));
+            start = (t, n);
+        }
+    }
+    let mean = flows.iter().sum::<f64>() / flows.len() as f64;
+    let spread = (flows.iter().map(|f| (f - mean).powi(2)).sum::<f64>() / flows.len() as f64).sqrt();
+    Some(SteadyFlow { flow: fit.slope as f32, spread: spread as f32, from, to })
 }
 
 impl Hourglass {
@@ -256,6 +316,7 @@ impl Scene for Hourglass {
         }
         self.samples.clear();
         self.packing = 0.0;
+        self.drain.clear();
         Ok(())
     }
 
@@ -267,7 +328,16 @@ impl Scene for Hourglass {
             self.samples.clear();
             self.packing = 0.0;
         }
-        self.samples.push_back((now, grains_through(&self.world)));
+        let through = grains_through(&self.world);
+        self.samples.push_back((now, through));
+        // The drain's record: a sample every DRAIN_SAMPLE, started again with the world.
+        if self.drain.last().is_some_and(|&(t, _)| now <= t) {
+            self.drain.clear();
+        }
+        let due = self.drain.last().is_none_or(|&(t, _)| now - t >= DRAIN_SAMPLE - 1e-9);
+        if due && self.drain.len() < DRAIN_SAMPLES_KEPT {
+            self.drain.push((now, through));
+        }
         while self.samples.len() > 2 && now - self.samples[1].0 >= FLOW_WINDOW - 1e-9 {
             self.samples.pop_front();
         }
@@ -279,7 +349,7 @@ impl Scene for Hourglass {
         // The gauges: the flow is measured over the last second of samples, and the
         // packing is the densest the bed has shown, so neither can be read off the
         // world alone.
-        serde_json::json!({ "samples": self.samples, "packing": self.packing })
+        serde_json::json!({ "samples": self.samples, "packing": self.packing, "drain": self.drain })
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -288,26 +358,42 @@ impl Scene for Hourglass {
         struct Saved {
             samples: VecDeque<(f64, usize)>,
             packing: f32,
+            #[serde(default)]
+            drain: Vec<(f64, usize)>,
         }
         let saved: Saved = super::read_state(state)?;
         if !(saved.packing.is_finite() && (0.0..=1.0).contains(&saved.packing)) {
             return Err(format!("packing = {} is out of range; valid range: 0 to 1", saved.packing));
         }
         let (now, grains) = (self.world.time(), self.world.particles.len());
-        let mut last = (f64::NEG_INFINITY, 0);
-        for &(t, through) in &saved.samples {
-            if !(t.is_finite() && t >= 0.0 && t <= now) {
-                return Err(format!("samples: a sample at t = {t} s is outside 0 to the world's {now:.3} s"));
-            }
-            if t <= last.0 || through < last.1 || through > grains {
-                return Err(format!(
-                    "samples: each must be later than the one before and count no fewer grains \
-                     (at most the {grains} there are); ({t} s, {through}) is not"
-                ));
-            }
-            last = (t, through);
+        if saved.drain.len() > DRAIN_SAMPLES_KEPT {
+            return Err(format!(
+                "drain: {} samples, more than the {DRAIN_SAMPLES_KEPT} kept",
+                saved.drain.len()
+            ));
         }
-        (self.samples, self.packing) = (saved.samples, saved.packing);
+        // Each record: times within the world's, in order, counts never falling.
+        let check = |name: &str, record: &mut dyn Iterator<Item = &(f64, usize)>| -> Result<(), String> {
+            let mut last = (f64::NEG_INFINITY, 0);
+            for &(t, through) in record {
+                if !(t.is_finite() && t >= 0.0 && t <= now) {
+                    return Err(format!(
+                        "{name}: a sample at t = {t} s is outside 0 to the world's {now:.3} s"
+                    ));
+                }
+                if t <= last.0 || through < last.1 || through > grains {
+                    return Err(format!(
+                        "{name}: each must be later than the one before and count no fewer grains \
+                         (at most the {grains} there are); ({t} s, {through}) is not"
+                    ));
+                }
+                last = (t, through);
+            }
+            Ok(())
+        };
+        check("samples", &mut saved.samples.iter())?;
+        check("drain", &mut saved.drain.iter())?;
+        (self.samples, self.packing, self.drain) = (saved.samples, saved.packing, saved.drain);
         Ok(())
     }
 
@@ -397,15 +483,88 @@ impl Scene for Hourglass {
                         Readout::new("flow / Beverloo", format!("{ratio:.3}"))
                             .with("flow_over_beverloo", ratio)
                             .help(
-                                "The measured flow over Beverloo's. Steady flow from a deep bed gives \
-                                 0.8 to 0.9 here; it falls as the bed drains below an opening's depth, \
-                                 where the law no longer holds.",
+                                "The last second's flow over Beverloo's. It falls as the bed drains below \
+                                 an opening's depth, where the law no longer holds: compare the steady \
+                                 flow's ratio instead.",
                             ),
                     );
                 }
             }
             None => rows.push(Readout::new("flow (last 1 s)", "measuring…").help(FLOW_HELP)),
         }
+        let (low, high) = (STEADY_PART.0 * 100.0, STEADY_PART.1 * 100.0);
+        match steady_flow(&self.drain, grains, shape.grain_mass()) {
+            Some(steady) => {
+                rows.push(
+                    Readout::new(
+                        "steady flow (10–45% through)",
+                        format!(
+                            "{:.4} ± {:.4} kg/s over {:.1}–{:.1} s",
+                            steady.flow, steady.spread, steady.from, steady.to
+                        ),
+                    )
+                    .with("steady_flow_kg_s", steady.flow)
+                    .with("steady_flow_spread_kg_s", steady.spread)
+                    .with_f64("steady_from_s", steady.from)
+                    .with_f64("steady_to_s", steady.to)
+                    .help(STEADY_HELP),
+                );
+                if beverloo > 0.0 {
+                    let ratio = steady.flow / beverloo;
+                    rows.push(
+                        Readout::new("steady flow / Beverloo", format!("{ratio:.3}"))
+                            .with("steady_flow_over_beverloo", ratio)
+                            .help(
+                                "The steady flow over Beverloo's: the figure to compare with the law, which \
+                                 is for a bed deeper than the opening. Frictional, rolling-resistant spheres \
+                                 give about 0.8 to 0.9 of it here.",
+                            ),
+                    );
+                }
+            }
+            None => rows.push(
+                Readout::new(
+                    "steady flow (10–45% through)",
+                    format!("waiting for {low:.0}% to {high:.0}% through…"),
+                )
+                .help(STEADY_HELP),
+            ),
+        }
         rows
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::steady_flow;
+
+    #[test]
+    fn a_steady_drain_gives_its_rate_and_no_spread() {
+        // 1000 grains of 0.01 kg, 100 a second: 1 kg/s. The steady part runs from 100
+        // through (t = 1 s) to 450 (t = 4.5 s).
+        let record: Vec<(f64, usize)> =
+            (0..=100_u32).map(|k| (f64::from(k) * 0.1, k as usize * 10)).collect();
+        let steady = steady_flow(&record, 1000, 0.01).unwrap();
+        assert!((steady.flow - 1.0).abs() < 1e-5, "{steady:?}");
+        assert!(steady.spread < 1e-5, "{steady:?}");
+        assert!((steady.from - 1.0).abs() < 1e-9 && (steady.to - 4.5).abs() < 1e-9, "{steady:?}");
+    }
+
+    #[test]
+    fn the_spread_is_that_of_each_seconds_flow_and_a_short_drain_has_none() {
+        // Seconds of 80 and 120 grains a second in turn, 800 grains: the steady part
+        // runs from 80 through (t = 1 s) to 360, whole seconds of 120 and 80 a second,
+        // spread 20; the fit's slope is near their mean.
+        let mut record = vec![(0.0, 0)];
+        let mut n = 0;
+        for k in 1..=100 {
+            n += if (k - 1) / 10 % 2 == 0 { 8 } else { 12 };
+            record.push((f64::from(k) * 0.1, n));
+        }
+        let steady = steady_flow(&record, 800, 1.0).unwrap();
+        assert!((steady.flow - 100.0).abs() < 2.0, "{steady:?}");
+        assert!((steady.spread - 20.0).abs() < 1e-3, "{steady:?}");
+        // Under a second of steady part: nothing yet.
+        assert_eq!(steady_flow(&record[..25], 100, 1.0), None);
     }
 }

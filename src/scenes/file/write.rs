@@ -459,6 +459,9 @@ steps = 1200
 trails = false
 color_by_speed = true
 gravity = "g * 2"
+solver = "paper"
+substeps = 8
+integrator = "rk4"
 
 [[param]]
 name = "h"
