@@ -126,3 +126,17 @@ fn the_exact_answer_plot_breaks_between_rounds() {
     let series: Vec<(f64, f32)> = lab.energy.iter().map(|s| (s.t, s.exact_error)).collect();
     assert_eq!(segments(&series).count(), 2, "one line per round");
 }
+
+/// The zero height of gravitational energy is said to the figures a panel shows
+/// (issue 37: the hourglass said "y = -5.1552753 m"), and a round height stays round;
+/// the bars themselves use the full height.
+#[test]
+fn the_zero_height_is_said_to_four_figures() {
+    let hourglass = Lab::new("hourglass", &[]).unwrap();
+    let (height, said) = hourglass.gravity_from();
+    assert!((height + 5.155_275).abs() < 1e-5, "{height}");
+    assert_eq!(said, "the basin's floor (y = -5.155 m)");
+    let (height, said) = Lab::new("pendulum", &[]).unwrap().gravity_from();
+    assert_eq!(height, 0.5);
+    assert!(said.ends_with("(y = 0.5 m)"), "{said}");
+}

@@ -195,6 +195,12 @@ pub fn starting_cloud(count: usize, radius: f32, width: f32, seed: u64) -> Vec<V
     positions
 }
 
+/// A flow as the panel shows it: to the 4 significant figures a second's count of
+/// grains supports (3388 kg/s, not 3387.6196); `simulate` prints every digit.
+fn sig(flow: f32) -> String {
+    super::runs::significant(f64::from(flow), super::runs::FIGURES)
+}
+
 /// What the steady flow is and how it is measured.
 const STEADY_HELP: &str = "Measured: the least-squares slope of the mass through the opening against time, \
     sampled every 0.1 s, from when a tenth of the grains had passed until 45% had: the bed is then still \
@@ -463,7 +469,7 @@ impl Scene for Hourglass {
                  grain diameters above the floor, at its densest so far. Random close packing of \
                  equal spheres is about 0.64.",
             ),
-            Readout::new("Beverloo's flow", format!("{beverloo:.4} kg/s")).with("beverloo_kg_s", beverloo).help(
+            Readout::new("Beverloo's flow", format!("{} kg/s", sig(beverloo))).with("beverloo_kg_s", beverloo).help(
                 "Beverloo's law for a silo's steady mass flow: W = C ρ_b √g (D − k d)^(5/2), with C = 0.58, \
                  k = 1.5, ρ_b the bed's density (packing × the grains' density), D the opening, d a \
                  grain's diameter. An empirical law for a deep bed: it leaves out the bed's height \
@@ -473,7 +479,7 @@ impl Scene for Hourglass {
         match self.flow() {
             Some(flow) => {
                 rows.push(
-                    Readout::new("flow (last 1 s)", format!("{flow:.4} kg/s"))
+                    Readout::new("flow (last 1 s)", format!("{} kg/s", sig(flow)))
                         .with("flow_kg_s", flow)
                         .help(FLOW_HELP),
                 );
@@ -499,8 +505,11 @@ impl Scene for Hourglass {
                     Readout::new(
                         "steady flow (10–45% through)",
                         format!(
-                            "{:.4} ± {:.4} kg/s over {:.1}–{:.1} s",
-                            steady.flow, steady.spread, steady.from, steady.to
+                            "{} ± {} kg/s over {:.1}–{:.1} s",
+                            sig(steady.flow),
+                            sig(steady.spread),
+                            steady.from,
+                            steady.to
                         ),
                     )
                     .with("steady_flow_kg_s", steady.flow)

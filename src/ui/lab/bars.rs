@@ -11,7 +11,17 @@ impl Lab {
     #[must_use]
     pub fn gravity_from(&self) -> (f32, String) {
         match self.scene.gravity_reference() {
-            Some((height, name)) => (height, format!("{name} (y = {height} m)")),
+            // The height to 4 significant figures, as the panel shows a measurement
+            // (-5.155 m, not -5.1552753); the bars are computed from the full value.
+            Some((height, name)) => {
+                let mut shown =
+                    crate::scenes::runs::significant(f64::from(height), crate::scenes::runs::FIGURES);
+                if shown.contains('.') && !shown.contains('e') {
+                    // A height is a place, not a measurement: 0.5 m, not 0.5000 m.
+                    shown = shown.trim_end_matches('0').trim_end_matches('.').to_string();
+                }
+                (height, format!("{name} (y = {shown} m)"))
+            }
             None => (0.0, "the ground (y = 0)".into()),
         }
     }
