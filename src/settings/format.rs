@@ -45,7 +45,7 @@ pub struct Settings {
     /// Its parameter values by name; a parameter missing here takes its default.
     pub params: BTreeMap<String, f32>,
     /// Solver, substeps and integrator.
-    pub solver: SolverChoice,
+    pub solver: SavedSolver,
     /// Physics steps per simulated second (Hz), 30 to 1000.
     pub physics_rate: f32,
     /// Simulated seconds per real second, 0.05 to 4.
@@ -63,7 +63,7 @@ pub struct Settings {
 /// The solver choice, by the names the command line takes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SolverChoice {
+pub struct SavedSolver {
     /// `soft` or `paper`.
     pub kind: String,
     /// Substeps of the soft solver, 1 to 64.
@@ -236,7 +236,7 @@ impl Settings {
             scene: lab.entry.info().name.to_string(),
             scene_file: scene_file_of(&lab.entry),
             params: lab.scene.params().iter().map(|(param, value)| (param.name.to_string(), value)).collect(),
-            solver: SolverChoice {
+            solver: SavedSolver {
                 kind: solver.kind.name().to_string(),
                 substeps: solver.substeps,
                 integrator: solver.integrator.name().to_string(),

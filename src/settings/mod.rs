@@ -41,7 +41,7 @@ mod store;
 /// The side panel's saved layout (the settings file's `panel`).
 pub use crate::ui::layout::PanelLayout as PanelSettings;
 pub use format::{
-    CameraSettings, DEFAULT_SCENE, DEFAULT_WINDOW, MAX_WINDOW_SIDE, MIN_WINDOW, Settings, SolverChoice,
+    CameraSettings, DEFAULT_SCENE, DEFAULT_WINDOW, MAX_WINDOW_SIDE, MIN_WINDOW, SavedSolver, Settings,
     VERSION, ViewSettings, WindowSize,
 };
 pub use launch::{Launch, LinkRate, Opened, open};

@@ -57,7 +57,9 @@ pub fn ui(ui: &mut egui::Ui, table: &Table<'_>, predictions: bool) {
         let mut choice: Choice = ui.data(|d| d.get_temp(id)).unwrap_or_default();
         if !predictions {
             // A predicted column chosen before the predictions were hidden is dropped.
-            let predicted = |key: Option<&str>| key.is_some_and(|k| k.contains("predicted"));
+            let predicted = |key: Option<&str>| {
+                key.and_then(|k| table.column(k)).is_some_and(|c| table.columns[c].is_prediction())
+            };
             if predicted(choice.x) {
                 choice.x = None;
             }
