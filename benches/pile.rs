@@ -24,9 +24,13 @@
 //! dropped one by one on open ground, and the heap's angle of repose is measured on
 //! their positions with `pile::angle_of_repose`.
 //!
+//! Before the settled piles, each size is also timed while its contacts form (see
+//! [`forming`]): fresh piles from the drop, steps 90 to 180 timed in turn, sleeping off.
+//!
 //! `cargo bench --bench pile --features peer -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`; `PILE_SIZES=1000,8000` picks the sizes (`PILE_SIZES=` none: the
-//! pour only); `PILE_POUR=0` skips the pour; `PILE_PROFILE=1` prints where each
+//! pour only); `PILE_POUR=0` skips the pour; `PILE_FORMING=0` skips the piles while
+//! their contacts form and `PILE_SETTLED=0` the settled piles; `PILE_PROFILE=1` prints where each
 //! engine's last step went and its fastest sphere. Without the feature only particle-lab
 //! runs. In test mode (`cargo test --benches`) a 300-sphere pile and a 60-sphere pour
 //! check the plumbing in a few seconds.
@@ -73,10 +77,14 @@ struct Plan {
     resettle: usize,
     /// Rounds of our own timing after criterion's measurements (see [`time_in_turn`]).
     rounds: usize,
+    /// Steps from the drop at which the contacts-forming timing starts and ends (see
+    /// [`forming`]).
+    forming: (usize, usize),
 }
 
-const FULL: Plan = Plan { settle_min: 150, settle_max: 600, rest: 60, resettle: 60, rounds: 10 };
-const QUICK: Plan = Plan { settle_min: 20, settle_max: 40, rest: 2, resettle: 5, rounds: 1 };
+const FULL: Plan =
+    Plan { settle_min: 150, settle_max: 600, rest: 60, resettle: 60, rounds: 10, forming: (88, 180) };
+const QUICK: Plan = Plan { settle_min: 20, settle_max: 40, rest: 2, resettle: 5, rounds: 1, forming: (3, 7) };
 
 /// Steps each engine takes in a round of our own timing, timed after one untimed step.
 const BLOCK: u64 = 3;
@@ -202,6 +210,56 @@ fn settle(pool: &ThreadPool, engine: &mut dyn Engine, n: usize, width: f32, plan
         start.elapsed().as_secs_f32(),
         engine.asleep()
     );
+}
+
+/// The pile while its contacts form: fresh piles (particle-lab, lab rr 0.1 and rapier3d
+/// from the same grid, sleeping off) stepped on each pool from the drop to
+/// `plan.forming.0` untimed (by step 88 the lowest layers have landed and the ones above
+/// are landing on them), then to `plan.forming.1` timed in turn (see
+/// [`time_in_turn`]), each pile measured at the end. The set-up of issue 39's check
+/// (steps 90 to 180, both engines awake); the piles are built again for each pool so
+/// that every thread count times the same steps. Prints one `forming:` line per engine
+/// and pool, with the ratio to particle-lab on the others.
+fn forming(pools: &[(usize, Arc<ThreadPool>)], n: usize, plan: Plan) {
+    let width = width_for(n);
+    let (from, to) = plan.forming;
+    let rounds = (to - from) / (BLOCK as usize + 1);
+    for (threads, pool) in pools {
+        let mut engines: Vec<Box<dyn Engine>> = vec![
+            Box::new(Lab::new(n, width, 0.0, LAB)),
+            Box::new(Lab::new(n, width, DEFAULT_ROLLING_RESISTANCE, "lab rr 0.1")),
+        ];
+        #[cfg(feature = "peer")]
+        engines.push(Box::new(peer::Rapier::new(&pile::starting_grid(n, RADIUS, width), width)));
+        for engine in &mut engines {
+            engine.set_sleep(false);
+            run(pool, engine.as_mut(), from as u64);
+        }
+        let round_trip = core_round_trip_ns();
+        let timed = time_in_turn(pool, &mut engines, rounds);
+        let lab_ms = median(timed[0].iter().map(|t| t.as_secs_f32() * 1000.0).collect());
+        for (engine, times) in engines.iter().zip(&timed) {
+            let ms = median(times.iter().map(|t| t.as_secs_f32() * 1000.0).collect());
+            let (positions, velocities) = engine.state();
+            let q = quality(&positions, &velocities, width);
+            let ratio = if engine.name() == LAB { String::from("-") } else { format!("{:.2}", ms / lab_ms) };
+            eprintln!(
+                "forming: {} n={n} threads={threads} steps {from}-{}: {ms:.3} ms/step (median of {}), ratio to \
+                 {LAB} {ratio}; then median speed {:.4} m/s, fastest {:.2} m/s, deepest overlap {:.2} mm, {} \
+                 escaped, {} asleep; load {}, rt {} ns",
+                engine.name(),
+                from + rounds * (BLOCK as usize + 1),
+                times.len(),
+                q.median_speed,
+                q.max_speed,
+                q.deepest_overlap * 1000.0,
+                q.escaped,
+                engine.asleep(),
+                load_average().map_or_else(|| "-".into(), |l| format!("{l:.1}")),
+                round_trip.map_or_else(|| "-".into(), |ns| format!("{ns:.0}"))
+            );
+        }
+    }
 }
 
 /// particle-lab's pile scene.
@@ -646,9 +704,17 @@ fn main() {
         pour_all(widest, if testing { 60 } else { POURED });
     }
 
+    if std::env::var("PILE_FORMING").map_or(true, |v| v != "0") {
+        for &n in &sizes {
+            forming(&pools, n, plan);
+        }
+    }
+    let settled_sizes =
+        if std::env::var("PILE_SETTLED").is_ok_and(|v| v == "0") { &[][..] } else { &sizes[..] };
+
     let mut criterion = Criterion::default().configure_from_args();
     let mut rows = Vec::new();
-    for &n in &sizes {
+    for &n in settled_sizes {
         let width = width_for(n);
         let mut engines: Vec<Box<dyn Engine>> = vec![
             Box::new(Lab::new(n, width, 0.0, LAB)),

@@ -9,7 +9,8 @@
 #   BENCH_QUICK=1      as --quick
 #   BENCH_PEER=0       leave rapier3d out (no `--features peer`): particle-lab alone
 #   BENCH_OUT=FILE     write the page there instead of docs/benchmarks.md
-#   PILE_SIZES, PILE_POUR, PILE_PROFILE are passed on to benches/pile.rs
+#   PILE_SIZES, PILE_POUR, PILE_FORMING, PILE_SETTLED, PILE_PROFILE are passed on to
+#                      benches/pile.rs
 #
 # Everything the benches print is kept in target/bench-run/ (logs and criterion's
 # estimates) beside the page made from it.
@@ -66,6 +67,8 @@ fi
     echo "load_before=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null)"
     echo "pile_sizes=${PILE_SIZES:-1000,8000,10000,100000}"
     echo "pile_pour=${PILE_POUR:-1}"
+    echo "pile_forming=${PILE_FORMING:-1}"
+    echo "pile_settled=${PILE_SETTLED:-1}"
     echo "pile_args=${timing[*]}"
     echo "step_args=${step_timing[*]}"
     echo "render_args=${render_timing[*]}"
@@ -141,6 +144,19 @@ for line in pile_log:
     if m:
         falling.append(m.groups())
 
+# The piles while their contacts form (benches/pile.rs's `forming`), one line per
+# engine and thread count.
+forming = []
+for line in pile_log:
+    m = re.match(r"forming: (.+?) n=(\d+) threads=(\d+) steps (\d+)-(\d+): ([\d.]+) ms/step \(median of (\d+)\), "
+                 r"ratio to particle-lab ([\d.-]+); then median speed ([\d.]+) m/s, fastest ([\d.]+) m/s, "
+                 r"deepest overlap ([\d.]+) mm, (\d+) escaped, (\d+) asleep; load ([\d.-]+), rt ([\d-]+) ns", line)
+    if m:
+        engine, n, thr, first, last, ms_step, count, ratio, med, fast, overlap, escaped, asleep, load, rt = m.groups()
+        forming.append(dict(engine=engine, n=int(n), threads=int(thr), steps=f"{first}–{last}", ms=float(ms_step),
+                            count=count, ratio=ratio, median=med, fastest=fast, overlap=overlap,
+                            escaped=escaped, asleep=asleep, load=load, rt=rt))
+
 pours = []
 for line in pile_log:
     m = re.match(r"pour: (.+?)\s+(\d+) spheres, angle of repose ([\d.]+)°, settled ([\d.]+) s after the last "
@@ -206,6 +222,29 @@ w("each step time is the median of 30 steps timed with the engines in turn, and 
 w("is measured on its positions afterwards. *rapier3d ÷ particle-lab* above 1 means particle-lab")
 w("is faster.")
 w("")
+if forming:
+    w("### While the contacts form")
+    w("")
+    w("Fresh piles from the drop, every sphere awake (sleeping off), stepped untimed to step 88 (the")
+    w("lowest layers have landed, the ones above are landing on them), then timed in turn to step 180 (23 rounds of 4 steps, 3 timed):")
+    w("the set-up of issue 39's check (steps 90 to 180). Each time is the median of the timed steps; the quality is the")
+    w("pile's at the end.")
+    w("")
+    w("| Spheres | Threads | Steps | particle-lab | rapier3d | rapier3d ÷ particle-lab | lab rr 0.1 | deepest overlap (mm) lab / rapier3d | median speed (m/s) lab / rapier3d | escaped lab / rapier3d |")
+    w("|---|---|---|---|---|---|---|---|---|---|")
+    for key in sorted({(r["n"], r["threads"]) for r in forming}):
+        by = {r["engine"]: r for r in forming if (r["n"], r["threads"]) == key}
+        lab, rap, rr = by.get("particle-lab"), by.get("rapier3d"), by.get("lab rr 0.1")
+        cell = lambda r: f"{r['ms']:.3g} ms" if r else "—"
+        pick = lambda r, k: r[k] if r else "—"
+        ratio = rap["ratio"] + "×" if rap else "—"
+        steps = pick(lab, "steps")
+        w(f"| {key[0]:,} | {key[1]} | {steps} | {cell(lab)} | {cell(rap)} | {ratio} | {cell(rr)} | "
+          f"{pick(lab, 'overlap')} / {pick(rap, 'overlap')} | {pick(lab, 'median')} / {pick(rap, 'median')} | "
+          f"{pick(lab, 'escaped')} / {pick(rap, 'escaped')} |")
+    w("")
+    w("### Settled")
+    w("")
 if rows:
     w("| Spheres | Sleeping | Threads | particle-lab | rapier3d | rapier3d ÷ particle-lab | lab rr 0.1 | deepest overlap (mm) lab / rapier3d | median speed (m/s) lab / rapier3d |")
     w("|---|---|---|---|---|---|---|---|---|")

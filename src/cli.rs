@@ -27,7 +27,7 @@ pub use export::ExportArgs;
 pub use fit::FitArgs;
 pub use flags::{MAX_STEPS, SolverArgs};
 pub use link::{LinkArgs, OpenArgs};
-pub use list::{Format, list_scenes};
+pub use list::{Format, about_scene, list_scenes};
 pub use render::{MAX_IMAGE_SIDE, RenderArgs, render};
 pub use simulate::{CSV_HEADER, RunPlan, SimulateArgs, StateFormat, prepare, simulate};
 
@@ -63,6 +63,10 @@ pub enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
+        /// Print the page on a scene's physics (the window's Help > About this scene)
+        /// instead of the list
+        #[arg(long, value_name = "SCENE")]
+        about: Option<String>,
     },
     /// Run a scene headless and print its state as JSON Lines.
     Simulate(SimulateArgs),

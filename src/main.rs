@@ -26,7 +26,14 @@ fn main() -> ExitCode {
     cli::setup::plain_panics();
     let args = cli::parse();
     match args.command {
-        Some(Command::Scenes { format }) => {
+        Some(Command::Scenes { about: Some(name), .. }) => match cli::about_scene(&name) {
+            Ok(page) => {
+                print!("{page}");
+                ExitCode::SUCCESS
+            }
+            Err(message) => usage_error(&message),
+        },
+        Some(Command::Scenes { format, about: None }) => {
             finish(cli::list_scenes(format, &mut io::stdout().lock()).map(Ok))
         }
         Some(Command::Simulate(simulate)) => match cli::prepare(&simulate) {

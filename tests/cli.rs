@@ -28,6 +28,7 @@ fn scenes_lists_every_scene_in_text_and_json() {
         "pendulum",
         "cradle",
         "hourglass",
+        "heap",
         "chain",
         "cloth",
         "platform",
@@ -39,7 +40,7 @@ fn scenes_lists_every_scene_in_text_and_json() {
     assert!(json.status.success());
     let list: Value = serde_json::from_slice(&json.stdout).unwrap();
     let list = list.as_array().unwrap();
-    assert_eq!(list.len(), 11, "seven compiled scenes and four shipped files");
+    assert_eq!(list.len(), 12, "eight compiled scenes and four shipped files");
     let projectile = list.iter().find(|s| s["name"] == "projectile").unwrap();
     let g = projectile["params"].as_array().unwrap().iter().find(|p| p["name"] == "g").unwrap();
     assert_eq!(g["default"], 9.81, "Earth's g (issue 37)");

@@ -113,7 +113,7 @@ fn the_window_reloads_an_edited_scene_file_and_keeps_it_through_a_bad_edit() {
         )
     );
 
-    // Scene menu -> cloth (file): the second file, under the seven compiled scenes (a
+    // Scene menu -> cloth (file): the second file, under the eight compiled scenes (a
     // menu row is 23 pixels high).
     let window = Command::new("xdotool")
         .env("DISPLAY", &name)
@@ -131,6 +131,6 @@ fn the_window_reloads_an_edited_scene_file_and_keeps_it_through_a_bad_edit() {
         std::thread::sleep(Duration::from_millis(600));
     };
     click("58", "12");
-    click("72", "232");
+    click("72", "255");
     wait_for_log(&log, "scene: cloth");
 }

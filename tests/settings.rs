@@ -333,7 +333,7 @@ fn every_kind_of_unusable_file_is_set_aside_with_one_warning() {
             "solver.substeps = 0 is out of range; valid range: 1 to 64",
         ),
         (with("/physics_rate", json!(5000.0)).into_bytes(), "physics_rate = 5000 is out of range"),
-        (with("/physics_rate", json!(1e300)).into_bytes(), "number out of range at line 31"),
+        (with("/physics_rate", json!(1e300)).into_bytes(), "number out of range at line 32"),
         (with("/time_scale", json!(0.0)).into_bytes(), "time_scale = 0 is out of range"),
         (with("/camera/pitch", json!(3.0)).into_bytes(), "camera.pitch = 3 is out of range"),
         (with("/camera/distance", json!(-1.0)).into_bytes(), "camera.distance = -1 is out of range"),

@@ -12,16 +12,24 @@ use common::Random;
 const STEPS: u32 = 100_000;
 const EVERY: u32 = 50;
 
-/// The slider range the soak draws from: the parameter's own, except the pile's and
-/// the hourglass's grain counts, held to 400 so that 100,000 steps fit in a test run
+/// The slider range the soak draws from: the parameter's own, except the pile's, the
+/// hourglass's and the heap's grain counts, held to 400 so that 100,000 steps fit in a test run
 /// (their cost is per sphere; the other parameters still go over their whole range).
 fn range(scene: &str, name: &str, min: f32, max: f32) -> (f32, f32) {
-    if matches!(scene, "pile" | "hourglass") && name == "count" { (min, max.min(400.0)) } else { (min, max) }
+    if matches!(scene, "pile" | "hourglass" | "heap") && name == "count" {
+        (min, max.min(400.0))
+    } else {
+        (min, max)
+    }
 }
 
 fn soak(name: &str, seed: u64) {
     let entry = scenes::find(name).unwrap();
-    let start = if matches!(name, "pile" | "hourglass") { vec!["count=300".to_string()] } else { Vec::new() };
+    let start = if matches!(name, "pile" | "hourglass" | "heap") {
+        vec!["count=300".to_string()]
+    } else {
+        Vec::new()
+    };
     let mut lab = Lab::new(name, &start).unwrap();
     // The projectile's first round, as a headless run fires it at step 0.
     lab.fire_at_start();
@@ -102,6 +110,11 @@ fn hourglass_soaks() {
 }
 
 #[test]
+fn heap_soaks() {
+    soak("heap", 12);
+}
+
+#[test]
 fn the_chain_file_soaks() {
     soak("chain", 7);
 }
@@ -131,6 +144,7 @@ fn every_compiled_scene_and_shipped_file_is_soaked() {
         "pendulum",
         "cradle",
         "hourglass",
+        "heap",
         "chain",
         "cloth",
         "platform",

@@ -73,6 +73,14 @@ const PINNED: &[(&str, &str, &str, &str)] = &[
     ("hourglass", "paper", "semi-implicit-euler", "72c2f7c4a51f9b17"),
     ("hourglass", "paper", "verlet", "aeed0f8401cddc8d"),
     ("hourglass", "paper", "rk4", "91739d059a59c182"),
+    ("heap", "soft", "explicit-euler", "118ef3b7422f1476"),
+    ("heap", "soft", "semi-implicit-euler", "6e30dce1457c4825"),
+    ("heap", "soft", "verlet", "901020650548acec"),
+    ("heap", "soft", "rk4", "1b881f75cbb5184d"),
+    ("heap", "paper", "explicit-euler", "affd3fa250cb434d"),
+    ("heap", "paper", "semi-implicit-euler", "25f24614b7b4ddfd"),
+    ("heap", "paper", "verlet", "174e2e61889eed2a"),
+    ("heap", "paper", "rk4", "d475c369fc415de9"),
     ("chain", "soft", "explicit-euler", "59a83926495f9028"),
     ("chain", "soft", "semi-implicit-euler", "a029b50abf748c6d"),
     ("chain", "soft", "verlet", "df264b0425a31246"),
@@ -108,9 +116,9 @@ const PINNED: &[(&str, &str, &str, &str)] = &[
 ];
 
 /// Parameters a scene is pinned with where its defaults would make the table slow: the
-/// hourglass with 1,000 grains (its default is 4,000).
+/// hourglass and the heap with 1,000 grains (their defaults are 4,000 and 1,500).
 fn pinned_with(scene: &str) -> Vec<String> {
-    if scene == "hourglass" { vec!["count=1000".into()] } else { Vec::new() }
+    if matches!(scene, "hourglass" | "heap") { vec!["count=1000".into()] } else { Vec::new() }
 }
 
 fn run(scene: &str, kind: SolverKind, integrator: Integrator) -> String {

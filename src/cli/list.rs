@@ -22,6 +22,16 @@ fn listed() -> impl Iterator<Item = &'static scenes::SceneEntry> {
     SCENES.iter().chain(scenes::file::shipped())
 }
 
+/// `scenes --about NAME`: the scene's page on its physics as plain text (a scene file's
+/// summary above the page shared by files), or why there is none.
+pub fn about_scene(name: &str) -> Result<String, String> {
+    let info = scenes::find(name)?.info();
+    Ok(match scenes::about::page(&info.name) {
+        Some(page) => page.text(),
+        None => format!("{}: {}\n\n{}", info.name, info.summary, scenes::about::FILE_PAGE.text()),
+    })
+}
+
 /// Runs `scenes`.
 pub fn list_scenes(format: Format, out: &mut impl Write) -> io::Result<()> {
     match format {

@@ -180,13 +180,13 @@ impl Scene for Bridge {
         let fastest = p.velocity.iter().map(|v| v.length()).fold(0.0, f32::max);
         let penetration = self.world.last_report().max_penetration;
         vec![
-            Readout::new("lowest deck point", format!("{lowest:.3} m"))
+            Readout::new("lowest deck point", super::readout::shown(lowest, "m"))
                 .with("lowest_m", lowest)
                 .help("Height of the lowest particle: how far the load makes the deck sag"),
-            Readout::new("fastest particle", format!("{fastest:.4} m/s"))
+            Readout::new("fastest particle", super::readout::shown(fastest, "m/s"))
                 .with("fastest_m_s", fastest)
                 .help("Speed of the fastest particle: near zero once the bridge has settled under its load"),
-            Readout::new("max penetration left", format!("{penetration:.5} m"))
+            Readout::new("max penetration left", super::readout::shown(penetration * 1000.0, "mm"))
                 .with("max_penetration_m", penetration)
                 .help(
                     "The largest overlap or rod-length error the solver left after its last step: its \

@@ -24,11 +24,13 @@ macro_rules! scene_basics {
     };
 }
 
+pub mod about;
 mod bridge;
 mod cradle;
 pub mod file;
 pub mod ghost;
 mod granular;
+pub mod heap;
 pub mod hourglass;
 pub mod launcher;
 mod params;
@@ -470,6 +472,7 @@ pub static SCENES: &[SceneEntry] = &[
     pendulum::ENTRY,
     cradle::ENTRY,
     hourglass::ENTRY,
+    heap::ENTRY,
 ];
 
 /// Looks a scene up by name, forgiving case, `-` and `_` (so `spring-forces` works):

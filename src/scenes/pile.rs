@@ -245,16 +245,16 @@ impl Scene for Pile {
             Readout::new("spheres", spheres.to_string())
                 .with("spheres", spheres as f32)
                 .help("Spheres poured into the box, all of one size"),
-            Readout::new("median speed", format!("{:.4} m/s", quality.median_speed))
+            Readout::new("median speed", super::readout::shown(quality.median_speed, "m/s"))
                 .with("median_speed_m_s", quality.median_speed)
                 .help(
                     "Half the spheres move slower than this. A settled pile is near zero; a solver that \
                      leaves the pile boiling shows here first.",
                 ),
-            Readout::new("fastest sphere", format!("{:.3} m/s", quality.max_speed))
+            Readout::new("fastest sphere", super::readout::shown(quality.max_speed, "m/s"))
                 .with("fastest_m_s", quality.max_speed)
                 .help("The speed of the fastest sphere"),
-            Readout::new("deepest overlap", format!("{:.4} m", quality.deepest_overlap))
+            Readout::new("deepest overlap", super::readout::shown(quality.deepest_overlap * 1000.0, "mm"))
                 .with("deepest_overlap_m", quality.deepest_overlap)
                 .help(
                     "How far the deepest pair of spheres (or a sphere and a wall or the ground) sink into \

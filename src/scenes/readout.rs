@@ -19,6 +19,15 @@ pub struct Readout {
     pub help: &'static str,
 }
 
+/// A measured value as a read-out shows it, with its unit: to the significant figures a
+/// measurement supports (4, [`FIGURES`](super::runs::FIGURES)), where `simulate` and the
+/// table's CSV keep every digit. `shown(0.000_213_7, "m/s")` is "0.0002137 m/s".
+#[must_use]
+pub fn shown(value: f32, unit: &str) -> String {
+    let number = super::runs::significant(f64::from(value), super::runs::FIGURES);
+    if unit.is_empty() { number } else { format!("{number} {unit}") }
+}
+
 impl Readout {
     /// A row with no numbers yet: add them with [`Readout::with`].
     #[must_use]
@@ -76,6 +85,21 @@ mod tests {
         assert_eq!(row.values[0], ("peak_m", 1.1));
         assert_eq!(row.values[1].1 as f32, 0.1_f32 + 0.2);
         assert_eq!(row.values[1].1.to_string(), (0.1_f32 + 0.2).to_string());
+    }
+
+    #[test]
+    fn a_shown_value_has_four_significant_figures_and_its_unit() {
+        assert_eq!(shown(0.000_213_7, "m/s"), "0.0002137 m/s");
+        assert_eq!(shown(-5.155_275_3, "m"), "-5.155 m");
+        assert_eq!(shown(3512.0625, "kg/s"), "3512 kg/s");
+        assert_eq!(shown(0.0, "m"), "0 m");
+        assert_eq!(shown(0.5, ""), "0.5000");
+        // The number reads back to within half a unit of its last figure.
+        for x in [1.234_567_f32, 98.765_43, 0.012_345_67] {
+            let back: f32 = shown(x, "").parse().expect("a number");
+            let last = 10f32.powi(x.log10().floor() as i32 - 3);
+            assert!((back - x).abs() <= 0.5 * last * 1.0001, "{x} shown as {back}");
+        }
     }
 
     #[test]

@@ -60,6 +60,8 @@ pub struct PanelLayout {
     pub open: bool,
     /// The Controls window is open (F1).
     pub help: bool,
+    /// The About this scene window is open (Help > About this scene).
+    pub about: bool,
     /// The Inspector section is expanded (it opens by itself when a particle is picked).
     pub inspector: bool,
     /// The Run section is expanded.
@@ -89,6 +91,7 @@ impl Default for PanelLayout {
         Self {
             open: true,
             help: false,
+            about: false,
             inspector: true,
             run: true,
             parameters: true,

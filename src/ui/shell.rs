@@ -77,7 +77,14 @@ impl LabUi {
         lab.poll_scene_file();
         // The text size is the layout's (saved with the settings): egui's own Ctrl+= is
         // off, and the keys table's Ctrl+= / Ctrl+- step it instead.
-        ui.ctx().options_mut(|options| options.zoom_with_keyboard = false);
+        ui.ctx().options_mut(|options| {
+            options.zoom_with_keyboard = false;
+            options.theme_preference = crate::ui::style::THEME;
+        });
+        let visuals = crate::ui::style::visuals();
+        if ui.ctx().style_of(egui::Theme::Dark).visuals != visuals {
+            ui.ctx().set_visuals_of(egui::Theme::Dark, visuals);
+        }
         keys::handle(ui.ctx(), lab, &mut self.layout);
         let zoom = self.layout.zoom();
         if (ui.ctx().zoom_factor() - zoom).abs() > 1e-4 {
@@ -115,6 +122,7 @@ impl LabUi {
             self.energy.plot = None;
         }
         self.help.show(ui.ctx(), &mut self.layout);
+        self.help.show_about(ui.ctx(), &mut self.layout, lab.entry.info());
         // A file asked for by its key (Ctrl+O, Ctrl+S), as the File menu's item does.
         if let Some(purpose) = lab.requests.file.take() {
             self.menu.file.asked(purpose, lab);

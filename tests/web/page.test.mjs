@@ -344,6 +344,22 @@ try {
         const got = await open(page, `?scene=${scene}&steps=${STEPS[scene]}&gpu=${gpu}`, STEPS[scene]);
         if (first) {
           console.log(`     ${gpu}: first frame of the first page in ${got.ms} ms`);
+          // A title, an icon (not the browser's blank), and a focus the keyboard can see.
+          const head = await page.evaluate(() => ({
+            title: document.title,
+            icon: (document.querySelector('link[rel~="icon"]') || { href: '' }).href,
+          }));
+          check(head.title.startsWith('particle-lab') && head.icon.startsWith('data:image/svg+xml'),
+            `${gpu}: the page has a title and an icon`, JSON.stringify(head).slice(0, 80));
+          await page.evaluate(() => document.activeElement && document.activeElement.blur());
+          await page.keyboard.press('Tab');
+          const focus = await page.evaluate(() => {
+            const element = document.activeElement;
+            const style = getComputedStyle(element);
+            return { id: element.id, outline: style.outlineStyle, width: parseFloat(style.outlineWidth) };
+          });
+          check(focus.id === 'lab' && focus.outline !== 'none' && focus.width >= 2,
+            `${gpu}: Tab reaches the lab, and its focus shows`, JSON.stringify(focus));
           check(got.ms < 30000, `${gpu}: the first page draws within 30 s`, `${got.ms} ms`);
           first = false;
         }

@@ -1,5 +1,6 @@
 //! The Controls window (Help → Controls, F1): every key and mouse control, listed from
-//! the same table the key handler reads.
+//! the same table the key handler reads; and the About this scene window, the open
+//! scene's page on its physics ([`crate::scenes::about`]).
 
 use crate::ui::keys::SHORTCUTS;
 use crate::ui::layout::PanelLayout;
@@ -28,5 +29,37 @@ impl HelpWindow {
             });
         });
         layout.help = open;
+    }
+
+    /// Shows the open scene's page while `layout.about` is set: a compiled scene's own,
+    /// or a scene file's summary above the page shared by files.
+    pub fn show_about(
+        &mut self,
+        ctx: &egui::Context,
+        layout: &mut PanelLayout,
+        info: &crate::scenes::SceneInfo,
+    ) {
+        let mut open = layout.about;
+        let (page, summary) = match crate::scenes::about::page(&info.name) {
+            Some(page) => (page, None),
+            None => (&crate::scenes::about::FILE_PAGE, Some(&info.summary)),
+        };
+        egui::Window::new("About this scene").open(&mut open).default_width(460.0).resizable(true).show(
+            ctx,
+            |ui| {
+                egui::ScrollArea::vertical().max_height(ctx.content_rect().height() * 0.7).show(ui, |ui| {
+                    ui.heading(if summary.is_some() { &*info.name } else { page.title });
+                    if let Some(summary) = summary {
+                        ui.label(&**summary);
+                    }
+                    for (heading, body) in page.sections {
+                        ui.add_space(6.0);
+                        ui.label(egui::RichText::new(*heading).strong());
+                        ui.label(*body);
+                    }
+                });
+            },
+        );
+        layout.about = open;
     }
 }

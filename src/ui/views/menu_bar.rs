@@ -1,8 +1,6 @@
 //! The menu bar: File, Scene, View, the panel's toggle and Help, then the scene's
 //! name, its clock, and a warning when the physics cannot keep up.
 
-use egui::Color32;
-
 use super::file_menu::FileMenu;
 use super::scene_menu::SceneMenu;
 use super::view_menu::ViewMenu;
@@ -41,12 +39,20 @@ impl MenuBar {
                     layout.help = true;
                     ui.close();
                 }
+                if ui
+                    .button("About this scene")
+                    .on_hover_text("The physics of the scene that is open: its formulas, what they leave out, what to try")
+                    .clicked()
+                {
+                    layout.about = true;
+                    ui.close();
+                }
             });
             ui.separator();
             ui.label(egui::RichText::new(&*lab.entry.info().name).strong());
             ui.label(format!("t = {:.2} s", lab.scene.world().time()));
             if lab.paused {
-                ui.colored_label(Color32::from_rgb(240, 190, 60), "paused");
+                ui.colored_label(crate::ui::style::PAUSED_COLOR, "paused");
             }
             if let Some(note) = lab.time_scale_note() {
                 ui.colored_label(WARNING_COLOR, note).on_hover_text(

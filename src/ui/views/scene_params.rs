@@ -83,7 +83,7 @@ fn fire_button(ui: &mut egui::Ui, lab: &mut Lab) {
         return;
     };
     let text = RichText::new(format!("{}  ({})", fire.label, fire.key)).size(16.0).strong();
-    let button = egui::Button::new(text).fill(egui::Color32::from_rgb(150, 60, 30));
+    let button = egui::Button::new(text).fill(crate::ui::style::FIRE_FILL);
     let width = ui.available_width();
     if ui
         .add_sized([width, FIRE_HEIGHT], button)
