@@ -110,7 +110,8 @@ static SPRING_FORCES: Page = Page {
         ),
         (
             "Try",
-            "Quadruple k and the period halves; quadruple the mass and it doubles. Change g with \
+            "Quadruple k and the period halves; quadruple the mass and it doubles (each start of \
+             the bob is a row of the table of runs once its first period is timed). Change g with \
              the presets: the bob hangs higher on the Moon (its weight stretches the spring less) \
              and lower on Jupiter, and swings with the same period.",
         ),
@@ -173,8 +174,10 @@ static PENDULUM: Page = Page {
         ),
         (
             "Try",
-            "Release at 10°, 45° and 90° and compare the measured period with both predictions: \
-             at 10° they agree to 0.2%; at 90° the exact period is 18% longer.",
+            "Release at 10°, 45° and 90°: each release is a row of the table of runs once its \
+             first swing is timed, beside both predictions. At 10° they agree to 0.2%; at 90° the \
+             exact period is 18% longer. Plot period against angle to see the small-swing formula \
+             fail.",
         ),
         STEP,
     ],

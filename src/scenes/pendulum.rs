@@ -9,6 +9,7 @@ use std::borrow::Cow;
 
 use glam::Vec3;
 
+use super::runs::{Column, MAX_ROWS, Table};
 use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{Constraint, ParticleDesc, ParticleId, PhysicsError, ResolveReport, World};
 
@@ -41,6 +42,41 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
     Box::new(Pendulum::build(params))
 }
 
+/// The columns of a pendulum's table of runs: a row for each release of a single
+/// pendulum, once its first whole swing is timed.
+pub static RUN_COLUMNS: &[Column] = &[
+    Column { key: "length_m", heading: "L (m)", help: "Length of the rod", always: false },
+    Column {
+        key: "angle_deg", heading: "θ₀ (°)", help: "Release angle from straight down", always: true
+    },
+    Column { key: "g_m_s2", heading: "g (m/s²)", help: "Gravitational acceleration", always: false },
+    Column {
+        key: "damping",
+        heading: "damping",
+        help: "Fraction of velocity kept per second",
+        always: false,
+    },
+    Column {
+        key: "period_s",
+        heading: "period (s)",
+        help: "Measured: the first whole swing after the release, between two crossings of the vertical \
+               moving the same way",
+        always: true,
+    },
+    Column {
+        key: "period_predicted_s",
+        heading: "2π√(L/g) (s)",
+        help: "Predicted for small swings: leaves out the amplitude and damping",
+        always: true,
+    },
+    Column {
+        key: "period_exact_predicted_s",
+        heading: "exact (s)",
+        help: "Predicted for this amplitude, 4√(L/g)·K(sin(θ₀/2)): leaves out damping",
+        always: true,
+    },
+];
+
 /// The number of rods the parameters ask for.
 fn links(params: &ParamValues) -> usize {
     params.get("links").round().clamp(1.0, 5.0) as usize
@@ -60,6 +96,10 @@ struct Pendulum {
     /// vertical below the pivot moving towards +x, newest last, each placed within its
     /// step where the crossing falls; the period is the time between the two.
     crossings: [Option<f64>; 2],
+    /// Whether this release's first whole swing has been timed (and put in the table).
+    timed: bool,
+    /// The table of runs, in [`RUN_COLUMNS`].
+    runs: Vec<Vec<f64>>,
 }
 
 impl Pendulum {
@@ -89,7 +129,47 @@ impl Pendulum {
             previous = Some(bob);
         }
         let energy = world.energy();
-        Self { world, params, start_energy: energy.kinetic + energy.potential, crossings: [None; 2] }
+        Self {
+            world,
+            params,
+            start_energy: energy.kinetic + energy.potential,
+            crossings: [None; 2],
+            timed: false,
+            runs: Vec::new(),
+        }
+    }
+
+    /// The small-swing and the exact period of a single pendulum at these parameters
+    /// (s): `None` without gravity, the exact one `None` from 180°.
+    fn predicted_periods(&self) -> Option<(f32, Option<f64>)> {
+        let (length, g) = (self.params.get("length"), self.params.get("g"));
+        if links(&self.params) != 1 || g <= 0.0 {
+            return None;
+        }
+        let small = 2.0 * std::f32::consts::PI * (length / g).sqrt();
+        let amplitude = f64::from(self.params.get("angle").to_radians());
+        let exact = (amplitude.abs() < std::f64::consts::PI)
+            .then(|| crate::physics::exact::pendulum_period(f64::from(length), f64::from(g), amplitude));
+        Some((small, exact))
+    }
+
+    /// Puts this release's first timed swing in the table.
+    fn add_run(&mut self, period: f64) {
+        let Some((small, exact)) = self.predicted_periods() else { return };
+        let p = |name| f64::from(self.params.get(name));
+        let row = vec![
+            p("length"),
+            p("angle"),
+            p("g"),
+            p("damping"),
+            period,
+            f64::from(small),
+            exact.unwrap_or(f64::NAN),
+        ];
+        if self.runs.len() == MAX_ROWS {
+            self.runs.remove(0);
+        }
+        self.runs.push(row);
     }
 
     /// The bob's offset along x from the pivot (m), for a single pendulum.
@@ -131,10 +211,11 @@ impl Scene for Pendulum {
                 super::damp_all(&mut self.world, value);
                 self.params = params;
             }
-            // The chain's shape and release: start again.
+            // The chain's shape and release: start again, the table kept.
             _ => {
-                let running = std::mem::replace(self, Self::build(params));
+                let mut running = std::mem::replace(self, Self::build(params));
                 super::keep_solver(&running.world, &mut self.world);
+                self.runs = std::mem::take(&mut running.runs);
             }
         }
         Ok(())
@@ -147,13 +228,34 @@ impl Scene for Pendulum {
             if x0 < 0.0 && x1 >= 0.0 {
                 let t = t0 + f64::from(-x0 / (x1 - x0)) * (self.world.time() - t0);
                 self.crossings = [self.crossings[1], Some(t)];
+                if let (false, Some(period)) = (self.timed, self.measured_period()) {
+                    self.timed = true;
+                    self.add_run(period);
+                }
             }
         }
         Ok(report)
     }
 
     fn save_state(&self) -> serde_json::Value {
-        serde_json::json!({ "crossings": self.crossings })
+        let runs: Vec<Vec<Option<f64>>> =
+            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
+        serde_json::json!({ "crossings": self.crossings, "timed": self.timed, "runs": runs })
+    }
+
+    fn runs(&self) -> Option<Table<'_>> {
+        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+    }
+
+    fn delete_runs(&mut self, which: Option<usize>) -> bool {
+        match which {
+            Some(k) if k < self.runs.len() => {
+                self.runs.remove(k);
+            }
+            Some(_) => {}
+            None => self.runs.clear(),
+        }
+        true
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -161,15 +263,40 @@ impl Scene for Pendulum {
         struct Saved {
             #[serde(default)]
             crossings: [Option<f64>; 2],
+            // Snapshots from before the table of runs have neither.
+            #[serde(default)]
+            timed: Option<bool>,
+            #[serde(default)]
+            runs: Vec<Vec<Option<f64>>>,
         }
         // A snapshot made before the stopwatch holds null: no crossing timed yet.
-        let saved: Saved =
-            if state.get() == "null" { Saved { crossings: [None; 2] } } else { super::read_state(state)? };
+        let saved: Saved = if state.get() == "null" {
+            Saved { crossings: [None; 2], timed: None, runs: Vec::new() }
+        } else {
+            super::read_state(state)?
+        };
         let now = self.world.time();
         if saved.crossings.iter().flatten().any(|&t| !(t >= 0.0 && t <= now)) {
             return Err(format!("a stopwatch time is outside 0 to the world's {now:.3} s"));
         }
+        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
+            return Err(format!(
+                "a run has {} values; a pendulum's runs have {}",
+                row.len(),
+                RUN_COLUMNS.len()
+            ));
+        }
+        if saved.runs.len() > MAX_ROWS {
+            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
+        }
         self.crossings = saved.crossings;
+        // An old snapshot that had timed its swing already did not table it: leave it so.
+        self.timed = saved.timed.unwrap_or(self.crossings.iter().all(Option::is_some));
+        self.runs = saved
+            .runs
+            .into_iter()
+            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
+            .collect();
         Ok(())
     }
 
@@ -194,7 +321,6 @@ impl Scene for Pendulum {
         use super::Readout;
         let energy = self.world.energy();
         let change = energy.kinetic + energy.potential - self.start_energy;
-        let (length, g) = (self.params.get("length"), self.params.get("g"));
         let mut out = vec![
             Readout::new("energy since release", format!("{change:+.3} J"))
                 .with("energy_change_j", change)
@@ -203,9 +329,8 @@ impl Scene for Pendulum {
                  near zero: what it drifts by is the integrator's and the rods' error.",
                 ),
         ];
-        if links(&self.params) == 1 && g > 0.0 {
+        if let Some((period, exact)) = self.predicted_periods() {
             // Small swings only; a release far from the bottom swings more slowly.
-            let period = 2.0 * std::f32::consts::PI * (length / g).sqrt();
             out.push(
                 Readout::new("period of small swings 2π√(L/g)", format!("{period:.3} s"))
                     .with("period_predicted_s", period)
@@ -215,10 +340,7 @@ impl Scene for Pendulum {
                          the bob's size.",
                     ),
             );
-            let amplitude = f64::from(self.params.get("angle").to_radians());
-            if amplitude.abs() < std::f64::consts::PI {
-                let exact =
-                    crate::physics::exact::pendulum_period(f64::from(length), f64::from(g), amplitude);
+            if let Some(exact) = exact {
                 out.push(
                     Readout::new("period at this amplitude 4√(L/g)·K(sin θ₀/2)", format!("{exact:.3} s"))
                         .with_f64("period_exact_s", exact)

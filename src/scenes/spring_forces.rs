@@ -7,6 +7,7 @@ use std::borrow::Cow;
 use glam::{DVec3, Vec2, Vec3};
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
+use super::runs::{Column, MAX_ROWS, Table};
 use super::{
     CameraHint, Marker, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo, Water,
 };
@@ -59,6 +60,38 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
     Box::new(SpringForces::build(params).expect("parameter ranges keep every particle valid"))
 }
 
+/// The columns of springForces' table of runs: a row each time the bob's first whole
+/// period is timed after it starts (opening, or a slider that starts it again).
+pub static RUN_COLUMNS: &[Column] = &[
+    Column { key: "k_n_m", heading: "k (N/m)", help: "Spring constant", always: true },
+    Column { key: "mass_kg", heading: "m (kg)", help: "Mass of the bob", always: true },
+    Column {
+        key: "rest_length_m",
+        heading: "rest length (m)",
+        help: "The spring's rest length",
+        always: false,
+    },
+    Column { key: "g_m_s2", heading: "g (m/s²)", help: "Gravitational acceleration", always: false },
+    Column {
+        key: "damping",
+        heading: "damping",
+        help: "Fraction of velocity kept per second",
+        always: false,
+    },
+    Column {
+        key: "period_s",
+        heading: "period (s)",
+        help: "Measured: the bob's first whole period, between two turns at the bottom of its swing",
+        always: true,
+    },
+    Column {
+        key: "period_predicted_s",
+        heading: "2π√(m/k) (s)",
+        help: "Predicted: leaves out damping, which makes a swing slightly longer",
+        always: true,
+    },
+];
+
 struct SpringForces {
     world: World,
     params: ParamValues,
@@ -71,6 +104,10 @@ struct SpringForces {
     /// The stopwatch on the bob: its vertical velocity after the last step, the last
     /// time it turned at the bottom (s), and the period between the last two turns.
     stopwatch: (f32, Option<f64>, Option<f64>),
+    /// Whether the bob's first period since it started has been timed (and tabled).
+    timed: bool,
+    /// The table of runs, in [`RUN_COLUMNS`].
+    runs: Vec<Vec<f64>>,
 }
 
 impl SpringForces {
@@ -110,8 +147,17 @@ impl SpringForces {
         ))?;
         world.add_contact_generator(GroundPlane { height: 0.0, restitution: 0.2 })?;
         world.add_contact_generator(SphereCollisions::elastic(0.5))?;
-        let mut scene =
-            Self { world, params, bob, float_force, float, ghost: None, stopwatch: (0.0, None, None) };
+        let mut scene = Self {
+            world,
+            params,
+            bob,
+            float_force,
+            float,
+            ghost: None,
+            stopwatch: (0.0, None, None),
+            timed: false,
+            runs: Vec::new(),
+        };
         scene.ghost = Ghost::new(&scene.world, bob, scene.bob_motion());
         Ok(scene)
     }
@@ -128,8 +174,35 @@ impl SpringForces {
             let turn = self.world.time() - f64::from(dt) * (1.0 - fraction);
             self.stopwatch.2 = last_turn.map(|t| turn - t);
             self.stopwatch.1 = Some(turn);
+            if let (false, Some(period)) = (self.timed, self.stopwatch.2) {
+                self.timed = true;
+                self.add_run(period);
+            }
         }
         self.stopwatch.0 = vy;
+    }
+
+    /// The spring's period 2π√(m/k) (s).
+    fn predicted_period(&self) -> f32 {
+        2.0 * std::f32::consts::PI * (self.params.get("mass") / self.params.get("k")).sqrt()
+    }
+
+    /// Puts the bob's first timed period since it started in the table.
+    fn add_run(&mut self, period: f64) {
+        let p = |name| f64::from(self.params.get(name));
+        let row = vec![
+            p("k"),
+            p("mass"),
+            p("rest_length"),
+            p("g"),
+            p("damping"),
+            period,
+            f64::from(self.predicted_period()),
+        ];
+        if self.runs.len() == MAX_ROWS {
+            self.runs.remove(0);
+        }
+        self.runs.push(row);
     }
 
     /// Heights (m) of the bob's natural-length line and of its equilibrium, `m g / k`
@@ -157,6 +230,7 @@ impl SpringForces {
     /// from where the bob is, under the new parameters.
     fn restart_ghost(&mut self) {
         self.stopwatch = (0.0, None, None);
+        self.timed = false;
         let motion = self.bob_motion();
         if let Some(ghost) = &mut self.ghost {
             ghost.restart(&self.world, motion);
@@ -184,7 +258,9 @@ impl Scene for SpringForces {
     }
 
     fn save_state(&self) -> serde_json::Value {
-        serde_json::json!({ "ghost": self.ghost, "stopwatch": self.stopwatch })
+        let runs: Vec<Vec<Option<f64>>> =
+            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
+        serde_json::json!({ "ghost": self.ghost, "stopwatch": self.stopwatch, "timed": self.timed, "runs": runs })
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -192,10 +268,47 @@ impl Scene for SpringForces {
         struct Saved {
             ghost: Option<Ghost>,
             stopwatch: (f32, Option<f64>, Option<f64>),
+            // Snapshots from before the table of runs have neither.
+            #[serde(default)]
+            timed: Option<bool>,
+            #[serde(default)]
+            runs: Vec<Vec<Option<f64>>>,
         }
         let saved: Saved = super::read_state(state)?;
+        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
+            return Err(format!(
+                "a run has {} values; springForces' runs have {}",
+                row.len(),
+                RUN_COLUMNS.len()
+            ));
+        }
+        if saved.runs.len() > MAX_ROWS {
+            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
+        }
         (self.ghost, self.stopwatch) = (saved.ghost, saved.stopwatch);
+        // An old snapshot that had timed a period already did not table it: leave it so.
+        self.timed = saved.timed.unwrap_or(self.stopwatch.2.is_some());
+        self.runs = saved
+            .runs
+            .into_iter()
+            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
+            .collect();
         Ok(())
+    }
+
+    fn runs(&self) -> Option<Table<'_>> {
+        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+    }
+
+    fn delete_runs(&mut self, which: Option<usize>) -> bool {
+        match which {
+            Some(k) if k < self.runs.len() => {
+                self.runs.remove(k);
+            }
+            Some(_) => {}
+            None => self.runs.clear(),
+        }
+        true
     }
 
     fn set_param(&mut self, name: &str, value: f32) -> Result<(), ParamError> {
@@ -227,8 +340,9 @@ impl Scene for SpringForces {
             // Spring constants and lengths shape the whole scene: start it again.
             _ => {
                 let restarted = Self::build(params).expect("parameter ranges keep every particle valid");
-                let running = std::mem::replace(self, restarted);
+                let mut running = std::mem::replace(self, restarted);
                 super::keep_solver(&running.world, &mut self.world);
+                self.runs = std::mem::take(&mut running.runs);
             }
         }
         Ok(())
