@@ -102,6 +102,18 @@ fn zero_joules_is_no_bar_and_small_energies_are_shown_in_millijoules() {
     assert_eq!(joules(-0.0), "0.0 J");
     assert_eq!(joules(-0.00001), "0.0 mJ", "never -0.0");
     assert_eq!(joules(12.345), "12.3 J");
+    // A heap's kilojoules to 4 significant figures, so neighbouring bars' labels fit.
+    assert_eq!(joules(63_514.1), "63.51 kJ");
+    assert_eq!(joules(-1_666.9), "-1.667 kJ");
+    assert_eq!(joules(716_400.0), "716.4 kJ");
+    assert_eq!(joules(2_500_000.0), "2.500 MJ");
+    assert_eq!(joules(3.2e10), "3.20e10 J");
+    for e in [1_234.5f32, 98_765.4, 4_321_000.0] {
+        let (number, unit) =
+            joules(e).split_once(' ').map(|(n, u)| (n.parse::<f32>().unwrap(), u.to_string())).unwrap();
+        let scale = if unit == "kJ" { 1e3 } else { 1e6 };
+        assert!((number * scale / e - 1.0).abs() < 5e-4, "{e} shown as {}", joules(e));
+    }
     // Negative bars hang below the zero line, in proportion.
     let signed = EnergyBars { bars: vec![("gravity", -2.0), ("kinetic", 6.0)], ..bars };
     assert_eq!(signed.heights(80.0), vec![-20.0, 60.0]);

@@ -338,3 +338,53 @@ fn the_pendulums_and_springs_tables_survive_a_new_start_and_a_snapshot() {
         }
     }
 }
+
+/// The cradle's table (issue 37): each release is a row once the far end's first swing
+/// out tops out: how many balls swung out and how high, beside the elastic prediction
+/// (as many as came in, as high as they were lifted). The row's angle is checked
+/// against the printed path of the outermost ball, by the test's own arithmetic.
+#[test]
+fn a_cradles_release_is_a_row_with_the_balls_that_swung_out() {
+    for (sets, lifted) in [(vec![], 1.0), (vec!["lifted=2"], 2.0), (vec!["restitution=0.8"], 1.0)] {
+        let csv = folder("cradle").join(format!("{}.csv", sets.join("-").replace('=', "")));
+        let mut command = lab();
+        command.args(["simulate", "--scene", "cradle", "--steps", "480", "--every", "1", "--runs"]).arg(&csv);
+        for set in &sets {
+            command.args(["--set", set]);
+        }
+        let out = command.output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let rows = read_csv(&csv);
+        assert_eq!(rows.len(), 1, "{sets:?}: one release, one row");
+        let row = &rows[0];
+        let elastic = sets.is_empty() || sets == ["lifted=2"];
+        assert_eq!(
+            (row["lifted"], row["balls_out_predicted"], row["out_angle_predicted_deg"]),
+            (lifted, lifted, 30.0)
+        );
+        // The outermost ball (the fifth, under x = 0.4 m; anchors at 1.6 m) from the
+        // printed frames: the highest cable angle of its first swing out.
+        let text = String::from_utf8(out.stdout).unwrap();
+        let mut highest = 0.0f64;
+        for line in text.lines() {
+            let frame: serde_json::Value = serde_json::from_str(line).unwrap();
+            if frame["t"].as_f64().unwrap() > 1.5 {
+                break;
+            }
+            let p = &frame["particles"][4]["p"];
+            let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+            highest = highest.max((x - 0.4).atan2(1.6 - y).to_degrees());
+        }
+        assert!(
+            (row["out_angle_deg"] - highest).abs() < 0.01,
+            "{sets:?}: row {} against the path's {highest}",
+            row["out_angle_deg"]
+        );
+        if elastic {
+            assert_eq!(row["balls_out"], lifted, "{sets:?}: as many out as came in");
+            assert!((row["out_angle_deg"] - 30.0).abs() < 0.1, "{sets:?}: out to {}", row["out_angle_deg"]);
+        } else {
+            assert!(row["out_angle_deg"] < 27.0, "e 0.8 keeps less: out to {}", row["out_angle_deg"]);
+        }
+    }
+}

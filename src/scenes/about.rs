@@ -203,7 +203,12 @@ static CRADLE: Page = Page {
             "The cables' stretch and any damping. With restitution below 1 each collision keeps \
              only part of the closing speed, and the whole row soon swings together.",
         ),
-        ("Try", "Lift two balls, then three; set restitution to 0.8 and watch the swing spread."),
+        (
+            "Try",
+            "Lift two balls, then three; set restitution to 0.8 and watch the swing spread. Each \
+             release is a row of the table of runs: how many balls swung out and how high, beside \
+             the elastic prediction.",
+        ),
         STEP,
     ],
 };

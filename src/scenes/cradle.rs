@@ -10,6 +10,7 @@ use std::borrow::Cow;
 
 use glam::Vec3;
 
+use super::runs::{Column, MAX_ROWS, Table};
 use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{Constraint, ParticleDesc, PhysicsError, ResolveReport, SphereCollisions, World};
 
@@ -47,6 +48,48 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
     Box::new(Cradle::build(params))
 }
 
+/// The columns of the cradle's table of runs: a row for each release, once the far
+/// end's first swing out has reached its highest point.
+pub static RUN_COLUMNS: &[Column] = &[
+    Column { key: "balls", heading: "balls", help: "Balls in the row", always: false },
+    Column { key: "lifted", heading: "lifted", help: "Balls pulled back and released", always: true },
+    Column { key: "angle_deg", heading: "lifted to (°)", help: "The lifted balls' angle", always: true },
+    Column {
+        key: "restitution",
+        heading: "e",
+        help: "Coefficient of restitution between the balls",
+        always: true,
+    },
+    Column { key: "g_m_s2", heading: "g (m/s²)", help: "Gravitational acceleration", always: false },
+    Column {
+        key: "balls_out",
+        heading: "swung out",
+        help: "Measured: balls at the far end that swung out, when the outermost reached its highest point \
+               (those out by at least half as far as it)",
+        always: true,
+    },
+    Column {
+        key: "out_angle_deg",
+        heading: "out to (°)",
+        help: "Measured: the outermost ball's cable angle at the highest point of its first swing out",
+        always: true,
+    },
+    Column {
+        key: "balls_out_predicted",
+        heading: "predicted out",
+        help: "Predicted for elastic balls (e = 1), from momentum and energy kept: as many as came in. Leaves \
+               out restitution below 1, after which more balls move with less",
+        always: true,
+    },
+    Column {
+        key: "out_angle_predicted_deg",
+        heading: "predicted angle (°)",
+        help: "Predicted for elastic balls (e = 1): as high as they were lifted. Leaves out restitution below 1 \
+               and the cables' give",
+        always: true,
+    },
+];
+
 /// The number of balls, and of lifted balls: `lifted` is held to `balls - 1` (a
 /// parameter range cannot depend on another parameter, so the scene clamps it and its
 /// read-out says so).
@@ -64,6 +107,13 @@ fn anchor(i: usize, balls: usize) -> Vec3 {
 struct Cradle {
     world: World,
     params: ParamValues,
+    /// The outermost ball's velocity along the row after the last step, to catch it
+    /// turning back at the top of its swing out.
+    far_speed: f32,
+    /// Whether this release's outcome is in the table.
+    measured: bool,
+    /// The table of runs, in [`RUN_COLUMNS`].
+    runs: Vec<Vec<f64>>,
 }
 
 impl Cradle {
@@ -93,7 +143,45 @@ impl Cradle {
         world
             .add_contact_generator(SphereCollisions::elastic(params.get("restitution")))
             .expect("restitution is range-checked");
-        Self { world, params }
+        Self { world, params, far_speed: 0.0, measured: false, runs: Vec::new() }
+    }
+
+    /// Each ball's displacement along the row from under its anchor (m).
+    fn displacements(&self) -> Vec<f32> {
+        let balls = self.world.particles.len();
+        self.world.particles.positions().iter().enumerate().map(|(i, p)| p.x - anchor(i, balls).x).collect()
+    }
+
+    /// Watches the far end: when the outermost ball, having swung out, turns back, the
+    /// release's outcome goes in the table.
+    fn watch_the_far_end(&mut self) {
+        let balls = self.world.particles.len();
+        let Some(&v) = self.world.particles.velocities().last() else { return };
+        let out = self.displacements();
+        let far = out[balls - 1];
+        if !self.measured && self.far_speed > 0.0 && v.x <= 0.0 && far > 0.0 {
+            self.measured = true;
+            let swung = out.iter().filter(|&&dx| dx > 0.5 * far).count();
+            let p = self.world.particles.positions()[balls - 1];
+            let angle = far.atan2(anchor(balls - 1, balls).y - p.y).to_degrees();
+            let (_, lifted) = counts(&self.params);
+            let row = vec![
+                balls as f64,
+                lifted as f64,
+                f64::from(self.params.get("angle")),
+                f64::from(self.params.get("restitution")),
+                f64::from(self.params.get("g")),
+                swung as f64,
+                f64::from(angle),
+                lifted as f64,
+                f64::from(self.params.get("angle")),
+            ];
+            if self.runs.len() == MAX_ROWS {
+                self.runs.remove(0);
+            }
+            self.runs.push(row);
+        }
+        self.far_speed = v.x;
     }
 }
 
@@ -111,15 +199,75 @@ impl Scene for Cradle {
             super::pull_down(&mut self.world, value);
             self.params = params;
         } else {
-            // Anything else changes the row or its release: start again.
-            let running = std::mem::replace(self, Self::build(params));
+            // Anything else changes the row or its release: start again, the table kept.
+            let mut running = std::mem::replace(self, Self::build(params));
             super::keep_solver(&running.world, &mut self.world);
+            self.runs = std::mem::take(&mut running.runs);
         }
         Ok(())
     }
 
     fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
-        self.world.step(dt)
+        let report = self.world.step(dt)?;
+        self.watch_the_far_end();
+        Ok(report)
+    }
+
+    fn save_state(&self) -> serde_json::Value {
+        let runs: Vec<Vec<Option<f64>>> =
+            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
+        serde_json::json!({ "far_speed": self.far_speed, "measured": self.measured, "runs": runs })
+    }
+
+    fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Saved {
+            far_speed: f32,
+            measured: bool,
+            runs: Vec<Vec<Option<f64>>>,
+        }
+        // Snapshots from before the table of runs hold null: nothing measured there.
+        if state.get() == "null" {
+            (self.far_speed, self.measured, self.runs) = (0.0, true, Vec::new());
+            return Ok(());
+        }
+        let saved: Saved = super::read_state(state)?;
+        if !saved.far_speed.is_finite() {
+            return Err(format!("far_speed = {} is not a speed", saved.far_speed));
+        }
+        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
+            return Err(format!(
+                "a run has {} values; a cradle's runs have {}",
+                row.len(),
+                RUN_COLUMNS.len()
+            ));
+        }
+        if saved.runs.len() > MAX_ROWS {
+            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
+        }
+        (self.far_speed, self.measured) = (saved.far_speed, saved.measured);
+        self.runs = saved
+            .runs
+            .into_iter()
+            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
+            .collect();
+        Ok(())
+    }
+
+    fn runs(&self) -> Option<Table<'_>> {
+        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+    }
+
+    fn delete_runs(&mut self, which: Option<usize>) -> bool {
+        match which {
+            Some(k) if k < self.runs.len() => {
+                self.runs.remove(k);
+            }
+            Some(_) => {}
+            None => self.runs.clear(),
+        }
+        true
     }
 
     fn camera(&self) -> CameraHint {

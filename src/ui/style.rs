@@ -76,13 +76,20 @@ pub fn dimmed(color: Color32, alpha: f32) -> Color32 {
     Color32::from_rgb(scale(color.r()), scale(color.g()), scale(color.b()))
 }
 
-/// An energy for the plot's scale: one decimal, or scientific notation once it is so
-/// large (a spring exploding) that the digits would run off the plot.
+/// An energy for the plot's scale and the bars: one decimal in joules, 4 significant
+/// figures in kJ and MJ once it is that large (63.51 kJ, not 63514.1 J), scientific
+/// notation beyond (a spring exploding), and mJ below a joule.
 #[must_use]
 pub fn joules(e: f32) -> String {
-    if e.abs() >= 1e5 {
+    let figures = |x: f32| crate::scenes::runs::significant(f64::from(x), crate::scenes::runs::FIGURES);
+    let size = e.abs();
+    if size >= 1e9 {
         format!("{e:.2e} J")
-    } else if e.abs() >= 0.95 || e == 0.0 {
+    } else if size >= 1e6 {
+        format!("{} MJ", figures(e / 1e6))
+    } else if size >= 1e3 {
+        format!("{} kJ", figures(e / 1e3))
+    } else if size >= 0.95 || e == 0.0 {
         format!("{} J", fixed(e, 1))
     } else {
         // A light particle's energies are a fraction of a joule: in mJ, not "0.0 J".
