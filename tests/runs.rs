@@ -388,3 +388,38 @@ fn a_cradles_release_is_a_row_with_the_balls_that_swung_out() {
         }
     }
 }
+
+/// The hourglass's table (issue 37): each drain is a row once its steady part is over
+/// (45% of the grains through), its steady flow as the read-out gives it, Beverloo's
+/// prediction recomputed here from the row's own packing and parameters, and their
+/// ratio by arithmetic.
+#[test]
+fn an_hourglass_drain_is_a_row_once_its_steady_part_is_over() {
+    let csv = folder("hourglass").join("drain.csv");
+    let out = lab()
+        .args(["simulate", "--scene", "hourglass", "--every", "100000", "--runs"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let last: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let rows = read_csv(&csv);
+    assert_eq!(rows.len(), 1, "one drain, one row");
+    let row = &rows[0];
+    let readout = |key: &str| last["readouts"][key].as_f64().unwrap();
+    assert!(readout("grains_through") > 0.45 * readout("grains"), "the steady part is over");
+    assert_eq!(row["steady_flow_kg_s"], readout("steady_flow_kg_s"));
+    assert_eq!(row["steady_flow_spread_kg_s"], readout("steady_flow_spread_kg_s"));
+    let (d, orifice) = (2.0 * row["radius_m"], row["orifice_m"]);
+    assert!((row["opening_grains"] - orifice / d).abs() < 1e-5);
+    let beverloo = 0.58 * row["packing"] * 2500.0 * row["g_m_s2"].sqrt() * (orifice - 1.5 * d).powf(2.5);
+    assert!(
+        (row["beverloo_predicted_kg_s"] / beverloo - 1.0).abs() < 1e-5,
+        "{} against {beverloo}",
+        row["beverloo_predicted_kg_s"]
+    );
+    let ratio = row["steady_flow_kg_s"] / row["beverloo_predicted_kg_s"];
+    assert!((row["steady_over_predicted"] - ratio).abs() < 1e-6);
+    assert!((0.6..1.1).contains(&ratio), "steady flow at {ratio} of Beverloo's");
+}

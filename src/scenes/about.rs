@@ -240,7 +240,8 @@ static HOURGLASS: Page = Page {
         (
             "Try",
             "Make the opening 4, 5, 7 and 10 grains wide: 4 jams, 5 flows, and the steady flow \
-             follows (D − 1.5 d)^(5/2).",
+             follows (D − 1.5 d)^(5/2). Each drain's steady flow is a row of the table of runs \
+             beside Beverloo's prediction.",
         ),
         STEP,
     ],

@@ -22,6 +22,7 @@ use std::collections::VecDeque;
 use glam::Vec3;
 
 use super::granular::{self, Material, SplitMix64};
+use super::runs::{Column, MAX_ROWS, Table};
 use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{DEFAULT_ROLLING_RESISTANCE, PhysicsError, Plate, ResolveReport, World};
 
@@ -78,6 +79,8 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
         samples: VecDeque::new(),
         packing: 0.0,
         drain: Vec::new(),
+        tabled: false,
+        runs: Vec::new(),
     })
 }
 
@@ -258,7 +261,59 @@ struct Hourglass {
     /// (time, grains through) every [`DRAIN_SAMPLE`] since the start: the record the
     /// steady flow is fitted to.
     drain: Vec<(f64, usize)>,
+    /// Whether this drain's steady flow is in the table.
+    tabled: bool,
+    /// The table of runs, in [`RUN_COLUMNS`].
+    runs: Vec<Vec<f64>>,
 }
+
+/// The columns of the hourglass's table of runs: a row for each drain, once its steady
+/// part is over (45% of the grains through).
+pub static RUN_COLUMNS: &[Column] = &[
+    Column { key: "orifice_m", heading: "D (m)", help: "Diameter of the opening", always: true },
+    Column { key: "radius_m", heading: "r (m)", help: "Radius of every grain", always: false },
+    Column { key: "count", heading: "grains", help: "Grains poured", always: false },
+    Column { key: "friction", heading: "μ", help: "Coulomb friction coefficient", always: false },
+    Column {
+        key: "rolling_resistance",
+        heading: "μ_r",
+        help: "Rolling resistance coefficient",
+        always: false,
+    },
+    Column { key: "g_m_s2", heading: "g (m/s²)", help: "Gravitational acceleration", always: false },
+    Column { key: "opening_grains", heading: "D/d", help: "The opening in grain diameters", always: true },
+    Column {
+        key: "packing",
+        heading: "packing",
+        help: "Measured: the bed's packing fraction before the drain lowered it",
+        always: false,
+    },
+    Column {
+        key: "steady_flow_kg_s",
+        heading: "steady flow (kg/s)",
+        help: "Measured: the least-squares flow from 10% to 45% of the grains through",
+        always: true,
+    },
+    Column {
+        key: "steady_flow_spread_kg_s",
+        heading: "± (kg/s)",
+        help: "Measured: the standard deviation of each second's flow in that part",
+        always: true,
+    },
+    Column {
+        key: "beverloo_predicted_kg_s",
+        heading: "Beverloo (kg/s)",
+        help: "Predicted by Beverloo's law, 0.58 ρ_b √g (D − 1.5 d)^(5/2), with the measured packing: an \
+               empirical law for a deep bed that leaves out friction's detail",
+        always: true,
+    },
+    Column {
+        key: "steady_over_predicted",
+        heading: "ratio",
+        help: "The steady flow over Beverloo's",
+        always: true,
+    },
+];
 
 /// The steady flow of a drain: the least-squares slope of the discharged mass against
 /// time over [`STEADY_PART`], and the spread of the flow over each second in it.
@@ -302,6 +357,33 @@ pub fn steady_flow(record: &[(f64, usize)], grains: usize, grain_mass: f32) -> O
 }
 
 impl Hourglass {
+    /// Puts this drain's steady flow in the table, if its steady part lasted a second.
+    fn add_run(&mut self) {
+        let shape = &self.shape;
+        let grains = self.world.particles.len();
+        let Some(steady) = steady_flow(&self.drain, grains, shape.grain_mass()) else { return };
+        let beverloo = shape.beverloo(self.packing, self.params.get("g"));
+        let p = |name| f64::from(self.params.get(name));
+        let row = vec![
+            p("orifice"),
+            p("radius"),
+            grains as f64,
+            p("friction"),
+            p("rolling_resistance"),
+            p("g"),
+            f64::from(shape.orifice / (2.0 * shape.radius)),
+            f64::from(self.packing),
+            f64::from(steady.flow),
+            f64::from(steady.spread),
+            f64::from(beverloo),
+            if beverloo > 0.0 { f64::from(steady.flow / beverloo) } else { f64::NAN },
+        ];
+        if self.runs.len() == MAX_ROWS {
+            self.runs.remove(0);
+        }
+        self.runs.push(row);
+    }
+
     /// The mass flow over the last [`FLOW_WINDOW`] (kg/s), once a window's samples are in.
     fn flow(&self) -> Option<f32> {
         let (&(t1, n1), &(t0, n0)) = (self.samples.back()?, self.samples.front()?);
@@ -323,6 +405,7 @@ impl Scene for Hourglass {
         self.samples.clear();
         self.packing = 0.0;
         self.drain.clear();
+        self.tabled = false;
         Ok(())
     }
 
@@ -339,6 +422,7 @@ impl Scene for Hourglass {
         // The drain's record: a sample every DRAIN_SAMPLE, started again with the world.
         if self.drain.last().is_some_and(|&(t, _)| now <= t) {
             self.drain.clear();
+            self.tabled = false;
         }
         let due = self.drain.last().is_none_or(|&(t, _)| now - t >= DRAIN_SAMPLE - 1e-9);
         if due && self.drain.len() < DRAIN_SAMPLES_KEPT {
@@ -348,14 +432,42 @@ impl Scene for Hourglass {
             self.samples.pop_front();
         }
         self.packing = self.packing.max(bed_packing(&self.world, &self.shape));
+        let grains = self.world.particles.len();
+        if !self.tabled && through as f32 > STEADY_PART.1 * grains as f32 {
+            self.tabled = true;
+            self.add_run();
+        }
         Ok(report)
+    }
+
+    fn runs(&self) -> Option<Table<'_>> {
+        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+    }
+
+    fn delete_runs(&mut self, which: Option<usize>) -> bool {
+        match which {
+            Some(k) if k < self.runs.len() => {
+                self.runs.remove(k);
+            }
+            Some(_) => {}
+            None => self.runs.clear(),
+        }
+        true
     }
 
     fn save_state(&self) -> serde_json::Value {
         // The gauges: the flow is measured over the last second of samples, and the
         // packing is the densest the bed has shown, so neither can be read off the
         // world alone.
-        serde_json::json!({ "samples": self.samples, "packing": self.packing, "drain": self.drain })
+        let runs: Vec<Vec<Option<f64>>> =
+            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
+        serde_json::json!({
+            "samples": self.samples,
+            "packing": self.packing,
+            "drain": self.drain,
+            "tabled": self.tabled,
+            "runs": runs,
+        })
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -366,6 +478,11 @@ impl Scene for Hourglass {
             packing: f32,
             #[serde(default)]
             drain: Vec<(f64, usize)>,
+            // Snapshots from before the table of runs have neither.
+            #[serde(default)]
+            tabled: Option<bool>,
+            #[serde(default)]
+            runs: Vec<Vec<Option<f64>>>,
         }
         let saved: Saved = super::read_state(state)?;
         if !(saved.packing.is_finite() && (0.0..=1.0).contains(&saved.packing)) {
@@ -399,6 +516,24 @@ impl Scene for Hourglass {
         };
         check("samples", &mut saved.samples.iter())?;
         check("drain", &mut saved.drain.iter())?;
+        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
+            return Err(format!(
+                "a run has {} values; an hourglass's runs have {}",
+                row.len(),
+                RUN_COLUMNS.len()
+            ));
+        }
+        if saved.runs.len() > MAX_ROWS {
+            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
+        }
+        // An old snapshot past its steady part did not table it: leave it so.
+        let past = saved.drain.last().is_some_and(|&(_, n)| n as f32 > STEADY_PART.1 * grains as f32);
+        self.tabled = saved.tabled.unwrap_or(past);
+        self.runs = saved
+            .runs
+            .into_iter()
+            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
+            .collect();
         (self.samples, self.packing, self.drain) = (saved.samples, saved.packing, saved.drain);
         Ok(())
     }
