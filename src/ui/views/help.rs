@@ -10,10 +10,21 @@ use crate::ui::layout::PanelLayout;
 pub struct HelpWindow;
 
 impl HelpWindow {
-    /// The rows the window lists: keys and meaning.
+    /// The rows the window lists: keys and meaning, those that work where it runs.
     #[must_use]
     pub fn rows() -> Vec<(&'static str, &'static str)> {
-        SHORTCUTS.iter().map(|s| (s.keys, s.meaning)).collect()
+        Self::rows_for(cfg!(target_arch = "wasm32"))
+    }
+
+    /// The rows on the web page (`web`) or the desktop: the page cannot quit the
+    /// browser's tab, so it leaves out Ctrl+Q.
+    #[must_use]
+    pub fn rows_for(web: bool) -> Vec<(&'static str, &'static str)> {
+        SHORTCUTS
+            .iter()
+            .filter(|s| !(web && s.command == Some(crate::ui::keys::Command::Quit)))
+            .map(|s| (s.keys, s.meaning))
+            .collect()
     }
 
     /// Shows the window while `layout.help` is set; its close button clears it.
@@ -61,5 +72,18 @@ impl HelpWindow {
             },
         );
         layout.about = open;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::HelpWindow;
+
+    #[test]
+    fn the_page_lists_no_key_that_cannot_work_there() {
+        let (desktop, web) = (HelpWindow::rows_for(false), HelpWindow::rows_for(true));
+        assert!(desktop.iter().any(|(keys, _)| *keys == "Ctrl+Q"), "the desktop quits with Ctrl+Q");
+        assert!(!web.iter().any(|(keys, _)| *keys == "Ctrl+Q"), "a page cannot quit its tab");
+        assert_eq!(web.len() + 1, desktop.len(), "and nothing else is left out");
     }
 }
