@@ -287,6 +287,13 @@ pub trait Scene: Send {
     /// Edges to draw that are not links (m): the outline of a box's walls.
     fn outlines(&self, _out: &mut Vec<(Vec3, Vec3)>) {}
 
+    /// A vertical ruler the 3D view draws beside the scene (springForces' beside its
+    /// bob), ticked every half metre with a mark at each metre. The side view leaves it
+    /// out: its own height scale measures the same thing, and two would disagree.
+    fn ruler(&self) -> Option<Ruler> {
+        None
+    }
+
     /// Names of the scene's objects, at the points to write them (the view's labels):
     /// the bob, the launcher, the load. Links are labelled by kind without help.
     fn labels<'a>(&'a self, _out: &mut Vec<(Vec3, &'a str)>) {}
@@ -390,6 +397,33 @@ pub trait Scene: Send {
     /// loaded from a file (the path is `None` for a shipped scene built in).
     fn source(&self) -> Option<(&str, Option<&Path>)> {
         None
+    }
+}
+
+/// A vertical ruler standing on the ground (see [`Scene::ruler`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ruler {
+    /// Its foot (m), on the ground.
+    pub foot: Vec3,
+    /// Its height (m).
+    pub height: f32,
+}
+
+impl Ruler {
+    /// Its line and ticks (m): a tick every half metre, longer at each metre.
+    pub fn lines(&self, out: &mut Vec<(Vec3, Vec3)>) {
+        out.push((self.foot, self.foot + Vec3::Y * self.height));
+        for half_metres in 0..=(self.height * 2.0).floor() as usize {
+            let at = self.foot + Vec3::Y * (half_metres as f32 * 0.5);
+            let tick = if half_metres % 2 == 0 { 0.3 } else { 0.15 };
+            out.push((at, at + Vec3::X * tick));
+        }
+    }
+
+    /// Its marks: each whole metre from the foot, the point of its tick and its text.
+    #[must_use]
+    pub fn marks(&self) -> Vec<(Vec3, String)> {
+        (0..=self.height.floor() as u32).map(|m| (self.foot + Vec3::Y * m as f32, format!("{m} m"))).collect()
     }
 }
 

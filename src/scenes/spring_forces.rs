@@ -21,8 +21,6 @@ use crate::physics::{
 pub const BOB_ANCHOR: Vec3 = Vec3::new(-6.0, 7.0, 0.0);
 /// How far left of the bob's anchor its ruler stands (m).
 const RULER_OFFSET: f32 = 1.2;
-/// The ruler's labels, a metre apart from the ground.
-const RULER_LABELS: [&str; 8] = ["0 m", "1 m", "2 m", "3 m", "4 m", "5 m", "6 m", "7 m"];
 
 /// Where the bungee is fixed (m).
 pub const BUNGEE_ANCHOR: Vec3 = Vec3::new(3.0, 7.0, 0.0);
@@ -379,26 +377,19 @@ impl Scene for SpringForces {
         // the two stay apart however little the spring sags.
         out.push((Vec3::new(BOB_ANCHOR.x + 1.6, natural + 0.05, 0.0), "natural length"));
         out.push((Vec3::new(BOB_ANCHOR.x + 1.5, equilibrium - 0.35, 0.0), "equilibrium"));
-        let x = BOB_ANCHOR.x - RULER_OFFSET - 0.35;
-        for (metres, text) in RULER_LABELS.iter().enumerate().take(BOB_ANCHOR.y as usize + 1) {
-            out.push((Vec3::new(x, metres as f32 + 0.05, 0.0), text));
-        }
+    }
+
+    fn ruler(&self) -> Option<super::Ruler> {
+        Some(super::Ruler { foot: Vec3::new(BOB_ANCHOR.x - RULER_OFFSET, 0.0, 0.0), height: BOB_ANCHOR.y })
     }
 
     /// The bob's natural-length line (where its spring exerts no force) and equilibrium
-    /// line (where the spring holds its weight, `m g / k` lower), and a ruler beside it
-    /// from the ground to the anchor, ticked every 0.5 m.
+    /// line (where the spring holds its weight, `m g / k` lower); the ruler beside them
+    /// is [`Scene::ruler`].
     fn outlines(&self, out: &mut Vec<(Vec3, Vec3)>) {
         let (natural, equilibrium) = self.bob_lines();
         for y in [natural, equilibrium] {
             out.push((Vec3::new(BOB_ANCHOR.x - 0.7, y, 0.0), Vec3::new(BOB_ANCHOR.x + 0.7, y, 0.0)));
-        }
-        let x = BOB_ANCHOR.x - RULER_OFFSET;
-        out.push((Vec3::new(x, 0.0, 0.0), Vec3::new(x, BOB_ANCHOR.y, 0.0)));
-        for half_metres in 0..=(BOB_ANCHOR.y * 2.0) as usize {
-            let y = half_metres as f32 * 0.5;
-            let tick = if half_metres % 2 == 0 { 0.3 } else { 0.15 };
-            out.push((Vec3::new(x, y, 0.0), Vec3::new(x + tick, y, 0.0)));
         }
     }
 

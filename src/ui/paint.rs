@@ -25,6 +25,8 @@ pub struct Painter {
     builder: FrameBuilder,
     /// The compared copy's links, reused from frame to frame.
     links: Vec<LinkState>,
+    /// The scene's ruler's lines, reused from frame to frame.
+    ruler_lines: Vec<(Vec3, Vec3)>,
 }
 
 impl Painter {
@@ -42,6 +44,7 @@ impl Painter {
             renderer: Renderer::new(device, format.add_srgb_suffix(), DEFAULT_SAMPLE_COUNT, sphere_path),
             format,
             links: Vec::new(),
+            ruler_lines: Vec::new(),
             egui: egui_wgpu::Renderer::new(device, format, options),
             builder: FrameBuilder::default(),
         }
@@ -91,6 +94,19 @@ impl Painter {
         let now = lab.scene.world().time();
         self.builder.decoration_scale = crate::render::frame::decoration_scale(lab.camera.distance);
         self.builder.build(lab.scene.as_ref(), Some(&lab.trails), now, lab.view, highlight);
+        if let Some(ruler) = lab.scene.ruler().filter(|_| !lab.side_view) {
+            self.ruler_lines.clear();
+            ruler.lines(&mut self.ruler_lines);
+            for &(from, to) in &self.ruler_lines {
+                self.builder.frame.segments.push(SegmentInstance {
+                    from: from.to_array(),
+                    width: 2.0,
+                    to: to.to_array(),
+                    pad: 0.0,
+                    color: [0.55, 0.6, 0.68, 1.0],
+                });
+            }
+        }
         vectors(lab, &mut self.builder.frame);
         compare_ghosts(lab, &mut self.links, &mut self.builder.frame);
         if lab.side_view {
@@ -292,6 +308,8 @@ pub fn tape(lab: &Lab, frame: &mut FrameData) {
 /// earlier kind keeps its spot and the later one moves or is left out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum LabelKind {
+    /// A mark of a scene's ruler, written left of its tick and never moved off it.
+    Mark,
     /// A scene's object (bob, launcher, load) or its ruler marks, written above.
     Object,
     /// A kind of link, once, written below the middle of one link of that kind.
@@ -332,6 +350,12 @@ pub fn label_list(lab: &Lab) -> Vec<Label> {
     let mut names = Vec::new();
     lab.scene.labels(&mut names);
     let mut out: Vec<Label> = Vec::new();
+    // The scene's ruler, in the 3D view only: the side view has its height scale.
+    if let Some(ruler) = lab.scene.ruler().filter(|_| !lab.side_view) {
+        for (at, text) in ruler.marks() {
+            out.push(Label { at, text, kind: LabelKind::Mark, alternatives: Vec::new() });
+        }
+    }
     for (at, name) in names {
         if !out.iter().any(|l| l.text == name) {
             out.push(Label { at, text: name.to_owned(), kind: LabelKind::Object, alternatives: Vec::new() });
@@ -437,6 +461,7 @@ fn candidates(kind: LabelKind, point: egui::Pos2, size: egui::Vec2) -> Vec<egui:
             at(Align2::RIGHT_CENTER, vec2(-gap * 2.0, 0.0)),
         ],
         LabelKind::Tick => vec![at(Align2::CENTER_TOP, vec2(0.0, 0.0))],
+        LabelKind::Mark => vec![at(Align2::RIGHT_CENTER, vec2(-gap, 0.0))],
     }
 }
 
@@ -446,6 +471,7 @@ fn label_style(kind: LabelKind) -> (f32, egui::Color32) {
         LabelKind::Object => (14.0, egui::Color32::WHITE),
         LabelKind::Link => (11.0, egui::Color32::from_gray(170)),
         LabelKind::Tick => (11.0, egui::Color32::from_gray(150)),
+        LabelKind::Mark => (12.0, egui::Color32::from_gray(185)),
     }
 }
 
