@@ -555,3 +555,32 @@ fn a_new_scene_opens_at_the_top_of_its_panel() {
     let y = heading(&opened, "bridge").expect("the new scene's heading is drawn");
     assert!((y - top).abs() < 1.0, "heading at {y}, the panel's top at {top}");
 }
+
+/// Issue 37: the File menu's items keep their places whether or not a scene file is
+/// open (its "Watching" line went between them and moved every item below it).
+#[test]
+fn the_file_menus_items_keep_their_places_when_a_scene_file_is_open() {
+    let size = [1280.0, 800.0];
+    let items = ["Save snapshot as…", "Quick save (F5)", "Copy link"];
+    let places = |lab: &mut Lab| {
+        let ctx = egui::Context::default();
+        let mut shell = LabUi::default();
+        let menu = settle(&ctx, &mut shell, lab, size).find("File").expect("the File menu").1;
+        click_at(&ctx, &mut shell, lab, size, menu.center());
+        let drawn = frame(&ctx, &mut shell, lab, size, Vec::new());
+        let watching = drawn.texts.iter().any(|(t, _, _)| t.starts_with("Watching "));
+        let rects: Vec<Rect> = items.iter().map(|item| drawn.find(item).expect(item).1).collect();
+        (rects, watching)
+    };
+    let (built_in, watching) = places(&mut Lab::new("bridge", &[]).unwrap());
+    assert!(!watching);
+    let dir = std::env::temp_dir().join(format!("particle-lab-panel-menu-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("row.toml");
+    std::fs::write(&path, "[scene]\nname = \"row\"\n\n[[particle]]\nposition = [0, 1, 0]\n").unwrap();
+    let mut lab = Lab::new("bridge", &[]).unwrap();
+    assert!(lab.open_scene_file(&path), "{}", lab.status);
+    let (from_file, watching) = places(&mut lab);
+    assert!(watching, "the open file is watched");
+    assert_eq!(from_file, built_in, "every item in its place");
+}

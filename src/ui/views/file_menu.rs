@@ -213,6 +213,12 @@ impl FileMenu {
                 Self::quick_save_items(ui, lab, layout);
                 ui.separator();
                 Self::link_item(ui, lab);
+                // Last, so that no item above moves when a scene file is open (a click
+                // meant for one hit another).
+                if let Some((_, Some(path))) = lab.scene.source() {
+                    ui.separator();
+                    ui.label(format!("Watching {} for changes", path.display()));
+                }
             }
         });
     }
@@ -332,10 +338,6 @@ impl FileMenu {
         if save.clicked() {
             ui.close();
             self.ask(Purpose::SaveScene, lab);
-        }
-        if let Some((_, Some(path))) = lab.scene.source() {
-            ui.separator();
-            ui.label(format!("Watching {} for changes", path.display()));
         }
     }
 
