@@ -662,3 +662,24 @@ fn a_particles_colour_from_its_file_is_drawn() {
     let error = particle_lab::scenes::file::load_text(&bad, "colours", None).err().unwrap().to_string();
     assert!(error.contains("color") && !error.contains('\n'), "{error}");
 }
+
+/// Issue 37: at 1024×600 (a view of 694×570 points beside the panel) the side view's
+/// Home keeps the launcher clear of the height scale at its left edge, and the landing
+/// in view on the right.
+#[test]
+fn home_in_the_side_view_keeps_the_launcher_clear_of_the_height_scale() {
+    let mut lab = Lab::new("projectile", &[]).unwrap();
+    let size = Vec2::new(694.0, 570.0);
+    lab.set_view_aspect(size.x / size.y);
+    lab.set_side_view(true);
+    lab.home();
+    let launcher = lab.camera.project(glam::Vec3::new(0.0, 1.5, 0.0), size).unwrap();
+    // The scale's line stands 52 points in, its labels left of it.
+    assert!(launcher.x > 60.0, "the launcher at {launcher} hides behind the height scale");
+    let mut points = Vec::new();
+    lab.scene.framing_points(&mut points);
+    for p in points {
+        let s = lab.camera.project(p, size).unwrap();
+        assert!(s.x >= 0.0 && s.x <= size.x && s.y >= 0.0 && s.y <= size.y, "{p} drawn at {s}");
+    }
+}

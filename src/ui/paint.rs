@@ -493,7 +493,10 @@ pub fn labels(ui: &egui::Ui, lab: &Lab, rect: egui::Rect) -> Vec<PlacedLabel> {
         let (font, color) = label_style(label.kind);
         painter.layout_no_wrap(label.text.clone(), egui::FontId::proportional(font), color)
     };
-    let placed = place_labels(&list, project, |label| galley(label).size(), &reserved);
+    let mut placed = place_labels(&list, project, |label| galley(label).size(), &reserved);
+    // A metre tick's label cut by the view's edge would read as another number ("-10 m"
+    // as "0 m"): only whole ones are written.
+    placed.retain(|label| label.kind != LabelKind::Tick || rect.contains_rect(label.rect));
     for label in &placed {
         let (font, color) = label_style(label.kind);
         painter.text(

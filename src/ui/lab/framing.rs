@@ -7,6 +7,9 @@ use super::limits::FRAMING_ASPECT;
 
 /// Margin kept around the points a framing must show, as a share of the view's height.
 pub const FRAMING_MARGIN: f32 = 0.06;
+/// The side view's left margin, as a share of the view's height: its height scale
+/// stands there (some 60 points wide), and a launcher at the view's edge hid behind it.
+pub const SIDE_VIEW_LEFT_MARGIN: f32 = 0.15;
 /// Most times the camera backs off (by 15% each) to fit them: 1.15^80 is 70,000x.
 const FRAMING_STEPS: usize = 80;
 use super::model::Lab;
@@ -49,10 +52,11 @@ impl Lab {
         }
         let view = glam::Vec2::new(1000.0 * self.view_aspect.max(0.1), 1000.0);
         let margin = FRAMING_MARGIN * view.y;
+        let left = if self.side_view { SIDE_VIEW_LEFT_MARGIN * view.y } else { margin };
         let fits = |camera: &OrbitCamera| {
             points.iter().all(|&p| {
                 camera.project(p, view).is_some_and(|s| {
-                    s.x >= margin && s.x <= view.x - margin && s.y >= margin && s.y <= view.y - margin
+                    s.x >= left && s.x <= view.x - margin && s.y >= margin && s.y <= view.y - margin
                 })
             })
         };
