@@ -10,7 +10,7 @@ use std::borrow::Cow;
 
 use glam::Vec3;
 
-use super::runs::{Column, MAX_ROWS, Table};
+use super::runs::{Column, Runs, Table};
 use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{Constraint, ParticleDesc, PhysicsError, ResolveReport, SphereCollisions, World};
 
@@ -113,7 +113,7 @@ struct Cradle {
     /// Whether this release's outcome is in the table.
     measured: bool,
     /// The table of runs, in [`RUN_COLUMNS`].
-    runs: Vec<Vec<f64>>,
+    runs: Runs,
 }
 
 impl Cradle {
@@ -143,7 +143,7 @@ impl Cradle {
         world
             .add_contact_generator(SphereCollisions::elastic(params.get("restitution")))
             .expect("restitution is range-checked");
-        Self { world, params, far_speed: 0.0, measured: false, runs: Vec::new() }
+        Self { world, params, far_speed: 0.0, measured: false, runs: Runs::new(RUN_COLUMNS) }
     }
 
     /// Each ball's displacement along the row from under its anchor (m).
@@ -176,9 +176,6 @@ impl Cradle {
                 lifted as f64,
                 f64::from(self.params.get("angle")),
             ];
-            if self.runs.len() == MAX_ROWS {
-                self.runs.remove(0);
-            }
             self.runs.push(row);
         }
         self.far_speed = v.x;
@@ -202,7 +199,7 @@ impl Scene for Cradle {
             // Anything else changes the row or its release: start again, the table kept.
             let mut running = std::mem::replace(self, Self::build(params));
             super::keep_solver(&running.world, &mut self.world);
-            self.runs = std::mem::take(&mut running.runs);
+            std::mem::swap(&mut self.runs, &mut running.runs);
         }
         Ok(())
     }
@@ -214,9 +211,7 @@ impl Scene for Cradle {
     }
 
     fn save_state(&self) -> serde_json::Value {
-        let runs: Vec<Vec<Option<f64>>> =
-            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
-        serde_json::json!({ "far_speed": self.far_speed, "measured": self.measured, "runs": runs })
+        serde_json::json!({ "far_speed": self.far_speed, "measured": self.measured, "runs": self.runs.saved() })
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -229,44 +224,25 @@ impl Scene for Cradle {
         }
         // Snapshots from before the table of runs hold null: nothing measured there.
         if state.get() == "null" {
-            (self.far_speed, self.measured, self.runs) = (0.0, true, Vec::new());
+            (self.far_speed, self.measured, self.runs) = (0.0, true, Runs::new(RUN_COLUMNS));
             return Ok(());
         }
         let saved: Saved = super::read_state(state)?;
         if !saved.far_speed.is_finite() {
             return Err(format!("far_speed = {} is not a speed", saved.far_speed));
         }
-        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
-            return Err(format!(
-                "a run has {} values; a cradle's runs have {}",
-                row.len(),
-                RUN_COLUMNS.len()
-            ));
-        }
-        if saved.runs.len() > MAX_ROWS {
-            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
-        }
+        let runs = self.runs.read(saved.runs)?;
         (self.far_speed, self.measured) = (saved.far_speed, saved.measured);
-        self.runs = saved
-            .runs
-            .into_iter()
-            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
-            .collect();
+        self.runs = runs;
         Ok(())
     }
 
     fn runs(&self) -> Option<Table<'_>> {
-        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+        Some(self.runs.table())
     }
 
     fn delete_runs(&mut self, which: Option<usize>) -> bool {
-        match which {
-            Some(k) if k < self.runs.len() => {
-                self.runs.remove(k);
-            }
-            Some(_) => {}
-            None => self.runs.clear(),
-        }
+        self.runs.delete(which);
         true
     }
 

@@ -17,9 +17,9 @@ use std::borrow::Cow;
 use glam::Vec3;
 
 use super::granular::{self, Material};
-use super::hourglass::{GRAIN_DENSITY, starting_cloud};
+use super::hourglass::{GRAIN_DENSITY, grain_volume, starting_cloud};
 use super::pile;
-use super::runs::{Column, MAX_ROWS, Table};
+use super::runs::{Column, Runs, Table};
 use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Readout, Scene, SceneEntry, SceneInfo};
 use crate::physics::{DEFAULT_ROLLING_RESISTANCE, PhysicsError, Plane, ResolveReport, World};
 
@@ -141,11 +141,6 @@ impl Hopper {
     }
 }
 
-/// A sphere's volume (m³).
-fn grain_volume(radius: f32) -> f32 {
-    4.0 / 3.0 * std::f32::consts::PI * radius.powi(3)
-}
-
 fn build_world(params: &ParamValues, hopper: &Hopper) -> World {
     let (friction, rolling, g) = (params.get("friction"), params.get("rolling_resistance"), params.get("g"));
     let material = Material { restitution: 0.0, friction, rolling_resistance: rolling };
@@ -193,7 +188,7 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
         params,
         hopper,
         gauge: Gauge::default(),
-        runs: Vec::new(),
+        runs: Runs::new(RUN_COLUMNS),
     })
 }
 
@@ -241,7 +236,7 @@ struct Heap {
     hopper: Hopper,
     gauge: Gauge,
     /// The table of runs: a row for each heap that settled, in [`RUN_COLUMNS`].
-    runs: Vec<Vec<f64>>,
+    runs: Runs,
 }
 
 impl Heap {
@@ -273,9 +268,6 @@ impl Heap {
             f64::from(settled.repose),
             now,
         ];
-        if self.runs.len() == MAX_ROWS {
-            self.runs.remove(0);
-        }
         self.runs.push(row);
     }
 }
@@ -324,9 +316,7 @@ impl Scene for Heap {
     }
 
     fn save_state(&self) -> serde_json::Value {
-        let runs: Vec<Vec<Option<f64>>> =
-            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
-        serde_json::json!({ "gauge": self.gauge, "runs": runs })
+        serde_json::json!({ "gauge": self.gauge, "runs": self.runs.saved() })
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -346,33 +336,18 @@ impl Scene for Heap {
         if gauge.through > grains || gauge.settled.is_some_and(|s| s.grains > grains) {
             return Err(format!("gauge: counts more grains than the {grains} there are"));
         }
-        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
-            return Err(format!("a run has {} values; a heap's runs have {}", row.len(), RUN_COLUMNS.len()));
-        }
-        if saved.runs.len() > MAX_ROWS {
-            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
-        }
+        let runs = self.runs.read(saved.runs)?;
         self.gauge = gauge;
-        self.runs = saved
-            .runs
-            .into_iter()
-            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
-            .collect();
+        self.runs = runs;
         Ok(())
     }
 
     fn runs(&self) -> Option<Table<'_>> {
-        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+        Some(self.runs.table())
     }
 
     fn delete_runs(&mut self, which: Option<usize>) -> bool {
-        match which {
-            Some(k) if k < self.runs.len() => {
-                self.runs.remove(k);
-            }
-            Some(_) => {}
-            None => self.runs.clear(),
-        }
+        self.runs.delete(which);
         true
     }
 

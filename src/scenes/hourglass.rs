@@ -22,7 +22,7 @@ use std::collections::VecDeque;
 use glam::Vec3;
 
 use super::granular::{self, Material, SplitMix64};
-use super::runs::{Column, MAX_ROWS, Table};
+use super::runs::{Column, Runs, Table};
 use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{DEFAULT_ROLLING_RESISTANCE, PhysicsError, Plate, ResolveReport, World};
 
@@ -80,7 +80,7 @@ fn create(params: ParamValues) -> Box<dyn Scene> {
         packing: 0.0,
         drain: Vec::new(),
         tabled: false,
-        runs: Vec::new(),
+        runs: Runs::new(RUN_COLUMNS),
     })
 }
 
@@ -137,7 +137,7 @@ impl Shape {
 }
 
 /// A sphere's volume (m³).
-fn grain_volume(radius: f32) -> f32 {
+pub(super) fn grain_volume(radius: f32) -> f32 {
     4.0 / 3.0 * std::f32::consts::PI * radius.powi(3)
 }
 
@@ -264,7 +264,7 @@ struct Hourglass {
     /// Whether this drain's steady flow is in the table.
     tabled: bool,
     /// The table of runs, in [`RUN_COLUMNS`].
-    runs: Vec<Vec<f64>>,
+    runs: Runs,
 }
 
 /// The columns of the hourglass's table of runs: a row for each drain, once its steady
@@ -378,9 +378,6 @@ impl Hourglass {
             f64::from(beverloo),
             if beverloo > 0.0 { f64::from(steady.flow / beverloo) } else { f64::NAN },
         ];
-        if self.runs.len() == MAX_ROWS {
-            self.runs.remove(0);
-        }
         self.runs.push(row);
     }
 
@@ -441,17 +438,11 @@ impl Scene for Hourglass {
     }
 
     fn runs(&self) -> Option<Table<'_>> {
-        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+        Some(self.runs.table())
     }
 
     fn delete_runs(&mut self, which: Option<usize>) -> bool {
-        match which {
-            Some(k) if k < self.runs.len() => {
-                self.runs.remove(k);
-            }
-            Some(_) => {}
-            None => self.runs.clear(),
-        }
+        self.runs.delete(which);
         true
     }
 
@@ -459,14 +450,12 @@ impl Scene for Hourglass {
         // The gauges: the flow is measured over the last second of samples, and the
         // packing is the densest the bed has shown, so neither can be read off the
         // world alone.
-        let runs: Vec<Vec<Option<f64>>> =
-            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
         serde_json::json!({
             "samples": self.samples,
             "packing": self.packing,
             "drain": self.drain,
             "tabled": self.tabled,
-            "runs": runs,
+            "runs": self.runs.saved(),
         })
     }
 
@@ -516,24 +505,11 @@ impl Scene for Hourglass {
         };
         check("samples", &mut saved.samples.iter())?;
         check("drain", &mut saved.drain.iter())?;
-        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
-            return Err(format!(
-                "a run has {} values; an hourglass's runs have {}",
-                row.len(),
-                RUN_COLUMNS.len()
-            ));
-        }
-        if saved.runs.len() > MAX_ROWS {
-            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
-        }
+        let runs = self.runs.read(saved.runs)?;
         // An old snapshot past its steady part did not table it: leave it so.
         let past = saved.drain.last().is_some_and(|&(_, n)| n as f32 > STEADY_PART.1 * grains as f32);
         self.tabled = saved.tabled.unwrap_or(past);
-        self.runs = saved
-            .runs
-            .into_iter()
-            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
-            .collect();
+        self.runs = runs;
         (self.samples, self.packing, self.drain) = (saved.samples, saved.packing, saved.drain);
         Ok(())
     }

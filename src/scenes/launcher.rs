@@ -12,7 +12,7 @@ use glam::Vec3;
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
 use super::readout::Readout;
-use super::runs::{Column, MAX_ROWS, Table};
+use super::runs::{Column, Runs, Table};
 use super::{ActionInfo, Marker, SceneAction};
 use crate::physics::exact::damping_rate;
 use crate::physics::{Drag, ParticleDesc, ParticleId, PhysicsError, World};
@@ -116,7 +116,7 @@ pub struct Launcher {
     /// The last [`FLIGHTS_KEPT`] flights, newest last.
     flights: Vec<Flight>,
     /// The table of runs: a row for each round that landed, in [`RUN_COLUMNS`].
-    runs: Vec<Vec<f64>>,
+    runs: Runs,
     /// A label for each kept flight (parallel to `flights`): the launch settings that
     /// tell the kept flights apart ("30°", "45° · 20 m/s"); empty where none differs.
     /// Made again whenever the flights change ([`Self::relabel`]).
@@ -249,7 +249,7 @@ impl Launcher {
             rounds: Vec::new(),
             ghosts: Vec::new(),
             flights: Vec::new(),
-            runs: Vec::new(),
+            runs: Runs::new(RUN_COLUMNS),
             flight_labels: Vec::new(),
         }
     }
@@ -289,18 +289,12 @@ impl Launcher {
     /// The table of runs: a row for each round that landed.
     #[must_use]
     pub fn runs(&self) -> Table<'_> {
-        Table { columns: RUN_COLUMNS, rows: &self.runs }
+        self.runs.table()
     }
 
     /// Deletes run `k`, or every run with `None`.
     pub fn delete_runs(&mut self, which: Option<usize>) {
-        match which {
-            Some(k) if k < self.runs.len() => {
-                self.runs.remove(k);
-            }
-            Some(_) => {}
-            None => self.runs.clear(),
-        }
+        self.runs.delete(which);
     }
 
     fn direction(&self) -> Vec3 {
@@ -428,9 +422,6 @@ impl Launcher {
                 flight.round = None;
                 if let Some(aim) = &flight.aim {
                     let apex = flight.apex.map(|(_, p)| p.y);
-                    if self.runs.len() == MAX_ROWS {
-                        self.runs.remove(0);
-                    }
                     self.runs.push(run_row(aim, at.x - flight.launch.1.x, apex, time));
                 }
             }
@@ -451,9 +442,12 @@ impl Launcher {
     #[must_use]
     pub fn save_state(&self) -> serde_json::Value {
         // A value there is none of (NaN) is written as null.
-        let runs: Vec<Vec<Option<f64>>> =
-            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
-        serde_json::json!({ "rounds": self.rounds, "ghosts": self.ghosts, "flights": self.flights, "runs": runs })
+        serde_json::json!({
+            "rounds": self.rounds,
+            "ghosts": self.ghosts,
+            "flights": self.flights,
+            "runs": self.runs.saved(),
+        })
     }
 
     /// Takes back what [`Self::save_state`] wrote, checked against `world`.
@@ -467,13 +461,7 @@ impl Launcher {
             runs: Vec<Vec<Option<f64>>>,
         }
         let saved: Saved = super::read_state(state)?;
-        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
-            return Err(format!(
-                "a run has {} values; a launcher's runs have {}",
-                row.len(),
-                RUN_COLUMNS.len()
-            ));
-        }
+        let runs = self.runs.read(saved.runs)?;
         let particles = &world.particles;
         if let Some((id, _)) = saved.rounds.iter().find(|(id, _)| particles.index(*id).is_none()) {
             return Err(format!("round {} is not a particle of the world", id.0));
@@ -488,9 +476,8 @@ impl Launcher {
                 id.0
             ));
         }
-        let runs = saved.runs.into_iter().map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect());
         (self.rounds, self.ghosts, self.flights) = (saved.rounds, saved.ghosts, saved.flights);
-        self.runs = runs.collect();
+        self.runs = runs;
         self.relabel();
         Ok(())
     }

@@ -9,7 +9,7 @@ use std::borrow::Cow;
 
 use glam::Vec3;
 
-use super::runs::{Column, MAX_ROWS, Table};
+use super::runs::{Column, Runs, Table};
 use super::{CameraHint, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo};
 use crate::physics::{Constraint, ParticleDesc, ParticleId, PhysicsError, ResolveReport, World};
 
@@ -99,7 +99,7 @@ struct Pendulum {
     /// Whether this release's first whole swing has been timed (and put in the table).
     timed: bool,
     /// The table of runs, in [`RUN_COLUMNS`].
-    runs: Vec<Vec<f64>>,
+    runs: Runs,
 }
 
 impl Pendulum {
@@ -135,7 +135,7 @@ impl Pendulum {
             start_energy: energy.kinetic + energy.potential,
             crossings: [None; 2],
             timed: false,
-            runs: Vec::new(),
+            runs: Runs::new(RUN_COLUMNS),
         }
     }
 
@@ -166,9 +166,6 @@ impl Pendulum {
             f64::from(small),
             exact.unwrap_or(f64::NAN),
         ];
-        if self.runs.len() == MAX_ROWS {
-            self.runs.remove(0);
-        }
         self.runs.push(row);
     }
 
@@ -215,7 +212,7 @@ impl Scene for Pendulum {
             _ => {
                 let mut running = std::mem::replace(self, Self::build(params));
                 super::keep_solver(&running.world, &mut self.world);
-                self.runs = std::mem::take(&mut running.runs);
+                std::mem::swap(&mut self.runs, &mut running.runs);
             }
         }
         Ok(())
@@ -238,23 +235,15 @@ impl Scene for Pendulum {
     }
 
     fn save_state(&self) -> serde_json::Value {
-        let runs: Vec<Vec<Option<f64>>> =
-            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
-        serde_json::json!({ "crossings": self.crossings, "timed": self.timed, "runs": runs })
+        serde_json::json!({ "crossings": self.crossings, "timed": self.timed, "runs": self.runs.saved() })
     }
 
     fn runs(&self) -> Option<Table<'_>> {
-        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+        Some(self.runs.table())
     }
 
     fn delete_runs(&mut self, which: Option<usize>) -> bool {
-        match which {
-            Some(k) if k < self.runs.len() => {
-                self.runs.remove(k);
-            }
-            Some(_) => {}
-            None => self.runs.clear(),
-        }
+        self.runs.delete(which);
         true
     }
 
@@ -279,24 +268,11 @@ impl Scene for Pendulum {
         if saved.crossings.iter().flatten().any(|&t| !(t >= 0.0 && t <= now)) {
             return Err(format!("a stopwatch time is outside 0 to the world's {now:.3} s"));
         }
-        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
-            return Err(format!(
-                "a run has {} values; a pendulum's runs have {}",
-                row.len(),
-                RUN_COLUMNS.len()
-            ));
-        }
-        if saved.runs.len() > MAX_ROWS {
-            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
-        }
+        let runs = self.runs.read(saved.runs)?;
         self.crossings = saved.crossings;
         // An old snapshot that had timed its swing already did not table it: leave it so.
         self.timed = saved.timed.unwrap_or(self.crossings.iter().all(Option::is_some));
-        self.runs = saved
-            .runs
-            .into_iter()
-            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
-            .collect();
+        self.runs = runs;
         Ok(())
     }
 

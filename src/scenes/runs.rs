@@ -79,6 +79,74 @@ impl Table<'_> {
     }
 }
 
+/// A scene's runs: its columns and the rows measured so far, oldest first, at most
+/// [`MAX_ROWS`] (the oldest goes first). Every scene that keeps a table keeps one of
+/// these, and its snapshots save [`Runs::saved`] and read it back with
+/// [`Runs::read`].
+#[derive(Clone, Debug)]
+pub struct Runs {
+    columns: &'static [Column],
+    rows: Vec<Vec<f64>>,
+}
+
+impl Runs {
+    /// No rows yet, in `columns`.
+    #[must_use]
+    pub const fn new(columns: &'static [Column]) -> Self {
+        Self { columns, rows: Vec::new() }
+    }
+
+    /// The table to show, write as CSV or plot.
+    #[must_use]
+    pub fn table(&self) -> Table<'_> {
+        Table { columns: self.columns, rows: &self.rows }
+    }
+
+    /// Adds a row (a value per column, NaN where there is none), dropping the oldest
+    /// once [`MAX_ROWS`] are kept.
+    pub fn push(&mut self, row: Vec<f64>) {
+        debug_assert_eq!(row.len(), self.columns.len(), "a value per column");
+        if self.rows.len() == MAX_ROWS {
+            self.rows.remove(0);
+        }
+        self.rows.push(row);
+    }
+
+    /// Deletes row `k`, or every row with `None`; a row that is not there is no change.
+    pub fn delete(&mut self, which: Option<usize>) {
+        match which {
+            Some(k) if k < self.rows.len() => {
+                self.rows.remove(k);
+            }
+            Some(_) => {}
+            None => self.rows.clear(),
+        }
+    }
+
+    /// The rows as a snapshot keeps them: `null` where a value is NaN (JSON has none).
+    #[must_use]
+    pub fn saved(&self) -> Vec<Vec<Option<f64>>> {
+        self.rows.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect()
+    }
+
+    /// The rows a snapshot kept ([`Runs::saved`]), in these columns; the error says
+    /// which row does not fit.
+    pub fn read(&self, saved: Vec<Vec<Option<f64>>>) -> Result<Self, String> {
+        if let Some(row) = saved.iter().find(|row| row.len() != self.columns.len()) {
+            return Err(format!(
+                "a run has {} values; this table's runs have {}",
+                row.len(),
+                self.columns.len()
+            ));
+        }
+        if saved.len() > MAX_ROWS {
+            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.len()));
+        }
+        let rows = saved.into_iter().map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect());
+        Ok(Self { columns: self.columns, rows: rows.collect() })
+    }
+}
+
 /// `x` in the fewest digits that read back the same: as an `f32` when it is one (the
 /// engine's figures), else as an `f64`; empty for NaN.
 #[must_use]
@@ -229,6 +297,35 @@ impl Table<'_> {
 #[cfg(test)]
 mod tests {
     use super::{Axis, Column, Table, full, least_squares, significant};
+
+    static TWO: &[Column] = &[
+        Column { key: "a_m", heading: "a (m)", help: "Measured: a", always: true },
+        Column { key: "b_predicted_m", heading: "b (m)", help: "Predicted: b", always: true },
+    ];
+
+    #[test]
+    fn runs_keep_the_newest_rows_delete_and_travel_through_a_snapshot() {
+        let mut runs = super::Runs::new(TWO);
+        for k in 0..super::MAX_ROWS + 2 {
+            runs.push(vec![k as f64, f64::NAN]);
+        }
+        let table = runs.table();
+        assert_eq!(table.rows.len(), super::MAX_ROWS, "the oldest go first");
+        assert_eq!(table.rows[0][0], 2.0);
+        runs.delete(Some(0));
+        runs.delete(Some(5_000)); // not there: no change
+        assert_eq!(runs.table().rows.len(), super::MAX_ROWS - 1);
+        assert_eq!(runs.table().rows[0][0], 3.0);
+        // A NaN is saved as null and read back as NaN.
+        let saved = runs.saved();
+        assert_eq!(saved[0], vec![Some(3.0), None]);
+        let back = runs.read(saved).unwrap();
+        assert_eq!(back.table().rows.len(), runs.table().rows.len());
+        assert!(back.table().rows[0][1].is_nan());
+        assert!(runs.read(vec![vec![Some(1.0)]]).unwrap_err().contains("a run has 1 values"));
+        runs.delete(None);
+        assert!(runs.table().rows.is_empty());
+    }
 
     const COLUMNS: &[Column] = &[
         Column { key: "angle_deg", heading: "angle (°)", help: "", always: true },

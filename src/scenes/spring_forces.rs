@@ -7,7 +7,7 @@ use std::borrow::Cow;
 use glam::{DVec3, Vec2, Vec3};
 
 use super::ghost::{GHOST_COLOR, Ghost, Motion};
-use super::runs::{Column, MAX_ROWS, Table};
+use super::runs::{Column, Runs, Table};
 use super::{
     CameraHint, Marker, Param, ParamError, ParamTable, ParamValues, Scene, SceneEntry, SceneInfo, Water,
 };
@@ -105,7 +105,7 @@ struct SpringForces {
     /// Whether the bob's first period since it started has been timed (and tabled).
     timed: bool,
     /// The table of runs, in [`RUN_COLUMNS`].
-    runs: Vec<Vec<f64>>,
+    runs: Runs,
 }
 
 impl SpringForces {
@@ -154,7 +154,7 @@ impl SpringForces {
             ghost: None,
             stopwatch: (0.0, None, None),
             timed: false,
-            runs: Vec::new(),
+            runs: Runs::new(RUN_COLUMNS),
         };
         scene.ghost = Ghost::new(&scene.world, bob, scene.bob_motion());
         Ok(scene)
@@ -197,9 +197,6 @@ impl SpringForces {
             period,
             f64::from(self.predicted_period()),
         ];
-        if self.runs.len() == MAX_ROWS {
-            self.runs.remove(0);
-        }
         self.runs.push(row);
     }
 
@@ -256,9 +253,7 @@ impl Scene for SpringForces {
     }
 
     fn save_state(&self) -> serde_json::Value {
-        let runs: Vec<Vec<Option<f64>>> =
-            self.runs.iter().map(|row| row.iter().map(|&x| (!x.is_nan()).then_some(x)).collect()).collect();
-        serde_json::json!({ "ghost": self.ghost, "stopwatch": self.stopwatch, "timed": self.timed, "runs": runs })
+        serde_json::json!({ "ghost": self.ghost, "stopwatch": self.stopwatch, "timed": self.timed, "runs": self.runs.saved() })
     }
 
     fn restore_state(&mut self, state: &super::RawValue) -> Result<(), String> {
@@ -273,39 +268,20 @@ impl Scene for SpringForces {
             runs: Vec<Vec<Option<f64>>>,
         }
         let saved: Saved = super::read_state(state)?;
-        if let Some(row) = saved.runs.iter().find(|row| row.len() != RUN_COLUMNS.len()) {
-            return Err(format!(
-                "a run has {} values; springForces' runs have {}",
-                row.len(),
-                RUN_COLUMNS.len()
-            ));
-        }
-        if saved.runs.len() > MAX_ROWS {
-            return Err(format!("{} runs, more than the {MAX_ROWS} kept", saved.runs.len()));
-        }
+        let runs = self.runs.read(saved.runs)?;
         (self.ghost, self.stopwatch) = (saved.ghost, saved.stopwatch);
         // An old snapshot that had timed a period already did not table it: leave it so.
         self.timed = saved.timed.unwrap_or(self.stopwatch.2.is_some());
-        self.runs = saved
-            .runs
-            .into_iter()
-            .map(|row| row.into_iter().map(|x| x.unwrap_or(f64::NAN)).collect())
-            .collect();
+        self.runs = runs;
         Ok(())
     }
 
     fn runs(&self) -> Option<Table<'_>> {
-        Some(Table { columns: RUN_COLUMNS, rows: &self.runs })
+        Some(self.runs.table())
     }
 
     fn delete_runs(&mut self, which: Option<usize>) -> bool {
-        match which {
-            Some(k) if k < self.runs.len() => {
-                self.runs.remove(k);
-            }
-            Some(_) => {}
-            None => self.runs.clear(),
-        }
+        self.runs.delete(which);
         true
     }
 
@@ -340,7 +316,7 @@ impl Scene for SpringForces {
                 let restarted = Self::build(params).expect("parameter ranges keep every particle valid");
                 let mut running = std::mem::replace(self, restarted);
                 super::keep_solver(&running.world, &mut self.world);
-                self.runs = std::mem::take(&mut running.runs);
+                std::mem::swap(&mut self.runs, &mut running.runs);
             }
         }
         Ok(())
