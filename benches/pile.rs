@@ -30,7 +30,9 @@
 //! `cargo bench --bench pile --features peer -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`; `PILE_SIZES=1000,8000` picks the sizes (`PILE_SIZES=` none: the
 //! pour only); `PILE_POUR=0` skips the pour; `PILE_FORMING=0` skips the piles while
-//! their contacts form and `PILE_SETTLED=0` the settled piles; `PILE_PROFILE=1` prints where each
+//! their contacts form and `PILE_SETTLED=0` the settled piles; `PILE_LAB_ONLY=1` times
+//! particle-lab alone while the contacts form (for quick measurements of a change);
+//! `PILE_THREADS=2` picks the thread counts (default 1 and all); `PILE_PROFILE=1` prints where each
 //! engine's last step went and its fastest sphere. Without the feature only particle-lab
 //! runs. In test mode (`cargo test --benches`) a 300-sphere pile and a 60-sphere pour
 //! check the plumbing in a few seconds.
@@ -55,6 +57,9 @@ const FRICTION: f32 = 0.5;
 const G: f32 = 9.81;
 /// Time step (s): the pile scene's own.
 const DT: f32 = 1.0 / 60.0;
+/// Sizes up to which the piles forming are timed with each engine's default sleeping
+/// too (issue 39 checks 8,000 spheres so, 100,000 awake).
+const FORMING_SLEEP_UP_TO: usize = 10_000;
 /// Sizes measured by `cargo bench`.
 const SIZES: [usize; 4] = [1_000, 8_000, 10_000, 100_000];
 /// Median speed below which a pile counts as settled (m/s).
@@ -213,26 +218,34 @@ fn settle(pool: &ThreadPool, engine: &mut dyn Engine, n: usize, width: f32, plan
 }
 
 /// The pile while its contacts form: fresh piles (particle-lab, lab rr 0.1 and rapier3d
-/// from the same grid, sleeping off) stepped on each pool from the drop to
+/// from the same grid; sleeping off, or with `sleep` each engine's default) stepped on
+/// each pool from the drop to
 /// `plan.forming.0` untimed (by step 88 the lowest layers have landed and the ones above
 /// are landing on them), then to `plan.forming.1` timed in turn (see
 /// [`time_in_turn`]), each pile measured at the end. The set-up of issue 39's check
 /// (steps 90 to 180, both engines awake); the piles are built again for each pool so
 /// that every thread count times the same steps. Prints one `forming:` line per engine
 /// and pool, with the ratio to particle-lab on the others.
-fn forming(pools: &[(usize, Arc<ThreadPool>)], n: usize, plan: Plan) {
+fn forming(
+    pools: &[(usize, Arc<ThreadPool>)],
+    n: usize,
+    plan: Plan,
+    sleep: bool,
+    lab_only: bool,
+    profile: bool,
+) {
     let width = width_for(n);
     let (from, to) = plan.forming;
     let rounds = (to - from) / (BLOCK as usize + 1);
     for (threads, pool) in pools {
-        let mut engines: Vec<Box<dyn Engine>> = vec![
-            Box::new(Lab::new(n, width, 0.0, LAB)),
-            Box::new(Lab::new(n, width, DEFAULT_ROLLING_RESISTANCE, "lab rr 0.1")),
-        ];
-        #[cfg(feature = "peer")]
-        engines.push(Box::new(peer::Rapier::new(&pile::starting_grid(n, RADIUS, width), width)));
+        let mut engines: Vec<Box<dyn Engine>> = vec![Box::new(Lab::new(n, width, 0.0, LAB))];
+        if !lab_only {
+            engines.push(Box::new(Lab::new(n, width, DEFAULT_ROLLING_RESISTANCE, "lab rr 0.1")));
+            #[cfg(feature = "peer")]
+            engines.push(Box::new(peer::Rapier::new(&pile::starting_grid(n, RADIUS, width), width)));
+        }
         for engine in &mut engines {
-            engine.set_sleep(false);
+            engine.set_sleep(sleep);
             run(pool, engine.as_mut(), from as u64);
         }
         let round_trip = core_round_trip_ns();
@@ -244,10 +257,11 @@ fn forming(pools: &[(usize, Arc<ThreadPool>)], n: usize, plan: Plan) {
             let q = quality(&positions, &velocities, width);
             let ratio = if engine.name() == LAB { String::from("-") } else { format!("{:.2}", ms / lab_ms) };
             eprintln!(
-                "forming: {} n={n} threads={threads} steps {from}-{}: {ms:.3} ms/step (median of {}), ratio to \
+                "forming: {} n={n} threads={threads} sleep={} steps {from}-{}: {ms:.3} ms/step (median of {}), ratio to \
                  {LAB} {ratio}; then median speed {:.4} m/s, fastest {:.2} m/s, deepest overlap {:.2} mm, {} \
                  escaped, {} asleep; load {}, rt {} ns",
                 engine.name(),
+                if sleep { "on" } else { "off" },
                 from + rounds * (BLOCK as usize + 1),
                 times.len(),
                 q.median_speed,
@@ -258,6 +272,9 @@ fn forming(pools: &[(usize, Arc<ThreadPool>)], n: usize, plan: Plan) {
                 load_average().map_or_else(|| "-".into(), |l| format!("{l:.1}")),
                 round_trip.map_or_else(|| "-".into(), |ns| format!("{ns:.0}"))
             );
+            if profile {
+                eprintln!("forming: {} last step: {}", engine.name(), engine.profile());
+            }
         }
     }
 }
@@ -684,6 +701,7 @@ fn main() {
     let testing = !args.iter().any(|a| a == "--bench") || args.iter().any(|a| a == "--test");
     let plan = if testing { QUICK } else { FULL };
     let profile = std::env::var_os("PILE_PROFILE").is_some();
+    let lab_only = std::env::var("PILE_LAB_ONLY").is_ok_and(|v| v == "1");
     let sizes: Vec<usize> = match std::env::var("PILE_SIZES") {
         Ok(list) => list
             .split(',')
@@ -694,7 +712,14 @@ fn main() {
         Err(_) => SIZES.to_vec(),
     };
     let all = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let thread_counts: Vec<usize> = if all > 1 { vec![1, all] } else { vec![1] };
+    let thread_counts: Vec<usize> = match std::env::var("PILE_THREADS") {
+        Ok(list) => list
+            .split(',')
+            .map(|s| s.trim().parse().expect("PILE_THREADS: numbers separated by commas"))
+            .collect(),
+        Err(_) if all > 1 => vec![1, all],
+        Err(_) => vec![1],
+    };
     let pools: Vec<(usize, Arc<ThreadPool>)> = thread_counts
         .iter()
         .map(|&t| (t, Arc::new(ThreadPoolBuilder::new().num_threads(t).build().expect("a thread pool"))))
@@ -706,7 +731,10 @@ fn main() {
 
     if std::env::var("PILE_FORMING").map_or(true, |v| v != "0") {
         for &n in &sizes {
-            forming(&pools, n, plan);
+            forming(&pools, n, plan, false, lab_only, profile);
+            if n <= FORMING_SLEEP_UP_TO {
+                forming(&pools, n, plan, true, lab_only, profile);
+            }
         }
     }
     let settled_sizes =

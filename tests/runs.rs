@@ -255,7 +255,7 @@ fn a_pendulums_release_is_a_row_with_its_measured_and_predicted_periods() {
         // to it by the series 1 + θ²/16 + 11θ⁴/3072 + 173θ⁶/737280 + ...
         let small = 2.0 * std::f64::consts::PI * (1.0f64 / 9.81).sqrt();
         assert!((row["period_predicted_s"] / small - 1.0).abs() < 1e-6, "{}", row["period_predicted_s"]);
-        let theta = f64::from(angle).to_radians();
+        let theta = angle.to_radians();
         let series =
             1.0 + theta.powi(2) / 16.0 + 11.0 * theta.powi(4) / 3072.0 + 173.0 * theta.powi(6) / 737_280.0;
         let exact = row["period_exact_predicted_s"];

@@ -237,10 +237,10 @@ pub fn simulate(
             return Ok(Err(error));
         }
     }
-    if let (Some(path), Some(table)) = (&plan.runs, scene.runs()) {
-        if let Err(error) = crate::writing::write_atomic(path, table.csv().as_bytes()) {
-            return Ok(Err(format!("cannot write {}: {error}", crate::messages::path(path))));
-        }
+    if let (Some(path), Some(table)) = (&plan.runs, scene.runs())
+        && let Err(error) = crate::writing::write_atomic(path, table.csv().as_bytes())
+    {
+        return Ok(Err(format!("cannot write {}: {error}", crate::messages::path(path))));
     }
     Ok(Ok(()))
 }

@@ -741,4 +741,32 @@ mod tests {
         let two = run(2);
         assert!(one == two, "1 thread and 2 threads differ");
     }
+
+    /// The soft step's profile: its stages (the solve being its five parts' sum) lie
+    /// within the step, the step within its time measured from outside, and a pile in
+    /// contact spends time in every part. The paper's resolver has no such parts.
+    #[test]
+    #[cfg_attr(miri, ignore = "timing: nothing unsafe")]
+    fn the_profile_parts_the_step() {
+        let mut world = small_pile();
+        for _ in 0..3 {
+            let outside = web_time::Instant::now();
+            world.step(1.0 / 60.0).expect("a valid step");
+            let outside_ms = outside.elapsed().as_secs_f32() * 1000.0;
+            let p = world.profile();
+            let parts = [p.color_ms, p.batch_ms, p.contact_passes_ms, p.particle_sweeps_ms, p.store_ms];
+            assert!(parts.iter().all(|&t| t > 0.0), "every part takes time: {p:?}");
+            let stages = p.broad_phase_ms + p.narrow_phase_ms + p.solve_ms;
+            assert!(stages <= p.total_ms * (1.0 + 1e-5), "the stages fit in the step: {p:?}");
+            assert!(p.total_ms <= outside_ms * (1.0 + 1e-5), "{p:?} within {outside_ms} ms");
+        }
+        world
+            .set_solver(SolverSettings { kind: crate::physics::SolverKind::Paper, ..*world.solver() })
+            .expect("valid settings");
+        world.step(1.0 / 60.0).expect("a valid step");
+        let p = world.profile();
+        assert!(p.solve_ms > 0.0 && p.total_ms <= 1e6, "{p:?}");
+        let parts = [p.color_ms, p.batch_ms, p.contact_passes_ms, p.particle_sweeps_ms, p.store_ms];
+        assert_eq!(parts, [0.0; 5], "the paper's resolver has no soft parts");
+    }
 }

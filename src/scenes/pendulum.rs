@@ -221,14 +221,15 @@ impl Scene for Pendulum {
     fn step(&mut self, dt: f32) -> Result<ResolveReport, PhysicsError> {
         let (before, t0) = (self.bob_offset(), self.world.time());
         let report = self.world.step(dt)?;
-        if let (Some(x0), Some(x1)) = (before, self.bob_offset()) {
-            if x0 < 0.0 && x1 >= 0.0 {
-                let t = t0 + f64::from(-x0 / (x1 - x0)) * (self.world.time() - t0);
-                self.crossings = [self.crossings[1], Some(t)];
-                if let (false, Some(period)) = (self.timed, self.measured_period()) {
-                    self.timed = true;
-                    self.add_run(period);
-                }
+        if let (Some(x0), Some(x1)) = (before, self.bob_offset())
+            && x0 < 0.0
+            && x1 >= 0.0
+        {
+            let t = t0 + f64::from(-x0 / (x1 - x0)) * (self.world.time() - t0);
+            self.crossings = [self.crossings[1], Some(t)];
+            if let (false, Some(period)) = (self.timed, self.measured_period()) {
+                self.timed = true;
+                self.add_run(period);
             }
         }
         Ok(report)

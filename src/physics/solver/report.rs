@@ -37,10 +37,25 @@ pub struct Profile {
     pub broad_phase_ms: f32,
     /// Turning pairs, planes and links into contacts.
     pub narrow_phase_ms: f32,
-    /// Solving contacts and links (with the paper's resolver: resolving them).
+    /// Solving contacts and links (with the paper's resolver: resolving them). With the
+    /// soft solver it is the sum of the five parts below.
     pub solve_ms: f32,
     /// The whole step.
     pub total_ms: f32,
+    /// Soft solver: picking up last step's impulses, colouring the contacts and sorting
+    /// them by colour.
+    pub color_ms: f32,
+    /// Soft solver: laying the contacts out in batches, and taking their impulses back
+    /// out after the substeps.
+    pub batch_ms: f32,
+    /// Soft solver: the passes over the contacts and links in every substep (warm start,
+    /// solve, relax).
+    pub contact_passes_ms: f32,
+    /// Soft solver: the rest of the substeps, sweeps over the particles (the kick, the
+    /// drift, the impact stage, the energy ledger's sums).
+    pub particle_sweeps_ms: f32,
+    /// Soft solver: keeping the impulses for the next step, the deepest overlap, sleep.
+    pub store_ms: f32,
 }
 
 /// What a soft step did, for reports.

@@ -31,6 +31,14 @@ impl StatsPanel {
         rows.push(("  broad phase", milliseconds(profile.broad_phase_ms)));
         rows.push(("  narrow phase", milliseconds(profile.narrow_phase_ms)));
         rows.push(("  solve", milliseconds(profile.solve_ms)));
+        if world.solver().kind == SolverKind::Soft {
+            // The soft solve's parts, which add up to it (`Profile`).
+            rows.push(("    colour", milliseconds(profile.color_ms)));
+            rows.push(("    batches", milliseconds(profile.batch_ms)));
+            rows.push(("    contact passes", milliseconds(profile.contact_passes_ms)));
+            rows.push(("    particle sweeps", milliseconds(profile.particle_sweeps_ms)));
+            rows.push(("    store", milliseconds(profile.store_ms)));
+        }
         rows.push(("particles", world.particles.len().to_string()));
         rows.push(("step", world.steps().to_string()));
         rows.push(("state hash", lab.state_hash()));

@@ -171,6 +171,7 @@ impl PaperStep {
             narrow_phase_ms: ms(solve - collide),
             solve_ms: ms(done - solve),
             total_ms: ms(done - started),
+            ..Profile::default()
         };
         report
     }

@@ -3,6 +3,8 @@
 //! (kick, impacts, warm start, solve, drift, relax), store, sleep. Each stage is
 //! finished before the next begins.
 
+use std::time::Duration;
+
 use web_time::Instant;
 
 use glam::Vec3;
@@ -68,9 +70,11 @@ impl SoftStep {
         }
         let collided = Instant::now();
         self.pick_up_and_color(particles, generators.len());
+        let colored = Instant::now();
         self.batch(particles);
         self.share_out();
         self.network.prepare(&self.links, particles, settings);
+        let batched = Instant::now();
 
         let contact_hertz = settings.contact_hertz.min(CONTACT_HERTZ_LIMIT / h);
         let joint_hertz = settings.joint_hertz.min(0.25 / h);
@@ -106,6 +110,8 @@ impl SoftStep {
         let jerky = self.links.iter().any(|l| !l.rigid && l.restitution == 0.0);
         // Spheres that roll: the contacts change their spin as well (nothing else does).
         let rolling = constrained && particles.any_rolling();
+        // The time of the passes over the contacts and links, summed over the substeps.
+        let mut passes = Duration::ZERO;
         for _ in 0..substeps {
             if self.noting {
                 self.changes.clear();
@@ -152,8 +158,10 @@ impl SoftStep {
             if touching {
                 self.prepare_reference(semi_implicit);
             }
+            let pass = Instant::now();
             self.warm_start(particles);
             self.solve(particles, contact_context, joint_context);
+            passes += pass.elapsed();
             // The kinetic energy before the relax pass: velocities do not change as
             // positions move, so it is measured now, with the solve's work.
             let mut before_relax = 0.0;
@@ -168,7 +176,9 @@ impl SoftStep {
                 };
             }
             particles.integrate_positions(h, &mut self.delta, parallel);
+            let pass = Instant::now();
             self.solve(particles, relax, relax);
+            passes += pass.elapsed();
             if touching {
                 let (kinetic, work) = self.relaxed(particles, semi_implicit, rolling);
                 constraint_work += kinetic - before_relax;
@@ -184,14 +194,26 @@ impl SoftStep {
         let dissipated = lost + (-contact_work).max(0.0);
         particles.dissipated += dissipated;
         particles.constraint -= constraint_work + dissipated;
+        let substepped = Instant::now();
         self.unbatch();
+        let unbatched = Instant::now();
         self.store(h, link_tension);
         let max_penetration = self.deepest_overlap();
         if settings.sleep {
             self.fall_asleep(particles, settings, dt);
         }
         let solved = Instant::now();
-        profile.solve_ms = ms(solved - collided);
+        // The parts tile the solve: each span runs from the end of the one before.
+        profile.color_ms = ms(colored - collided);
+        profile.batch_ms = ms(batched - colored) + ms(unbatched - substepped);
+        profile.contact_passes_ms = ms(passes);
+        profile.particle_sweeps_ms = ms((substepped - batched).saturating_sub(passes));
+        profile.store_ms = ms(solved - unbatched);
+        profile.solve_ms = profile.color_ms
+            + profile.batch_ms
+            + profile.contact_passes_ms
+            + profile.particle_sweeps_ms
+            + profile.store_ms;
         profile.total_ms = ms(solved - started);
         let asleep = if settings.sleep { particles.asleep_count() } else { 0 };
         let pair_budget_hit = scratch.pair_budget_hit;
