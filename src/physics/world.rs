@@ -761,7 +761,10 @@ mod tests {
             assert!(p.total_ms <= outside_ms * (1.0 + 1e-5), "{p:?} within {outside_ms} ms");
         }
         world
-            .set_solver(SolverSettings { kind: crate::physics::SolverKind::Paper, ..*world.solver() })
+            .set_solver(SolverSettings {
+                kind: crate::physics::solver::settings::SolverKind::Paper,
+                ..*world.solver()
+            })
             .expect("valid settings");
         world.step(1.0 / 60.0).expect("a valid step");
         let p = world.profile();
