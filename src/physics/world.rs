@@ -742,6 +742,67 @@ mod tests {
         assert!(one == two, "1 thread and 2 threads differ");
     }
 
+    /// The deepest overlap a step reports, which the soft step finds on the batches as
+    /// it empties them, is the one found on its contacts, to the bit, step after step
+    /// of a small pile settling (on one thread and two).
+    #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "3,000 spheres: too slow to interpret; the step's debug check covers Miri's runs"
+    )]
+    fn the_reported_overlap_is_the_contacts() {
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
+            pool.install(|| {
+                let mut world = small_pile();
+                let mut deepest = 0.0f32;
+                for step in 0..40 {
+                    let report = world.step(1.0 / 60.0).expect("a valid step");
+                    let contacts = world.soft.deepest_overlap();
+                    assert_eq!(
+                        report.max_penetration.to_bits(),
+                        contacts.to_bits(),
+                        "step {step} on {threads} threads"
+                    );
+                    deepest = deepest.max(contacts);
+                }
+                assert!(deepest > 0.0, "the pile overlaps somewhere");
+            });
+        }
+        // And on 2 threads with contacts enough to empty the batches on both (8,192).
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
+        pool.install(|| {
+            // 3,000 rolling spheres (r 0.5 m) dropped from a 15 × 15 grid into a 16 m box.
+            let mut world = World::new();
+            for (normal, offset) in
+                [(Vec3::Y, 0.0), (Vec3::X, 8.0), (Vec3::NEG_X, 8.0), (Vec3::Z, 8.0), (Vec3::NEG_Z, 8.0)]
+            {
+                let plane = Plane::new(normal, -normal * offset, 0.0, 0.5).expect("a valid plane");
+                world.add_contact_generator(plane).expect("a valid plane");
+            }
+            world.add_contact_generator(SphereCollisions::new(0.0, 0.5)).expect("valid collisions");
+            for i in 0..3000 {
+                let (x, z, y) = ((i % 15) as f32, (i / 15 % 15) as f32, (i / 225) as f32);
+                let wobble = 0.01 * ((i * 7 % 5) as f32 - 2.0);
+                let id = world
+                    .add_particle(ParticleDesc {
+                        position: Vec3::new(x - 7.0 + wobble, 0.5 + 1.02 * y, z - 7.0 - wobble),
+                        acceleration: Vec3::new(0.0, -9.81, 0.0),
+                        radius: 0.5,
+                        ..ParticleDesc::default()
+                    })
+                    .expect("a valid sphere");
+                world.particles.set_rolling(id, true).expect("a sphere with a radius");
+            }
+            for step in 0..150 {
+                let report = world.step(1.0 / 60.0).expect("a valid step");
+                let contacts = world.soft.deepest_overlap();
+                assert_eq!(report.max_penetration.to_bits(), contacts.to_bits(), "step {step} of the pile");
+            }
+            assert!(world.contact_count() >= 8192, "{} contacts", world.contact_count());
+        });
+    }
+
     /// The soft step's profile: its stages (the solve being its five parts' sum) lie
     /// within the step, the step within its time measured from outside, and a pile in
     /// contact spends time in every part. The paper's resolver has no such parts.

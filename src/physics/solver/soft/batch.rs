@@ -252,7 +252,12 @@ impl SoftStep {
     /// alone (a colour's contacts and its batches correspond in order), so large lists
     /// are copied on several threads, a run of [`BATCH_RUN`] batches per task: one
     /// fork for all the colours (a fork per colour cost a wake-up of the pool each).
-    pub(super) fn unbatch(&mut self) {
+    ///
+    /// Returns the deepest overlap at the end of the step (m, +0 for none), from each
+    /// contact's start separation and how far its particles moved, found while the
+    /// batches are read anyway: a pass of its own over a falling pile's 390,000
+    /// contacts took 5 ms of a 134 ms step on one thread.
+    pub(super) fn unbatch(&mut self) -> f32 {
         let copy = |contacts: &mut [SoftContact], batch: &ContactBatch| {
             let normal = batch.normal_impulse.to_array();
             let (tangent, rolling) = (batch.tangent_impulse.lanes(), batch.rolling_impulse.lanes());
@@ -262,11 +267,27 @@ impl SoftStep {
                 c.rolling_impulse = rolling[i];
             }
         };
+        // The overlaps of a batch's contacts, as `SoftStep::deepest_overlap` computes
+        // them from the contacts (the same operations, so the same bits).
+        let delta = &self.delta;
+        let deepest = |batch: &ContactBatch, lanes: usize| {
+            let (normals, separations) = (batch.normal.lanes(), batch.separation.to_array());
+            let mut deepest = 0.0f32;
+            for lane in 0..lanes {
+                let mut d = delta[batch.a[lane] as usize];
+                if batch.has_b & 1 << lane != 0 {
+                    d -= delta[batch.b[lane] as usize];
+                }
+                deepest = deepest.max(-(separations[lane] + d.dot(normals[lane])));
+            }
+            deepest
+        };
         let parallel = self.contacts.len() >= PARALLEL_BATCHING;
         let (color_starts, batch_starts) = (&self.color_starts, &self.batch_starts);
         let contacts = Disjoint::new(&mut self.contacts);
         let unbatch_run = |(k, batches): (usize, &[ContactBatch])| {
             let mut color = 0;
+            let mut deepest_of_run = 0.0f32;
             for (g, batch) in (k * BATCH_RUN..).zip(batches) {
                 color = color_of(batch_starts, color, g);
                 let per_batch = if color == OVERFLOW { 1 } else { LANES };
@@ -275,12 +296,17 @@ impl SoftStep {
                 // SAFETY: batch `g`'s contacts are its own (no other batch's run), and
                 // each batch is taken by one task.
                 copy(unsafe { contacts.run(first..last) }, batch);
+                deepest_of_run = deepest_of_run.max(deepest(batch, last - first));
             }
+            deepest_of_run
         };
-        if parallel {
-            self.batches.par_chunks(BATCH_RUN).enumerate().for_each(unbatch_run);
+        // The largest of the same numbers in any order; a zero is reported as +0,
+        // since `max` may give either of +0 and -0.
+        let deepest = if parallel {
+            self.batches.par_chunks(BATCH_RUN).enumerate().map(unbatch_run).reduce(|| 0.0, f32::max)
         } else {
-            self.batches.chunks(BATCH_RUN).enumerate().for_each(unbatch_run);
-        }
+            self.batches.chunks(BATCH_RUN).enumerate().map(unbatch_run).fold(0.0, f32::max)
+        };
+        if deepest == 0.0 { 0.0 } else { deepest }
     }
 }

@@ -55,6 +55,7 @@ impl SoftStep {
             particles.radius.iter().zip(&self.asleep).any(|(&r, &asleep)| r > 0.0 && !asleep);
         profile.broad_phase_ms = 0.0;
         scratch.pair_budget_hit = false;
+        self.bouncy_contacts = false;
         let started = Instant::now();
         for (source, (id, generator)) in generators.iter().enumerate() {
             let start = self.fresh.len();
@@ -88,6 +89,8 @@ impl SoftStep {
             }
             if self.fresh.len() > start {
                 self.fresh_groups.push((*id, start..self.fresh.len()));
+                // Every contact takes its generator's restitution.
+                self.bouncy_contacts |= restitution(generator) > 0.0;
             }
         }
         profile.narrow_phase_ms = ms(started.elapsed()) - profile.broad_phase_ms;
@@ -214,6 +217,16 @@ impl SoftStep {
             impulse: 0.0,
             generator,
         });
+    }
+}
+
+/// The restitution a generator gives each of its contacts (a link makes none).
+fn restitution(generator: &ContactGenerator) -> f32 {
+    match generator {
+        ContactGenerator::Plane(plane) => plane.restitution,
+        ContactGenerator::Plate(plate) => plate.restitution,
+        ContactGenerator::Spheres(spheres) => spheres.restitution,
+        ContactGenerator::Link(_) => 0.0,
     }
 }
 

@@ -266,6 +266,9 @@ pub struct SoftStep {
     /// links), while `noting` (energy budget, see `losses.rs`).
     changes: Vec<Vec3>,
     noting: bool,
+    /// Whether a contact of this step has restitution: a generator with restitution
+    /// made one (noted by `collide`, so that the step need not look through them all).
+    bouncy_contacts: bool,
     /// Per chunk of sphere pairs: its contacts (see `SoftStep::collide_spheres`).
     pair_chunks: Vec<collide::PairChunk>,
     /// Per particle: asleep at the start of this collide pass.

@@ -89,8 +89,12 @@ impl SoftStep {
         particles.prepare_damping(h);
         let parallel = particles.len() >= PARALLEL_PARTICLES;
         let copying = particles.len() >= PARALLEL_COPY;
-        let bouncy = self.contacts.iter().any(|c| c.restitution > 0.0)
-            || self.links.iter().any(|l| !l.rigid && l.restitution > 0.0);
+        debug_assert_eq!(
+            self.bouncy_contacts,
+            self.contacts.iter().any(|c| c.restitution > 0.0),
+            "collide notes whether a contact has restitution"
+        );
+        let bouncy = self.bouncy_contacts || self.links.iter().any(|l| !l.rigid && l.restitution > 0.0);
         let integrator = settings.integrator;
         let damped = particles.any_damping();
         // The energy the contacts and links add (negative: take out), for the budget.
@@ -195,10 +199,14 @@ impl SoftStep {
         particles.dissipated += dissipated;
         particles.constraint -= constraint_work + dissipated;
         let substepped = Instant::now();
-        self.unbatch();
+        let max_penetration = self.unbatch();
+        debug_assert_eq!(
+            max_penetration.to_bits(),
+            self.deepest_overlap().to_bits(),
+            "the batches' deepest overlap is the contacts'"
+        );
         let unbatched = Instant::now();
         self.store(h, link_tension);
-        let max_penetration = self.deepest_overlap();
         if settings.sleep {
             self.fall_asleep(particles, settings, dt);
         }
@@ -316,8 +324,9 @@ impl SoftStep {
     }
 
     /// Deepest overlap at the end of the step, from the contacts' start separations and
-    /// how far their particles moved (m).
-    fn deepest_overlap(&self) -> f32 {
+    /// how far their particles moved (m): what [`unbatch`](SoftStep::unbatch) finds on
+    /// the batches as it empties them, found again on the contacts to check it.
+    pub(crate) fn deepest_overlap(&self) -> f32 {
         let delta = &self.delta;
         let overlap = |c: &super::SoftContact| {
             let mut d = delta[c.a as usize];
