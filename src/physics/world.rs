@@ -803,6 +803,43 @@ mod tests {
         });
     }
 
+    /// The contacts' forces the view draws are what holds a stack up: two spheres of 2
+    /// and 1 kg stacked on the ground, at rest, press on it with the weight of both
+    /// (29.43 N) and on each other with the top one's (9.81 N), to 1%.
+    #[test]
+    fn a_resting_stack_presses_with_its_weight() {
+        let mut world = World::new();
+        // Awake: a sleeping stack makes no contacts.
+        world
+            .set_solver(SolverSettings { sleep: false, ..SolverSettings::default() })
+            .expect("valid settings");
+        let ground = Plane::new(Vec3::Y, Vec3::ZERO, 0.0, 0.5).expect("a valid plane");
+        world.add_contact_generator(ground).expect("a valid plane");
+        world.add_contact_generator(SphereCollisions::new(0.0, 0.5)).expect("valid collisions");
+        for (mass, y) in [(2.0, 0.5), (1.0, 1.5)] {
+            let desc = ParticleDesc {
+                position: Vec3::new(0.0, y, 0.0),
+                acceleration: Vec3::new(0.0, -9.81, 0.0),
+                mass,
+                radius: 0.5,
+                ..ParticleDesc::default()
+            };
+            world.add_particle(desc).expect("a valid sphere");
+        }
+        for _ in 0..120 {
+            world.step(1.0 / 60.0).expect("a valid step");
+        }
+        let mut points = Vec::new();
+        world.contact_points_into(&mut points);
+        let force_at = |height: f32| {
+            let near = points.iter().filter(|c| (c.point.y - height).abs() < 0.05);
+            near.map(|c| c.force).sum::<f32>()
+        };
+        let (on_ground, between) = (force_at(0.0), force_at(1.0));
+        assert!((on_ground - 3.0 * 9.81).abs() < 0.01 * 3.0 * 9.81, "on the ground: {on_ground} N");
+        assert!((between - 9.81).abs() < 0.01 * 9.81, "between the spheres: {between} N");
+    }
+
     /// The soft step's profile: its stages (the solve being its five parts' sum) lie
     /// within the step, the step within its time measured from outside, and a pile in
     /// contact spends time in every part. The paper's resolver has no such parts.
