@@ -275,9 +275,11 @@ pub struct SoftStep {
     asleep: Vec<bool>,
     /// Labels of sleeping islands to wake.
     to_wake: Vec<u32>,
-    /// Union-find parents and each island's shortest rest time, for sleeping.
+    /// Union-find parents, which particles are ready to sleep, and which particles'
+    /// islands hold one that is not, for sleeping (see `sleep.rs`).
     parent: Vec<u32>,
-    island_timer: Vec<f32>,
+    ready: Vec<bool>,
+    blocked: Vec<bool>,
     /// The exact solve of rods and cables (`link_network/`), with its cached network.
     network: link_network::LinkNetwork,
 }

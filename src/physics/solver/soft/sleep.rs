@@ -51,36 +51,59 @@ impl SoftStep {
         if !ready {
             return;
         }
+        // An island (particles joined by contacts, speculative ones too, and links;
+        // immovable particles and planes join nothing) falls asleep when every particle
+        // in it is ready: slow for `sleep_time`. So only the ready particles are joined
+        // into islands, and a ready island joined to a movable particle that is not
+        // ready is blocked: the islands left are whole islands of ready particles, the
+        // ones that fall asleep. While a pile forms a few of its spheres are ready and
+        // almost all contacts join none, where joining every contact into islands took
+        // 0.27 ms of an 8,000-sphere step. Every contact joins, speculative ones too: a
+        // pair close enough to have a contact is close enough that the next step's
+        // contact would wake one from the other, so two islands split by a near miss
+        // would wake each other in turn.
         let n = particles.len();
+        let (w, sleep_time) = (&particles.inverse_mass, settings.sleep_time);
+        let movable = |i: u32| i != NONE && w[i as usize] > 0.0;
+        // Noted before any falls asleep (which resets its timer).
+        self.ready.clear();
+        self.ready.extend(particles.sleep.iter().zip(w).map(|(s, &w)| w > 0.0 && s.timer >= sleep_time));
         self.parent.clear();
         self.parent.extend(0..n as u32);
-        let movable = |i: u32| i != NONE && particles.inverse_mass[i as usize] > 0.0;
-        // Every contact joins, speculative ones too: a pair close enough to have a
-        // contact is close enough that the next step's contact would wake one from the
-        // other, so two islands split by a near miss would wake each other in turn.
-        for c in &self.contacts {
-            if movable(c.a) && movable(c.b) {
-                union(&mut self.parent, c.a, c.b);
+        self.blocked.clear();
+        self.blocked.resize(n, false);
+        let (parent, blocked, ready) = (&mut self.parent, &mut self.blocked, &self.ready);
+        let mut join = |a: u32, b: u32| {
+            if movable(a) && movable(b) {
+                match (ready[a as usize], ready[b as usize]) {
+                    (true, true) => union(parent, a, b),
+                    (true, false) => blocked[a as usize] = true,
+                    (false, true) => blocked[b as usize] = true,
+                    (false, false) => {}
+                }
             }
+        };
+        // The contacts' particles, read from their keys (8 bytes, not the contact's 88).
+        for &key in &self.fresh_keys {
+            join((key >> 32) as u32, key as u32);
         }
         for link in &self.links {
-            if movable(link.a) && movable(link.b) {
-                union(&mut self.parent, link.a, link.b);
-            }
+            join(link.a, link.b);
         }
-        self.island_timer.clear();
-        self.island_timer.resize(n, f32::INFINITY);
+        // A block holds for the whole island: note it at the island's root.
         for i in 0..n {
-            let root = find(&mut self.parent, i as u32) as usize;
-            let sleep = particles.sleep[i];
-            // Immovable particles are never in an island; they never keep one awake.
-            if particles.inverse_mass[i] > 0.0 {
-                self.island_timer[root] = self.island_timer[root].min(sleep.timer);
+            if blocked[i] {
+                let root = find(parent, i as u32) as usize;
+                blocked[root] = true;
             }
         }
         for i in 0..n {
-            let root = find(&mut self.parent, i as u32);
-            if particles.inverse_mass[i] > 0.0 && self.island_timer[root as usize] >= settings.sleep_time {
+            if !ready[i] {
+                continue;
+            }
+            // The root is the island's lowest index (see `union`): its label.
+            let root = find(parent, i as u32);
+            if !blocked[root as usize] {
                 // Falling asleep stops what little motion was left: count it as lost.
                 let v = particles.velocity[i];
                 particles.dissipated +=
