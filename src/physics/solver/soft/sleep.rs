@@ -97,8 +97,8 @@ impl SoftStep {
                 blocked[root] = true;
             }
         }
-        for i in 0..n {
-            if !ready[i] {
+        for (i, &ready) in ready.iter().enumerate() {
+            if !ready {
                 continue;
             }
             // The root is the island's lowest index (see `union`): its label.
