@@ -45,8 +45,8 @@ pub struct Profile {
     /// Soft solver: picking up last step's impulses, colouring the contacts and sorting
     /// them by colour.
     pub color_ms: f32,
-    /// Soft solver: laying the contacts out in batches, and taking their impulses back
-    /// out after the substeps.
+    /// Soft solver: laying the contacts out in batches, and taking their impulses and
+    /// the deepest overlap back out after the substeps.
     pub batch_ms: f32,
     /// Soft solver: the passes over the contacts and links in every substep (warm start,
     /// solve, relax).
@@ -54,7 +54,7 @@ pub struct Profile {
     /// Soft solver: the rest of the substeps, sweeps over the particles (the kick, the
     /// drift, the impact stage, the energy ledger's sums).
     pub particle_sweeps_ms: f32,
-    /// Soft solver: keeping the impulses for the next step, the deepest overlap, sleep.
+    /// Soft solver: keeping the impulses for the next step, and sleep.
     pub store_ms: f32,
 }
 

@@ -155,3 +155,80 @@ fn union(parent: &mut [u32], a: u32, b: u32) {
         parent[high as usize] = low;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::particles::ParticleDesc;
+
+    /// Which particles fall asleep, and with what labels, is what joining every contact
+    /// into islands gives (the way the step once found them, written again here): an
+    /// island sleeps when every movable particle in it is ready, labelled by its lowest
+    /// index. On random contact graphs of ready, moving and immovable particles.
+    #[test]
+    #[cfg_attr(miri, ignore = "many random worlds: too slow to interpret, and no unsafe code")]
+    fn the_islands_that_sleep_are_those_of_all_the_contacts() {
+        let settings = SolverSettings::default();
+        let dt = 1.0 / 60.0;
+        let mut state = 7u64;
+        let mut next = |below: u64| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 33) % below
+        };
+        let mut sleepers = 0;
+        for case in 0..300 {
+            let n = 2 + next(40) as usize;
+            let mut particles = Particles::new();
+            // Kinds: 0 ready (at rest long enough), 1 moving, 2 immovable.
+            let kinds: Vec<u64> = (0..n).map(|_| [0, 0, 0, 0, 1, 2][next(6) as usize]).collect();
+            for &kind in &kinds {
+                let desc = ParticleDesc {
+                    velocity: if kind == 1 { Vec3::X } else { Vec3::ZERO },
+                    immovable: kind == 2,
+                    radius: 0.5,
+                    ..ParticleDesc::default()
+                };
+                particles.add(desc).expect("a valid particle");
+            }
+            for (sleep, &kind) in particles.sleep.iter_mut().zip(&kinds) {
+                sleep.timer = if kind == 0 { settings.sleep_time } else { 0.0 };
+            }
+            let mut step = SoftStep { delta: vec![Vec3::ZERO; n], ..SoftStep::default() };
+            let contacts = next(2 * n as u64) as usize;
+            for _ in 0..contacts {
+                let a = next(n as u64) as u32;
+                let b = if next(5) == 0 { NONE } else { next(n as u64) as u32 };
+                if a != b {
+                    step.fresh_keys.push(u64::from(a) << 32 | u64::from(b));
+                }
+            }
+            // The reference: every contact between movable particles joined.
+            let movable = |i: u32| i != NONE && kinds[i as usize] != 2;
+            let mut parent: Vec<u32> = (0..n as u32).collect();
+            for &key in &step.fresh_keys {
+                let (a, b) = ((key >> 32) as u32, key as u32);
+                if movable(a) && movable(b) {
+                    union(&mut parent, a, b);
+                }
+            }
+            let mut all_ready = vec![true; n];
+            for (i, &kind) in kinds.iter().enumerate() {
+                if movable(i as u32) {
+                    let root = find(&mut parent, i as u32) as usize;
+                    all_ready[root] &= kind == 0;
+                }
+            }
+            let expected: Vec<u32> = (0..n)
+                .map(|i| {
+                    let root = find(&mut parent, i as u32);
+                    if movable(i as u32) && all_ready[root as usize] { root } else { AWAKE }
+                })
+                .collect();
+            step.fall_asleep(&mut particles, &settings, dt);
+            let islands: Vec<u32> = particles.sleep.iter().map(|s| s.island).collect();
+            assert_eq!(islands, expected, "case {case}: kinds {kinds:?}, keys {:?}", step.fresh_keys);
+            sleepers += islands.iter().filter(|&&island| island != AWAKE).count();
+        }
+        assert!(sleepers > 300, "some islands fall asleep: {sleepers}");
+    }
+}
