@@ -58,7 +58,7 @@ impl SoftStep {
     /// [`pick_up_and_color`](SoftStep::pick_up_and_color) without a pick-up (the
     /// contacts keep the impulses they hold), for tests of the colouring.
     #[cfg(test)]
-    fn color(&mut self, particles: &Particles) {
+    pub(super) fn color(&mut self, particles: &Particles) {
         let w = &particles.inverse_mass;
         let recolor = !self.colors_still_hold(w);
         if recolor {

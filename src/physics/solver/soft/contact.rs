@@ -15,9 +15,9 @@
 use glam::Vec3;
 
 use super::Context;
-use super::batch::ContactBatch;
 #[cfg(target_arch = "x86_64")]
 use super::batch::split;
+use super::batch::{ContactBatch, Material};
 use super::shared::SharedVelocities;
 #[cfg(target_arch = "x86_64")]
 use crate::physics::wide::avx::F8;
@@ -114,14 +114,15 @@ fn positive<L: Lane>(x: L) -> u32 {
 #[inline(always)]
 fn turned<L: Lane>(
     batch: &ContactBatch<L>,
+    m: &Material<L>,
     spin_a: V<L>,
     spin_b: V<L>,
     p: V<L>,
     rolling: V<L>,
 ) -> (V<L>, V<L>) {
     let torque = batch.normal.cross(p);
-    let a = spin_a + (rolling - torque.scale(batch.lever_a)).scale(batch.ia);
-    let b = spin_b - (rolling + torque.scale(batch.lever_b)).scale(batch.ib);
+    let a = spin_a + (rolling - torque.scale(m.lever_a)).scale(m.ia);
+    let b = spin_b - (rolling + torque.scale(m.lever_b)).scale(m.ib);
     (a, b)
 }
 
@@ -155,20 +156,27 @@ fn pick<L: Lane, const ALL: bool>(mask: L::Mask, new: V<L>, old: V<L>) -> V<L> {
 /// instructions where the processor has them (the same operations, the same bits). Its
 /// few operations per contact are not worth joining two batches into eight lanes as the
 /// solve does: the joins cost more than they save (measured on a pile).
-pub(super) fn warm_start_batches(batches: &mut [ContactBatch], bodies: Bodies<'_>) {
+pub(super) fn warm_start_batches(batches: &mut [ContactBatch], materials: &[Material], bodies: Bodies<'_>) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the processor has AVX (checked just above).
-        unsafe { warm_start_avx(batches, bodies) };
+        unsafe { warm_start_avx(batches, materials, bodies) };
         return;
     }
-    batches.iter().for_each(|batch| warm_start_batch(batch, bodies));
+    warm_start_run(batches, materials, bodies);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn warm_start_avx(batches: &mut [ContactBatch], bodies: Bodies<'_>) {
-    batches.iter().for_each(|batch| warm_start_batch(batch, bodies));
+fn warm_start_avx(batches: &mut [ContactBatch], materials: &[Material], bodies: Bodies<'_>) {
+    warm_start_run(batches, materials, bodies);
+}
+
+#[inline(always)]
+fn warm_start_run(batches: &[ContactBatch], materials: &[Material], bodies: Bodies<'_>) {
+    for batch in batches {
+        warm_start_batch(batch, &materials[batch.material as usize], bodies);
+    }
 }
 
 /// Solves a run of batches (see [`solve_batch`]), as wide as the processor allows:
@@ -179,6 +187,7 @@ fn warm_start_avx(batches: &mut [ContactBatch], bodies: Bodies<'_>) {
 /// width, so the width changes the time, not the bits.
 pub(super) fn solve_batches(
     batches: &mut [ContactBatch],
+    materials: &[Material],
     one_colour: bool,
     bodies: Bodies<'_>,
     context: Context,
@@ -186,26 +195,32 @@ pub(super) fn solve_batches(
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512vl") {
         // SAFETY: the processor has AVX-512F and VL, and so AVX (checked just above).
-        unsafe { solve_avx512(batches, one_colour, bodies, context) };
+        unsafe { solve_avx512(batches, materials, one_colour, bodies, context) };
         return;
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the processor has AVX (checked just above).
-        unsafe { solve_avx(batches, one_colour, bodies, context) };
+        unsafe { solve_avx(batches, materials, one_colour, bodies, context) };
         return;
     }
     let _ = one_colour;
-    solve_run(batches, bodies, context);
+    solve_run(batches, materials, bodies, context);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn solve_avx(batches: &mut [ContactBatch], one_colour: bool, bodies: Bodies<'_>, context: Context) {
+fn solve_avx(
+    batches: &mut [ContactBatch],
+    materials: &[Material],
+    one_colour: bool,
+    bodies: Bodies<'_>,
+    context: Context,
+) {
     if one_colour {
-        solve_in_eights(batches, bodies, context);
+        solve_in_eights(batches, materials, bodies, context);
     } else {
-        solve_run(batches, bodies, context);
+        solve_run(batches, materials, bodies, context);
     }
 }
 
@@ -213,59 +228,99 @@ fn solve_avx(batches: &mut [ContactBatch], one_colour: bool, bodies: Bodies<'_>,
 /// an 8,000-sphere pile on AMD Zen 5, whose AVX-512 units are a full 512 bits wide: the
 /// step about 10% faster than with eight lanes, the bits the same. The eight-lane
 /// parts are compiled with AVX-512 too, which gives them 32 registers instead of 16.
+///
+/// Four batches of the same four materials as the four before (most of a pile's) reuse
+/// their joined material instead of joining it again.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx512f,avx512vl")]
-fn solve_avx512(batches: &mut [ContactBatch], one_colour: bool, bodies: Bodies<'_>, context: Context) {
+fn solve_avx512(
+    batches: &mut [ContactBatch],
+    materials: &[Material],
+    one_colour: bool,
+    bodies: Bodies<'_>,
+    context: Context,
+) {
     if !one_colour {
-        solve_run(batches, bodies, context);
+        solve_run(batches, materials, bodies, context);
         return;
     }
     let (fours, rest) = batches.as_chunks_mut::<4>();
+    // The names of the four materials joined last, and their join.
+    let mut joined: Option<([u32; 4], Material<F16>)> = None;
     for four in fours {
         let [b0, b1, b2, b3] = &*four;
+        let names = [b0.material, b1.material, b2.material, b3.material];
+        let material = match joined {
+            Some((last, material)) if last == names => material,
+            _ => {
+                let [m0, m1, m2, m3] = names.map(|k| &materials[k as usize]);
+                let both = (Material::<F8>::join(m0, m1), Material::<F8>::join(m2, m3));
+                let material = Material::<F16>::join(&both.0, &both.1);
+                joined = Some((names, material));
+                material
+            }
+        };
         let (low, high) = (ContactBatch::<F8>::join(b0, b1), ContactBatch::<F8>::join(b2, b3));
         let mut wide = ContactBatch::<F16>::join(&low, &high);
-        solve_one(&mut wide, bodies, context);
+        solve_one(&mut wide, &material, bodies, context);
         for (half, pair) in split(wide.impulses()).into_iter().zip(four.chunks_exact_mut(2)) {
             for (impulses, batch) in split::<F8>(half).into_iter().zip(pair) {
                 batch.set_impulses(impulses);
             }
         }
     }
-    solve_in_eights(rest, bodies, context);
+    solve_in_eights(rest, materials, bodies, context);
 }
 
-/// A run of one colour two batches at a time in eight lanes, the last one alone in four.
+/// A run of one colour two batches at a time in eight lanes, the last one alone in four
+/// (a pair of the same two materials as the pair before reuses their joined material).
 /// Only called from functions compiled for AVX.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn solve_in_eights(batches: &mut [ContactBatch], bodies: Bodies<'_>, context: Context) {
+fn solve_in_eights(
+    batches: &mut [ContactBatch],
+    materials: &[Material],
+    bodies: Bodies<'_>,
+    context: Context,
+) {
     let mut pairs = batches.chunks_exact_mut(2);
+    let mut joined: Option<([u32; 2], Material<F8>)> = None;
     for pair in &mut pairs {
         let [low, high] = pair else { unreachable!("chunks of two") };
+        let names = [low.material, high.material];
+        let material = match joined {
+            Some((last, material)) if last == names => material,
+            _ => {
+                let material =
+                    Material::<F8>::join(&materials[names[0] as usize], &materials[names[1] as usize]);
+                joined = Some((names, material));
+                material
+            }
+        };
         let mut wide = ContactBatch::<F8>::join(low, high);
-        solve_one(&mut wide, bodies, context);
+        solve_one(&mut wide, &material, bodies, context);
         let [first, second] = split(wide.impulses());
         low.set_impulses(first);
         high.set_impulses(second);
     }
-    solve_run(pairs.into_remainder(), bodies, context);
+    solve_run(pairs.into_remainder(), materials, bodies, context);
 }
 
 #[inline(always)]
-fn solve_run(batches: &mut [ContactBatch], bodies: Bodies<'_>, context: Context) {
+fn solve_run(batches: &mut [ContactBatch], materials: &[Material], bodies: Bodies<'_>, context: Context) {
     for batch in batches {
-        solve_one(batch, bodies, context);
+        let material = &materials[batch.material as usize];
+        solve_one(batch, material, bodies, context);
     }
 }
 
 /// [`solve_batch`], without the selects where the batch is [`full`](ContactBatch::full).
 #[inline(always)]
-fn solve_one<L: Lane>(batch: &mut ContactBatch<L>, bodies: Bodies<'_>, context: Context) {
+fn solve_one<L: Lane>(batch: &mut ContactBatch<L>, m: &Material<L>, bodies: Bodies<'_>, context: Context) {
     if batch.full {
-        solve_batch::<L, true>(batch, bodies, context);
+        solve_batch::<L, true>(batch, m, bodies, context);
     } else {
-        solve_batch::<L, false>(batch, bodies, context);
+        solve_batch::<L, false>(batch, m, bodies, context);
     }
 }
 
@@ -284,7 +339,7 @@ fn without_impulse<L: Lane>(batch: &ContactBatch<L>) -> u32 {
 /// a velocity of -0 to +0): a batch of such contacts, most of a pile's speculative
 /// ones, which the colouring gathers into batches of their own, is passed over.
 #[inline(always)]
-fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
+fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, m: &Material<L>, bodies: Bodies<'_>) {
     let pushing = batch.active & !without_impulse(batch);
     if pushing == 0 {
         return;
@@ -293,16 +348,16 @@ fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
     let impulse = batch.normal.scale(batch.normal_impulse) + batch.tangent_impulse;
     let va = gather::<L>(bodies.velocities, &batch.a);
     let vb = gather::<L>(bodies.velocities, &batch.b);
-    scatter::<L>(bodies.velocities, &batch.a, pushing & positive(batch.wa), va + impulse.scale(batch.wa));
-    let b_lanes = pushing & batch.has_b & positive(batch.wb);
-    scatter::<L>(bodies.velocities, &batch.b, b_lanes, vb - impulse.scale(batch.wb));
+    scatter::<L>(bodies.velocities, &batch.a, pushing & positive(m.wa), va + impulse.scale(m.wa));
+    let b_lanes = pushing & batch.has_b & positive(m.wb);
+    scatter::<L>(bodies.velocities, &batch.b, b_lanes, vb - impulse.scale(m.wb));
     // Only spheres that roll turn (a positive inverse inertia means a movable sphere
     // that rolls, so its contact rolls).
-    let (turn_a, turn_b) = (pushing & positive(batch.ia), pushing & batch.has_b & positive(batch.ib));
+    let (turn_a, turn_b) = (pushing & positive(m.ia), pushing & batch.has_b & positive(m.ib));
     if turn_a | turn_b != 0 {
         let spin_a = gather::<L>(bodies.spins, &batch.a);
         let spin_b = V::select(has_b, gather::<L>(bodies.spins, &batch.b), V::ZERO);
-        let (a, b) = turned(batch, spin_a, spin_b, batch.tangent_impulse, batch.rolling_impulse);
+        let (a, b) = turned(batch, m, spin_a, spin_b, batch.tangent_impulse, batch.rolling_impulse);
         scatter::<L>(bodies.spins, &batch.a, turn_a, a);
         scatter::<L>(bodies.spins, &batch.b, turn_b, b);
     }
@@ -326,7 +381,12 @@ fn warm_start_batch<L: Lane>(batch: &ContactBatch<L>, bodies: Bodies<'_>) {
 /// resistance ([`ContactBatch::full`]), so no part of the solve is skipped in any lane
 /// and the selects that would keep old values are left out.
 #[inline(always)]
-fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: Bodies<'_>, context: Context) {
+fn solve_batch<L: Lane, const FULL: bool>(
+    batch: &mut ContactBatch<L>,
+    m: &Material<L>,
+    bodies: Bodies<'_>,
+    context: Context,
+) {
     let has_b = batch.has_b_mask();
     let n = batch.normal;
     let da = motion::<L>(bodies.delta, &batch.a);
@@ -351,7 +411,7 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     let (bias, mass_scale, impulse_scale) = contact_terms_wide(s, context);
     let vn = (va - vb).dot(n);
     let old_normal = batch.normal_impulse;
-    let impulse = -batch.mass * mass_scale * (vn + bias) - impulse_scale * old_normal;
+    let impulse = -m.mass * mass_scale * (vn + bias) - impulse_scale * old_normal;
     let total = (old_normal + impulse).max(L::ZERO);
     let applied = total - old_normal;
     let normal_impulse = total;
@@ -369,8 +429,8 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     }
     let mut p = n.scale(applied);
 
-    let rolls = batch.lever_a.gt(L::ZERO).or(batch.lever_b.gt(L::ZERO));
-    let (turns_a, turns_b) = (batch.ia.gt(L::ZERO), batch.ib.gt(L::ZERO).and(has_b));
+    let rolls = m.lever_a.gt(L::ZERO).or(m.lever_b.gt(L::ZERO));
+    let (turns_a, turns_b) = (m.ia.gt(L::ZERO), m.ib.gt(L::ZERO).and(has_b));
     let any_spin = FULL || (rolls.bits() & batch.active) != 0;
     let (mut spin_a, mut spin_b) = if any_spin {
         (
@@ -382,25 +442,25 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
     };
     let (spin_a_read, spin_b_read) = (spin_a, spin_b);
 
-    let with_friction = batch.friction.gt(L::ZERO);
+    let with_friction = m.friction.gt(L::ZERO);
     let mut tangent_impulse = batch.tangent_impulse;
     if FULL || (with_friction.bits() & batch.active) != 0 {
         // Velocities after the normal impulse, in registers.
-        let mut v = (va + p.scale(batch.wa)) - (vb - p.scale(batch.wb));
+        let mut v = (va + p.scale(m.wa)) - (vb - p.scale(m.wb));
         if any_spin {
-            let spinning = spin_a.scale(batch.lever_a) + spin_b.scale(batch.lever_b);
+            let spinning = spin_a.scale(m.lever_a) + spin_b.scale(m.lever_b);
             v = pick::<L, FULL>(rolls, v - spinning.cross(n), v);
         }
         let tangential = v - n.scale(v.dot(n));
         let old = batch.tangent_impulse;
-        let mut total = old - tangential.scale(batch.tangent_mass);
-        let limit = batch.friction * normal_impulse;
+        let mut total = old - tangential.scale(m.tangent_mass);
+        let limit = m.friction * normal_impulse;
         let squared = total.dot(total);
         total = clamped(total, squared, limit);
         tangent_impulse = pick::<L, FULL>(with_friction, total, old);
         let friction = total - old;
         if any_spin {
-            let (a, b) = turned(batch, spin_a, spin_b, friction, V::ZERO);
+            let (a, b) = turned(batch, m, spin_a, spin_b, friction, V::ZERO);
             let turning = with_friction.and(rolls);
             spin_a = pick::<L, FULL>(turning.and(turns_a), a, spin_a);
             spin_b = pick::<L, FULL>(turning.and(turns_b), b, spin_b);
@@ -408,7 +468,7 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
         p = pick::<L, FULL>(with_friction, p + friction, p);
     }
 
-    let resisting = batch.rolling.gt(L::ZERO);
+    let resisting = m.rolling.gt(L::ZERO);
     let mut rolling_impulse = batch.rolling_impulse;
     if FULL || (resisting.bits() & batch.active) != 0 {
         // Rolling resistance resists rolling, the relative spin about axes in the
@@ -422,8 +482,8 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
         let relative = spin_a - spin_b;
         let twist = relative.dot(n);
         let old = batch.rolling_impulse;
-        let total = (old - n.scale(old.dot(n))) - (relative - n.scale(twist)).scale(batch.rolling_mass);
-        let limit = batch.rolling * normal_impulse;
+        let total = (old - n.scale(old.dot(n))) - (relative - n.scale(twist)).scale(m.rolling_mass);
+        let limit = m.rolling * normal_impulse;
         let squared = total.dot(total);
         let total = clamped(total, squared, limit);
         // The twist's damping: implicit over the substep, fresh each substep (not
@@ -431,19 +491,18 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
         // only (the relax pass would damp twice).
         let twist_impulse = if context.use_bias {
             let twist_limit = L::splat(TWIST_SHARE) * limit;
-            let damped =
-                L::ZERO - twist * batch.rolling_mass * L::splat(context.h / (TWIST_TIME + context.h));
+            let damped = L::ZERO - twist * m.rolling_mass * L::splat(context.h / (TWIST_TIME + context.h));
             -((-damped.max(-twist_limit)).max(-twist_limit))
         } else {
             L::ZERO
         };
         rolling_impulse = pick::<L, FULL>(resisting, total, old);
-        let (a, b) = turned(batch, spin_a, spin_b, V::ZERO, total - old + n.scale(twist_impulse));
+        let (a, b) = turned(batch, m, spin_a, spin_b, V::ZERO, total - old + n.scale(twist_impulse));
         spin_a = pick::<L, FULL>(resisting.and(turns_a), a, spin_a);
         spin_b = pick::<L, FULL>(resisting.and(turns_b), b, spin_b);
     }
 
-    let (mut va_new, mut vb_new) = (va + p.scale(batch.wa), vb - p.scale(batch.wb));
+    let (mut va_new, mut vb_new) = (va + p.scale(m.wa), vb - p.scale(m.wb));
     if context.use_bias && idle == 0 {
         batch.normal_impulse = normal_impulse;
         batch.tangent_impulse = tangent_impulse;
@@ -461,8 +520,8 @@ fn solve_batch<L: Lane, const FULL: bool>(batch: &mut ContactBatch<L>, bodies: B
         (spin_a, spin_b) = (V::select(keep, spin_a_read, spin_a), V::select(keep, spin_b_read, spin_b));
     }
     let active = batch.active;
-    scatter::<L>(bodies.velocities, &batch.a, active & positive(batch.wa), va_new);
-    scatter::<L>(bodies.velocities, &batch.b, active & batch.has_b & positive(batch.wb), vb_new);
+    scatter::<L>(bodies.velocities, &batch.a, active & positive(m.wa), va_new);
+    scatter::<L>(bodies.velocities, &batch.b, active & batch.has_b & positive(m.wb), vb_new);
     if any_spin {
         scatter::<L>(bodies.spins, &batch.a, active & turns_a.bits(), spin_a);
         scatter::<L>(bodies.spins, &batch.b, active & turns_b.bits(), spin_b);
@@ -493,15 +552,18 @@ mod tests {
             a: [0, 2, 4, 6],
             b: [1, 3, 5, 7],
             normal: V4::new([Vec3::Y; 4]),
+            normal_impulse: F4::new([1.0, 0.0, 0.5, -0.0]),
+            tangent_impulse: V4::new([Vec3::X * 0.25, Vec3::ZERO, Vec3::ZERO, Vec3::new(-0.0, 0.0, -0.0)]),
+            ..ContactBatch::default()
+        };
+        let material = Material {
             lever_a: F4::splat(0.5),
             lever_b: F4::splat(0.5),
             wa: F4::splat(1.0),
             wb: F4::splat(0.5),
             ia: F4::splat(2.0),
             ib: F4::splat(4.0),
-            normal_impulse: F4::new([1.0, 0.0, 0.5, -0.0]),
-            tangent_impulse: V4::new([Vec3::X * 0.25, Vec3::ZERO, Vec3::ZERO, Vec3::new(-0.0, 0.0, -0.0)]),
-            ..ContactBatch::default()
+            ..Material::default()
         };
         {
             let bodies = Bodies {
@@ -517,7 +579,7 @@ mod tests {
                 tangent_impulse: V4::new([Vec3::ZERO; 4]),
                 ..batch
             };
-            warm_start_batches(&mut [batch, idle], bodies);
+            warm_start_batches(&mut [batch, idle], &[material], bodies);
         }
         let bits = |v: Vec3| v.to_array().map(f32::to_bits);
         for i in [2, 3, 6, 7].into_iter().chain(8..16) {
@@ -570,6 +632,14 @@ mod tests {
             b: [1, 3, 5, 7].map(|i| 8 * k + i),
             normal: V4::new([Vec3::Y; 4]),
             separation: F4::new([if first_pushes && k == 0 { -0.01 } else { 0.5 }, 0.5, 0.5, 0.5]),
+            normal_impulse: F4::new([0.0, 0.0, 0.0, -0.0]),
+            tangent_impulse: V4::new([zero, zero, left_over, zero]),
+            rolling_impulse: V4::new([zero; 4]),
+            // Batch 2 of its own material, equal to the rest's: the joined material of
+            // the next four is made again.
+            material: u32::from(k == 2),
+        };
+        let material = Material {
             friction: F4::splat(0.5),
             mass: F4::splat(0.5),
             tangent_mass: F4::splat(0.2),
@@ -581,9 +651,6 @@ mod tests {
             wb: F4::splat(1.0),
             ia: F4::splat(10.0),
             ib: F4::splat(10.0),
-            normal_impulse: F4::new([0.0, 0.0, 0.0, -0.0]),
-            tangent_impulse: V4::new([zero, zero, left_over, zero]),
-            rolling_impulse: V4::new([zero; 4]),
         };
         let bits = |v: Vec3| v.to_array().map(f32::to_bits);
         for first_pushes in [true, false] {
@@ -599,7 +666,7 @@ mod tests {
                     spins: SharedVelocities::new(&mut spins),
                     delta: &delta,
                 };
-                solve_batches(&mut batches, true, bodies, context);
+                solve_batches(&mut batches, &[material, material], true, bodies, context);
             }
             for (k, solved) in batches.iter().enumerate() {
                 let (normal, tangents) = (solved.normal_impulse.to_array(), solved.tangent_impulse.lanes());

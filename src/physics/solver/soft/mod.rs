@@ -194,6 +194,9 @@ pub struct SoftStep {
     /// The contacts in batches of four of a colour (one for the overflow colour), as
     /// the substeps solve them; their impulses go back to `contacts` after the step.
     batches: Vec<batch::ContactBatch>,
+    /// The batches' materials (see `batch::Material`): `BATCH_RUN` places per run of
+    /// batches, of which the run fills the first few.
+    materials: Vec<batch::Material>,
     /// First batch of each colour, and the end.
     batch_starts: [usize; COLORS + 2],
     /// Each colour's first contact of those that wait (see `color::bucket`), and its

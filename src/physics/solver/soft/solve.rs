@@ -17,8 +17,9 @@ impl SoftStep {
             spins: SharedVelocities::new(&mut particles.angular_velocity),
             delta: &self.delta,
         };
+        let materials = &self.materials;
         for_each_batch(&mut self.batches, &self.batch_starts, &self.shares, |run, _| {
-            warm_start_batches(run, bodies)
+            warm_start_batches(run, materials, bodies)
         });
         if self.network.exact() {
             return; // the network solves its links whole each substep: no warm start
@@ -48,8 +49,9 @@ impl SoftStep {
             spins: SharedVelocities::new(&mut particles.angular_velocity),
             delta: &self.delta,
         };
+        let materials = &self.materials;
         for_each_batch(&mut self.batches, &self.batch_starts, &self.shares, |run, one_colour| {
-            solve_batches(run, one_colour, bodies, contacts);
+            solve_batches(run, materials, one_colour, bodies, contacts);
         });
         let mut changes = self.noting.then_some(&mut self.changes[..]);
         if self.network.exact() {
