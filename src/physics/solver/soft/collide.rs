@@ -8,8 +8,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::warm::key;
-use super::{NONE, SoftContact, SoftLink, SoftStep, ms};
-use crate::physics::collision::{BroadPhase, ContactGenerator, Plane, Plate, Scratch, SphereCollisions};
+use super::{NONE, SoftContact, SoftLink, SoftStep, Surface, ms};
+use crate::physics::collision::{BroadPhase, ContactGenerator, Plane, Plate, Scratch};
 use crate::physics::ids::ContactGeneratorId;
 use crate::physics::links::{Constraint, LinkEnd, direction_or_zero};
 use crate::physics::particles::{AWAKE, Particles};
@@ -56,14 +56,16 @@ impl SoftStep {
         profile.broad_phase_ms = 0.0;
         scratch.pair_budget_hit = false;
         self.bouncy_contacts = false;
+        self.surfaces.clear();
+        self.surfaces.extend(generators.iter().map(|(_, generator)| surface(generator)));
         let started = Instant::now();
         for (source, (id, generator)) in generators.iter().enumerate() {
             let start = self.fresh.len();
             match generator {
-                ContactGenerator::Plane(plane) => self.collide_plane(plane, particles),
-                ContactGenerator::Plate(plate) => self.collide_plate(plate, particles),
+                ContactGenerator::Plane(plane) => self.collide_plane(plane, particles, source as u32),
+                ContactGenerator::Plate(plate) => self.collide_plate(plate, particles, source as u32),
                 ContactGenerator::Spheres(_) if !any_awake_sphere => {}
-                ContactGenerator::Spheres(spheres) => {
+                ContactGenerator::Spheres(_) => {
                     let broad = Instant::now();
                     scratch.reach.clear();
                     scratch.reach.extend(
@@ -83,35 +85,34 @@ impl SoftStep {
                     scratch.pair_budget_hit |= broad_phase.budget_hit();
                     profile.broad_phase_ms += ms(broad.elapsed());
                     let slack = 2.0 * settings.speculative_distance;
-                    self.collide_spheres(spheres, particles, &scratch.pairs, slack, dt);
+                    self.collide_spheres(source as u32, particles, &scratch.pairs, slack, dt);
                 }
                 ContactGenerator::Link(link) => self.add_link(link, particles, source as u32),
             }
             if self.fresh.len() > start {
                 self.fresh_groups.push((*id, start..self.fresh.len()));
                 // Every contact takes its generator's restitution.
-                self.bouncy_contacts |= restitution(generator) > 0.0;
+                self.bouncy_contacts |= self.surfaces[source].restitution > 0.0;
             }
         }
         profile.narrow_phase_ms = ms(started.elapsed()) - profile.broad_phase_ms;
     }
 
-    fn collide_plane(&mut self, plane: &Plane, particles: &Particles) {
+    fn collide_plane(&mut self, plane: &Plane, particles: &Particles, source: u32) {
         let positions = particles.position.iter().zip(&particles.radius);
         let bodies = particles.inverse_mass.iter().zip(&self.margin);
         for (i, (((&p, &r), (&w, &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
             let separation = plane.distance(p) - r;
             if w > 0.0 && !asleep && separation < margin && plane.covers(p) {
-                let surface = (plane.restitution, plane.friction, plane.rolling_resistance);
                 self.fresh_keys.push(key(i as u32, NONE));
-                self.fresh.push(still_contact(particles, i, w, plane.normal, separation, surface));
+                self.fresh.push(still_contact(i, plane.normal, separation, source));
             }
         }
     }
 
     /// A plate's contacts: against its nearest point (a face or the opening's rim),
     /// with the normal from that point, fixed for the step as a sphere pair's is.
-    fn collide_plate(&mut self, plate: &Plate, particles: &Particles) {
+    fn collide_plate(&mut self, plate: &Plate, particles: &Particles, source: u32) {
         let positions = particles.position.iter().zip(&particles.radius);
         let bodies = particles.inverse_mass.iter().zip(&self.margin);
         for (i, (((&p, &r), (&w, &margin)), &asleep)) in positions.zip(bodies).zip(&self.asleep).enumerate() {
@@ -121,9 +122,8 @@ impl SoftStep {
             let (normal, distance) = plate.nearest(p);
             let separation = distance - r;
             if separation < margin {
-                let surface = (plate.restitution, plate.friction, plate.rolling_resistance);
                 self.fresh_keys.push(key(i as u32, NONE));
-                self.fresh.push(still_contact(particles, i, w, normal, separation, surface));
+                self.fresh.push(still_contact(i, normal, separation, source));
             }
         }
     }
@@ -137,7 +137,7 @@ impl SoftStep {
     /// the number of threads. On one thread they are made straight onto the lists.
     fn collide_spheres(
         &mut self,
-        spheres: &SphereCollisions,
+        source: u32,
         particles: &Particles,
         pairs: &[(u32, u32)],
         slack: f32,
@@ -152,7 +152,7 @@ impl SoftStep {
                 contacts: std::mem::take(&mut self.fresh),
                 wake: std::mem::take(&mut self.to_wake),
             };
-            collide_pairs(spheres, particles, (asleep, acceleration), pairs, slack, dt, &mut out);
+            collide_pairs(source, particles, (asleep, acceleration), pairs, slack, dt, &mut out);
             (self.fresh_keys, self.fresh, self.to_wake) = (out.keys, out.contacts, out.wake);
             return;
         }
@@ -163,7 +163,7 @@ impl SoftStep {
         let collide = |(k, out): (usize, &mut PairChunk)| {
             out.clear();
             let pairs = &pairs[k * PAIR_CHUNK..((k + 1) * PAIR_CHUNK).min(pairs.len())];
-            collide_pairs(spheres, particles, (asleep, acceleration), pairs, slack, dt, out);
+            collide_pairs(source, particles, (asleep, acceleration), pairs, slack, dt, out);
         };
         self.pair_chunks[..chunks].par_iter_mut().enumerate().for_each(collide);
         let outputs = &self.pair_chunks[..chunks];
@@ -220,14 +220,16 @@ impl SoftStep {
     }
 }
 
-/// The restitution a generator gives each of its contacts (a link makes none).
-fn restitution(generator: &ContactGenerator) -> f32 {
-    match generator {
-        ContactGenerator::Plane(plane) => plane.restitution,
-        ContactGenerator::Plate(plate) => plate.restitution,
-        ContactGenerator::Spheres(spheres) => spheres.restitution,
-        ContactGenerator::Link(_) => 0.0,
-    }
+/// The surface a generator gives each of its contacts (a link makes none: no
+/// restitution, friction or rolling resistance).
+fn surface(generator: &ContactGenerator) -> Surface {
+    let (restitution, friction, rolling_resistance) = match generator {
+        ContactGenerator::Plane(plane) => (plane.restitution, plane.friction, plane.rolling_resistance),
+        ContactGenerator::Plate(plate) => (plate.restitution, plate.friction, plate.rolling_resistance),
+        ContactGenerator::Spheres(s) => (s.restitution, s.friction, s.rolling_resistance),
+        ContactGenerator::Link(_) => (0.0, 0.0, 0.0),
+    };
+    Surface { restitution, friction, rolling_resistance }
 }
 
 /// Pairs per chunk of the sphere contacts (one task each). Under Miri this and the
@@ -306,7 +308,7 @@ impl PairChunk {
 /// The contacts of `pairs` into `out` (see [`SoftStep::collide_spheres`]), given which
 /// particles sleep and the length of each one's acceleration (m/s²).
 fn collide_pairs(
-    spheres: &SphereCollisions,
+    source: u32,
     particles: &Particles,
     (asleep, acceleration): (&[bool], &[f32]),
     pairs: &[(u32, u32)],
@@ -334,71 +336,78 @@ fn collide_pairs(
         let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
         let Some((normal, separation)) = swept else { continue };
         out.keys.push(key(a, b));
-        let contact = SoftContact {
-            a,
-            b,
-            normal,
-            separation,
-            restitution: spheres.restitution,
-            friction: spheres.friction,
-            mass: 1.0 / total,
-            tangent_mass: 1.0 / total,
-            ..SoftContact::default()
-        };
-        out.contacts.push(rolling_terms(contact, particles, spheres.rolling_resistance));
+        out.contacts.push(SoftContact { a, b, normal, separation, source, ..SoftContact::default() });
     }
 }
 
-/// The contact of particle `i` (inverse mass `w`, 1/kg) with something that does not
-/// move (a plane, a plate): its normal and separation (m), and the surface's
-/// restitution, friction and rolling resistance.
+/// The contact of particle `i` with something that does not move (a plane, a plate,
+/// generator `source`): its normal and separation (m).
 #[inline]
-fn still_contact(
-    particles: &Particles,
-    i: usize,
-    w: f32,
-    normal: Vec3,
-    separation: f32,
-    (restitution, friction, rolling_resistance): (f32, f32, f32),
-) -> SoftContact {
-    let contact = SoftContact {
-        a: i as u32,
-        b: NONE,
-        normal,
-        separation,
-        restitution,
-        friction,
-        mass: 1.0 / w,
-        tangent_mass: 1.0 / w,
-        ..SoftContact::default()
-    };
-    rolling_terms(contact, particles, rolling_resistance)
+fn still_contact(i: usize, normal: Vec3, separation: f32, source: u32) -> SoftContact {
+    SoftContact { a: i as u32, b: NONE, normal, separation, source, ..SoftContact::default() }
 }
 
-/// A contact's rolling terms, for spheres that roll (a contact of point masses comes
-/// back as it was): the levers of the contact point, the tangential effective mass
-/// with the spheres' turning, and the rolling resistance `coefficient` times the
-/// rolling radius (`r_a r_b / (r_a + r_b)` for two spheres that roll, else the radius
-/// of the one that does).
+/// What a contact's solve needs of its particles `a` and `b` ([`NONE`] for a plane)
+/// beyond its normal: see [`terms`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Terms {
+    /// Effective mass along any direction, `1 / (1/m_a + 1/m_b)` (kg).
+    pub(super) mass: f32,
+    /// Effective mass of the contact point along a tangent (kg): `1 / (1/m_a + 1/m_b
+    /// + r_a²/I_a + r_b²/I_b)`, which is `mass` when nothing rolls.
+    pub(super) tangent_mass: f32,
+    /// Lever of `a`'s contact point (m): its radius if it rolls (the contact point is
+    /// `-lever_a · normal` from its centre), else 0.
+    pub(super) lever_a: f32,
+    /// Lever of `b`'s contact point (m): its radius if it rolls (at `+lever_b ·
+    /// normal` from its centre), else 0.
+    pub(super) lever_b: f32,
+    /// Largest rolling-resistance torque per newton of normal force (m): the
+    /// coefficient times the rolling radius; 0 for none.
+    pub(super) rolling: f32,
+    /// Effective inertia against relative spin (kg·m²), `1 / (1/I_a + 1/I_b)`; 0 when
+    /// neither rolls.
+    pub(super) rolling_mass: f32,
+}
+
+/// The effective mass of a contact of `a` and `b` ([`NONE`] for a plane), `1 / (w_a +
+/// w_b)` from the particles' inverse masses `w`.
 #[inline]
-fn rolling_terms(mut c: SoftContact, particles: &Particles, coefficient: f32) -> SoftContact {
+pub(super) fn effective_mass(w: &[f32], a: u32, b: u32) -> f32 {
+    1.0 / (w[a as usize] + if b == NONE { 0.0 } else { w[b as usize] })
+}
+
+/// A contact's [`Terms`], with rolling resistance `coefficient`: the levers of its
+/// contact point for spheres that roll, the tangential effective mass with their
+/// turning, and the coefficient times the rolling radius (`r_a r_b / (r_a + r_b)` for
+/// two spheres that roll, else the radius of the one that does). A contact of point
+/// masses has no levers, and its tangential mass is its mass.
+#[inline]
+pub(super) fn terms(particles: &Particles, a: u32, b: u32, coefficient: f32) -> Terms {
+    let mass = effective_mass(&particles.inverse_mass, a, b);
+    let none = Terms { mass, tangent_mass: mass, ..Terms::default() };
     let inertia = &particles.inverse_inertia;
-    let (ia, ib) = (inertia[c.a as usize], if c.b == NONE { 0.0 } else { inertia[c.b as usize] });
+    let (ia, ib) = (inertia[a as usize], if b == NONE { 0.0 } else { inertia[b as usize] });
     if ia == 0.0 && ib == 0.0 {
-        return c;
+        return none;
     }
     let radius = &particles.radius;
-    c.lever_a = if ia > 0.0 { radius[c.a as usize] } else { 0.0 };
-    c.lever_b = if ib > 0.0 { radius[c.b as usize] } else { 0.0 };
-    c.tangent_mass = 1.0 / (1.0 / c.mass + ia * c.lever_a * c.lever_a + ib * c.lever_b * c.lever_b);
-    let rolling_radius = if c.lever_a > 0.0 && c.lever_b > 0.0 {
-        c.lever_a * c.lever_b / (c.lever_a + c.lever_b)
+    let lever_a = if ia > 0.0 { radius[a as usize] } else { 0.0 };
+    let lever_b = if ib > 0.0 { radius[b as usize] } else { 0.0 };
+    let tangent_mass = 1.0 / (1.0 / mass + ia * lever_a * lever_a + ib * lever_b * lever_b);
+    let rolling_radius = if lever_a > 0.0 && lever_b > 0.0 {
+        lever_a * lever_b / (lever_a + lever_b)
     } else {
-        c.lever_a.max(c.lever_b)
+        lever_a.max(lever_b)
     };
-    c.rolling = coefficient * rolling_radius;
-    c.rolling_mass = 1.0 / (ia + ib);
-    c
+    Terms {
+        mass,
+        tangent_mass,
+        lever_a,
+        lever_b,
+        rolling: coefficient * rolling_radius,
+        rolling_mass: 1.0 / (ia + ib),
+    }
 }
 
 /// The contact of two spheres `offset = p_a - p_b` apart, closing with relative velocity

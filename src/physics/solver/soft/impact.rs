@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use super::collide::effective_mass;
 use super::{Impact, NONE, SoftStep};
 use crate::physics::particles::Particles;
 
@@ -35,7 +36,8 @@ impl SoftStep {
         // Generation order (by generator, then by pair), so the result is the same
         // however the contacts were coloured.
         for c in &self.fresh {
-            if c.restitution == 0.0 {
+            let restitution = self.surfaces[c.source as usize].restitution;
+            if restitution == 0.0 {
                 continue;
             }
             let moved = if c.b == NONE {
@@ -49,8 +51,8 @@ impl SoftStep {
                 b: c.b,
                 normal: c.normal,
                 gap: c.separation + moved.dot(c.normal),
-                restitution: c.restitution,
-                mass: c.mass,
+                restitution,
+                mass: effective_mass(w, c.a, c.b),
                 closing_acceleration: acceleration,
             });
         }

@@ -91,7 +91,7 @@ impl SoftStep {
         let copying = particles.len() >= PARALLEL_COPY;
         debug_assert_eq!(
             self.bouncy_contacts,
-            self.contacts.iter().any(|c| c.restitution > 0.0),
+            self.contacts.iter().any(|c| self.surfaces[c.source as usize].restitution > 0.0),
             "collide notes whether a contact has restitution"
         );
         let bouncy = self.bouncy_contacts || self.links.iter().any(|l| !l.rigid && l.restitution > 0.0);

@@ -116,9 +116,9 @@ impl SoftStep {
                         // The normal turned a little since: keep the tangential part.
                         let t = warm.tangent_impulse;
                         contact.tangent_impulse = t - contact.normal * t.dot(contact.normal);
-                        if contact.rolling > 0.0 {
-                            contact.rolling_impulse = warm.rolling_impulse;
-                        }
+                        // Kept whether or not the contact rolls now: one that does not
+                        // gets none where its batch is made (`ContactBatch::new`).
+                        contact.rolling_impulse = warm.rolling_impulse;
                     }
                     *waits = waiting(contact);
                 }
