@@ -17,9 +17,9 @@ impl SoftStep {
     /// `contacts`. Depends on the contacts alone, never on the thread count.
     ///
     /// The colouring reads each contact's particles from its key (8 bytes, see
-    /// [`key`](super::warm::key)) rather than from the contact (88): this one serial
-    /// pass then reads a tenth of the memory (3 MB instead of 34 for a falling pile of
-    /// 100,000 spheres, more than the processor's cache).
+    /// [`key`](super::warm::key)) rather than from the contact (88 bytes then, 60 now):
+    /// this one serial pass then read a tenth of the memory (3 MB instead of 34 for a
+    /// falling pile of 100,000 spheres, more than the processor's cache).
     ///
     /// The colouring is a function of the keys, in order, and of which particles are
     /// movable: when both are as they were for the last colouring (a pile at rest keeps

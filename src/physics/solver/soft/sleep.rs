@@ -83,7 +83,7 @@ impl SoftStep {
                 }
             }
         };
-        // The contacts' particles, read from their keys (8 bytes, not the contact's 88).
+        // The contacts' particles, read from their keys (8 bytes, not the contact's 60).
         for &key in &self.fresh_keys {
             join((key >> 32) as u32, key as u32);
         }
