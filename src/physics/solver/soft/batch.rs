@@ -103,8 +103,7 @@ impl Material {
         // no padding between or inside (`repr(C)`, the same size and alignment each),
         // so its bytes are all initialised, and are eleven u128s.
         let lanes = |m: &Material| unsafe { std::mem::transmute::<Material, [u128; 11]>(*m) };
-        // Every bit that differs, or'ed together: no call to compare memory.
-        lanes(self).iter().zip(&lanes(other)).fold(0, |differ, (x, y)| differ | (x ^ y)) == 0
+        same_bits(&lanes(self), &lanes(other))
     }
 }
 
@@ -280,8 +279,7 @@ impl KnownTerms {
         ]
         .map(f32::to_bits);
         for (known, terms) in self.known.iter().flatten() {
-            // Every bit that differs, or'ed together: no call to compare memory.
-            if known.iter().zip(&from).fold(0, |differ, (x, y)| differ | (x ^ y)) == 0 {
+            if same_bits(known, &from) {
                 return *terms;
             }
         }
@@ -290,6 +288,17 @@ impl KnownTerms {
         self.next = 1 - self.next;
         new
     }
+}
+
+/// Whether `a` and `b` hold the same bits: every bit that differs, or'ed together, which
+/// compiles to a few instructions where `==` on arrays called the library to compare
+/// memory (a call per batch made).
+#[inline(always)]
+fn same_bits<T, const N: usize>(a: &[T; N], b: &[T; N]) -> bool
+where
+    T: Copy + Default + PartialEq + std::ops::BitXor<Output = T> + std::ops::BitOr<Output = T>,
+{
+    a.iter().zip(b).fold(T::default(), |differ, (&x, &y)| differ | (x ^ y)) == T::default()
 }
 
 /// How many of the materials a run of batches has made are looked through, latest
