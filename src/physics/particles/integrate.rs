@@ -6,6 +6,7 @@
 use glam::Vec3;
 
 use super::desc::damping_factor;
+use super::parts::{Disjoint, on_threads, tree_sum};
 use super::sleep::{AWAKE, Sleep};
 use super::store::Particles;
 
@@ -112,15 +113,17 @@ impl Particles {
             after.copy_from_slice(v);
         };
         if parallel {
-            use rayon::prelude::*;
-            let runs = velocity.par_chunks_mut(KICK_RUN).zip(before.par_chunks_mut(KICK_RUN));
-            let runs = runs.zip(after.par_chunks_mut(KICK_RUN)).enumerate();
-            match spins {
-                Some(spins) => runs
-                    .zip(spins.par_chunks_mut(KICK_RUN))
-                    .for_each(|((k, ((v, b), a)), s)| sweep(k * KICK_RUN, v, b, Some(s), a)),
-                None => runs.for_each(|(k, ((v, b), a))| sweep(k * KICK_RUN, v, b, None, a)),
-            }
+            let (velocity, before, after) =
+                (Disjoint::new(velocity), Disjoint::new(before), Disjoint::new(after));
+            let spins = spins.map(|s| Disjoint::new(s));
+            on_threads(n, |run| {
+                // SAFETY: `on_threads` gives each run to one thread; the runs are disjoint.
+                let (v, b, a) =
+                    unsafe { (velocity.run(run.clone()), before.run(run.clone()), after.run(run.clone())) };
+                // SAFETY: as above.
+                let s = spins.as_ref().map(|s| unsafe { s.run(run.clone()) });
+                sweep(run.start, v, b, s, a);
+            });
         } else {
             sweep(0, velocity, before, spins.map(Vec::as_mut_slice), after);
         }
@@ -133,8 +136,11 @@ impl Particles {
     pub(crate) fn integrate_velocities(&mut self, h: f32, parallel: bool) {
         let (velocity, inputs, _) = self.kick_parts();
         if parallel {
-            use rayon::prelude::*;
-            velocity.par_chunks_mut(KICK_RUN).enumerate().for_each(|(k, v)| inputs.kick(k * KICK_RUN, v, h));
+            let shared = Disjoint::new(velocity);
+            on_threads(shared.len(), |run| {
+                // SAFETY: `on_threads` gives each run to one thread; the runs are disjoint.
+                inputs.kick(run.start, unsafe { shared.run(run.clone()) }, h);
+            });
         } else {
             inputs.kick(0, velocity, h);
         }
@@ -167,9 +173,14 @@ impl Particles {
             }
         };
         if parallel {
-            use rayon::prelude::*;
-            let inputs = self.velocity.par_iter().zip(&self.inverse_mass);
-            self.position.par_iter_mut().zip(delta).zip(inputs).with_min_len(2048).for_each(drift);
+            let (velocity, inverse_mass) = (&self.velocity, &self.inverse_mass);
+            let (position, delta) = (Disjoint::new(&mut self.position), Disjoint::new(delta));
+            on_threads(velocity.len(), |run| {
+                // SAFETY: `on_threads` gives each run to one thread; the runs are disjoint.
+                let (p, d) = unsafe { (position.run(run.clone()), delta.run(run.clone())) };
+                let inputs = velocity[run.clone()].iter().zip(&inverse_mass[run]);
+                p.iter_mut().zip(d).zip(inputs).for_each(drift);
+            });
         } else {
             self.position
                 .iter_mut()
@@ -202,9 +213,6 @@ pub(crate) fn kicked(v: Vec3, acceleration: Vec3, h: f32, damping_per_step: f32)
     (v + acceleration * h) * damping_per_step
 }
 
-/// Particles per task of the kick.
-const KICK_RUN: usize = 2048;
-
 /// What the velocity kick reads of every particle.
 #[derive(Clone, Copy)]
 struct KickInputs<'a> {
@@ -233,34 +241,6 @@ impl KickInputs<'_> {
     }
 }
 
-/// Particles per leaf of [`tree_sum`]: fixed, so that the order of a sum, and its bits,
-/// are the same on any number of threads.
-const SUM_LEAF: usize = 2048;
-/// Particles from which [`tree_sum`] splits across threads.
-const PARALLEL_SUM: usize = 4096;
-
-/// `K` sums over `0..len`: each leaf of [`SUM_LEAF`] indices summed by `f`, the leaves
-/// added up a binary tree whose shape depends on `len` alone (split at the middle leaf),
-/// its halves on two threads (`rayon::join`) once there are enough particles. So the
-/// bits of the result are the same on any number of threads, and nothing is allocated.
-pub(crate) fn tree_sum<const K: usize>(
-    range: std::ops::Range<usize>,
-    f: &(impl Fn(std::ops::Range<usize>) -> [f64; K] + Sync),
-) -> [f64; K] {
-    let leaves = (range.end - range.start).div_ceil(SUM_LEAF);
-    if leaves <= 1 {
-        return f(range);
-    }
-    let middle = range.start + leaves / 2 * SUM_LEAF;
-    let (left, right) = (range.start..middle, middle..range.end);
-    let (a, b) = if range.end - range.start >= PARALLEL_SUM {
-        rayon::join(|| tree_sum(left, f), || tree_sum(right, f))
-    } else {
-        (tree_sum(left, f), tree_sum(right, f))
-    };
-    std::array::from_fn(|k| a[k] + b[k])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -271,7 +251,7 @@ mod tests {
     /// and on several, for a mix of movable, immovable, damped and sleeping particles
     /// with forces on them, in more particles than one task takes.
     #[test]
-    #[cfg_attr(miri, ignore = "5,000 particles: too slow to interpret, and no unsafe code")]
+    #[cfg_attr(miri, ignore = "5,000 particles: too slow to interpret (`parts.rs` tests its threads)")]
     fn the_kick_that_keeps_copies_is_the_kick_and_the_copies() {
         let mut particles = Particles::new();
         for i in 0..5000 {

@@ -22,6 +22,7 @@
 
 mod desc;
 mod integrate;
+mod parts;
 mod setters;
 mod sleep;
 mod store;
@@ -30,6 +31,7 @@ mod turning;
 pub use super::ids::ParticleId;
 pub(crate) use desc::check_acceleration;
 pub use desc::{MAX_MASS, MIN_MASS, ParticleDesc, inverse_mass};
-pub(crate) use integrate::{kicked, tree_sum};
+pub(crate) use integrate::kicked;
+pub(crate) use parts::{Disjoint, tree_sum};
 pub(crate) use sleep::{AWAKE, Sleep};
 pub use store::Particles;

@@ -1,7 +1,8 @@
 //! What the parallel tasks of a pass share, each task touching its own elements: the
 //! velocity array a colour's solves read and write ([`SharedVelocities`]), and a list
-//! handed out in disjoint runs ([`Disjoint`]). The soft solver's threads share memory
-//! here and nowhere else; each `unsafe` states the invariant it rests on, and debug
+//! handed out in disjoint runs ([`Disjoint`], kept with the particles' own runs in
+//! `particles/parts.rs`). The soft solver's threads share memory here and there and
+//! nowhere else; each `unsafe` states the invariant it rests on, and debug
 //! builds check what can be checked of it (indices in bounds, the colours disjoint,
 //! the threads' shares tiling each colour).
 
@@ -9,6 +10,7 @@ use std::marker::PhantomData;
 
 use glam::Vec3;
 
+pub(super) use crate::physics::particles::Disjoint;
 use crate::physics::wide::{Lane, V};
 
 /// The velocity array, shared by the tasks solving one colour at once: each task reads
@@ -66,46 +68,6 @@ impl<'a> SharedVelocities<'a> {
         // the lanes written are movable particles of one colour's contacts, distinct,
         // and by the invariant above read or written by no other task meanwhile.
         unsafe { L::scatter(value, self.ptr, self.len, indices, lanes) }
-    }
-}
-
-/// A slice shared by tasks that each touch their own disjoint runs of it: the batches
-/// of a pass (`run_on_all_threads` hands out each run to exactly one thread: thread `i`
-/// takes its [`share`] of a colour, the overflow colour only thread 0), the coloured
-/// contacts as `unbatch` writes them back (each batch its own contacts)
-/// and the coloured contact list of the counting sort (`sort_by_color` gives each
-/// chunk of fresh contacts, in each bucket, its own slots: the prefix sums of the
-/// chunks' counts). It holds the slice's exclusive borrow for as long as it lives, and
-/// nothing reads the slice through it outside the tasks' own runs.
-pub(super) struct Disjoint<'a, T> {
-    ptr: *mut T,
-    len: usize,
-    _borrow: PhantomData<&'a mut [T]>,
-}
-
-// SAFETY: the tasks sharing a `Disjoint` touch disjoint runs of it (the promise of
-// `Disjoint::run`'s callers, kept as the type's note says), within the exclusive
-// borrow `'a`; the elements may move between threads (`T: Send`).
-unsafe impl<T: Send> Send for Disjoint<'_, T> {}
-// SAFETY: as for `Send` above: through a shared reference each task still reaches
-// only its own runs, so no element is reached from two threads.
-unsafe impl<T: Send> Sync for Disjoint<'_, T> {}
-
-impl<'a, T> Disjoint<'a, T> {
-    pub(super) fn new(slice: &'a mut [T]) -> Self {
-        Self { ptr: slice.as_mut_ptr(), len: slice.len(), _borrow: PhantomData }
-    }
-
-    /// The elements `range`, which must be in bounds and given to no other task.
-    ///
-    /// # Safety
-    /// `range` must be this task's alone while the run is used.
-    #[allow(clippy::mut_from_ref)]
-    pub(super) unsafe fn run(&self, range: std::ops::Range<usize>) -> &mut [T] {
-        assert!(range.start <= range.end && range.end <= self.len);
-        // SAFETY: in bounds (checked above); exclusive to this task (the caller's
-        // promise), within the borrow `'a`.
-        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.end - range.start) }
     }
 }
 
