@@ -200,6 +200,47 @@ fn many_kept_pairs_are_served_on_several_threads_in_order() {
     });
 }
 
+/// A still block of more spheres than one task looks through for movers (8,192), on a
+/// 2-thread pool: spheres past their skin in each of its chunks are found and brought
+/// up to date (the kept pairs give exactly the all-pairs list), and more movers than
+/// one sphere in 32, spread over the chunks, make the grid search anew.
+#[test]
+fn movers_are_found_on_several_threads() {
+    let side = 26;
+    let positions: Vec<Vec3> = (0..side * side * side)
+        .map(|i| Vec3::new((i % side) as f32, ((i / side) % side) as f32, (i / (side * side)) as f32) * 0.95)
+        .collect();
+    assert!(positions.len() > 2 * 8192, "three chunks of movers: {}", positions.len());
+    let reach = vec![0.5; positions.len()];
+    let (mut found, mut expected) = (Vec::new(), Vec::new());
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
+    pool.install(|| {
+        let mut grid = BroadPhase::new();
+        let mut moved = positions.clone();
+        grid.find_pairs(&moved, &reach, &mut found);
+        assert!(!grid.reused_pairs(), "the first search builds the grid");
+        // One sphere in each chunk jumps two places along z, onto spheres it had no pair
+        // with: only brought up to date does it have its new pairs.
+        for (step, movers) in [[100usize, 9_000, 17_000], [8_191, 8_192, 16_384]].into_iter().enumerate() {
+            for i in movers {
+                moved[i].z += if moved[i].z > 10.0 { -1.9 } else { 1.9 };
+            }
+            grid.find_pairs(&moved, &reach, &mut found);
+            assert!(grid.reused_pairs(), "step {step}: three movers are brought up to date");
+            all_pairs(&moved, &reach, &mut expected);
+            assert_eq!(found, expected, "step {step}");
+        }
+        // 704 movers, one sphere in 25 (the limit is one in 32, and 16 more).
+        for p in moved.iter_mut().step_by(25) {
+            p.y += 1.9;
+        }
+        grid.find_pairs(&moved, &reach, &mut found);
+        assert!(!grid.reused_pairs(), "too many movers: the grid searches anew");
+        all_pairs(&moved, &reach, &mut expected);
+        assert_eq!(found, expected);
+    });
+}
+
 #[test]
 fn far_flung_and_non_finite_positions_do_not_panic() {
     let positions = [Vec3::ZERO, Vec3::splat(1e30), Vec3::splat(-1e30), Vec3::NAN, Vec3::new(0.5, 0.0, 0.0)];

@@ -152,6 +152,8 @@ struct KeptPairs {
     reused: bool,
     /// Spheres past their skin in this search, to be brought up to date.
     movers: Vec<u32>,
+    /// The movers each chunk of [`MOVER_CHUNK`] spheres holds (scratch).
+    mover_chunks: Vec<Vec<u32>>,
     /// Spheres brought up to date since the grid was built (their grid entries are
     /// stale), and per sphere the flags [`MOVER`] and [`REFRESHED`].
     refreshed: Vec<u32>,
@@ -169,6 +171,9 @@ struct KeptPairs {
 const SERVE_CHUNK: usize = if cfg!(miri) { 16 } else { 8192 };
 /// Kept pairs from which they are served on several threads.
 const PARALLEL_SERVE: usize = 2 * SERVE_CHUNK;
+/// Spheres one task looks through for movers, when it is done on several threads
+/// (from two chunks; a few under Miri, as [`SERVE_CHUNK`]).
+const MOVER_CHUNK: usize = if cfg!(miri) { 16 } else { 8192 };
 
 /// A sphere past its skin in this search.
 const MOVER: u8 = 1;
@@ -374,20 +379,24 @@ impl BroadPhase {
         }
         fresh.sort_unstable();
         fresh.dedup();
-        // The kept pairs without the movers' old ones, merged with their new ones.
+        // The kept pairs without the movers' old ones, merged with their new ones (no
+        // pair is in both: each new one has a mover). Between two new pairs, the kept
+        // ones are copied without a branch per pair (`keep_where`): with a branch, which
+        // pairs have a mover follows no pattern. (Measured on a forming pile of 100,000
+        // spheres on 2 threads: a search that brought movers up to date took 2.5 ms
+        // with a branch per pair, 1.8 this way.)
+        let flags = &kept.flags;
+        let stays = |&(a, b): &(u32, u32)| (flags[a as usize] | flags[b as usize]) & MOVER == 0;
         kept.merged.clear();
-        let mut fresh = kept.fresh.iter().copied().peekable();
-        for &pair in &kept.pairs {
-            if flags[pair.0 as usize] & MOVER != 0 || flags[pair.1 as usize] & MOVER != 0 {
-                continue;
-            }
-            while let Some(&next) = fresh.peek().filter(|&&next| next < pair) {
-                kept.merged.push(next);
-                fresh.next();
-            }
-            kept.merged.push(pair);
+        kept.merged.reserve(kept.pairs.len() + kept.fresh.len());
+        let mut from = 0;
+        for &next in &kept.fresh {
+            let until = from + kept.pairs[from..].partition_point(|&pair| pair < next);
+            keep_where(&kept.pairs[from..until], stays, &mut kept.merged);
+            kept.merged.push(next);
+            from = until;
         }
-        kept.merged.extend(fresh);
+        keep_where(&kept.pairs[from..], stays, &mut kept.merged);
         std::mem::swap(&mut kept.pairs, &mut kept.merged);
         for &m in &kept.movers {
             kept.flags[m as usize] &= !MOVER;
@@ -611,23 +620,49 @@ impl KeptPairs {
         if !self.valid || positions.len() != self.positions.len() {
             return false;
         }
-        let usable = |r: f32| r > 0.0 && r.is_finite();
-        let allowed = 0.9 * self.skin;
-        let limit = positions.len() / REFRESH_SHARE + 16;
-        let then = self.positions.iter().zip(&self.reach);
-        for (i, ((&p, &r), (&p0, &r0))) in positions.iter().zip(reach).zip(then).enumerate() {
-            if usable(r0) != usable(r) {
-                return false;
-            }
-            // NaN fails every comparison, so a sphere that left the numbers moved.
-            let within = p.distance(p0) + (r - r0) <= allowed;
-            if usable(r) && !within {
-                if !(p.is_finite() && r.is_finite()) || self.movers.len() == limit {
+        let n = positions.len();
+        let limit = n / REFRESH_SHARE + 16;
+        let (then, then_reach, allowed) = (&self.positions[..], &self.reach[..], 0.9 * self.skin);
+        // The movers among spheres `range`, onto `movers`: false as soon as the pairs
+        // cannot serve (a sphere gained or lost its reach, or left the numbers, or more
+        // than `limit` are on the list).
+        let look = |range: std::ops::Range<usize>, movers: &mut Vec<u32>| {
+            let now = positions[range.clone()].iter().zip(&reach[range.clone()]);
+            let kept = then[range.clone()].iter().zip(&then_reach[range.clone()]);
+            for (i, ((&p, &r), (&p0, &r0))) in range.zip(now.zip(kept)) {
+                let usable = |r: f32| r > 0.0 && r.is_finite();
+                if usable(r0) != usable(r) {
                     return false;
                 }
-                self.movers.push(i as u32);
+                // NaN fails every comparison, so a sphere that left the numbers moved.
+                let within = p.distance(p0) + (r - r0) <= allowed;
+                if usable(r) && !within {
+                    if !(p.is_finite() && r.is_finite()) || movers.len() == limit {
+                        return false;
+                    }
+                    movers.push(i as u32);
+                }
             }
+            true
+        };
+        let chunks = n.div_ceil(MOVER_CHUNK);
+        if chunks < 2 || rayon::current_num_threads() == 1 {
+            return look(0..n, &mut self.movers);
         }
+        // In chunks on several threads, then the chunks' movers in order: the same list.
+        // (Serial, it took 0.26 ms of every step of a forming 100,000-sphere pile.)
+        if self.mover_chunks.len() < chunks {
+            self.mover_chunks.resize_with(chunks, Vec::new);
+        }
+        let found = &mut self.mover_chunks[..chunks];
+        let fine = found.par_iter_mut().enumerate().all(|(k, movers)| {
+            movers.clear();
+            look(k * MOVER_CHUNK..((k + 1) * MOVER_CHUNK).min(n), movers)
+        });
+        if !fine || found.iter().map(Vec::len).sum::<usize>() > limit {
+            return false;
+        }
+        found.iter().for_each(|movers| self.movers.extend_from_slice(movers));
         true
     }
 

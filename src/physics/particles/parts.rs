@@ -205,7 +205,7 @@ mod tests {
     /// does not promise that of `sin`).
     fn term(i: usize) -> f64 {
         let x = i as f64;
-        let sign = if i % 3 == 0 { 1.0 } else { -0.7 };
+        let sign = if i.is_multiple_of(3) { 1.0 } else { -0.7 };
         sign * 1e8 * (1.0 + x * 1e-3) + 1.0 / (x + 1.0)
     }
 

