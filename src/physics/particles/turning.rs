@@ -51,9 +51,9 @@ const PARALLEL_TURN: usize = 4096;
 const TURN_CHUNK: usize = 2048;
 
 /// Turns each rolling sphere of a run (orientations `q`, spins `w`, inverse inertias)
-/// by its spin over `dt`: [`turned`], with the sines and cosines of four spheres at a
-/// time in AVX's four `f64` lanes where the processor has it (the same operations on
-/// each, so the same bits).
+/// by its spin over `dt`: [`turned`], with the sines and cosines of eight spheres at a
+/// time in AVX's `f64` lanes where the processor has it (the same operations on each,
+/// so the same bits).
 fn turn_run(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
@@ -71,8 +71,8 @@ fn turn_run(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 fn turn_run_avx(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
-    // Up to four spheres waiting for their sines: index, turn, angle, reduced half angle.
-    let mut waiting = [(0usize, Vec3::ZERO, 0.0f32, 0.0f64); 4];
+    // Up to eight spheres waiting for their sines: index, turn, angle, reduced half angle.
+    let mut waiting = [(0usize, Vec3::ZERO, 0.0f32, 0.0f64); 8];
     let mut count = 0;
     for (i, (&w, &inverse_inertia)) in w.iter().zip(inverse_inertia).enumerate() {
         if inverse_inertia == 0.0 || w == Vec3::ZERO {
@@ -85,8 +85,9 @@ fn turn_run_avx(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
         }
         waiting[count] = (i, turn, angle, reduced_half_angle(angle));
         count += 1;
-        if count == 4 {
-            let (sin, cos) = half_angle_sin_cos_avx(waiting.map(|(.., x)| x));
+        if count == 8 {
+            let x = waiting.map(|(.., x)| x);
+            let (sin, cos) = half_angle_sin_cos_avx([x[0], x[1], x[2], x[3]], [x[4], x[5], x[6], x[7]]);
             for (k, &(i, turn, angle, _)) in waiting.iter().enumerate() {
                 q[i] = rotated(q[i], turn, angle, sin[k], cos[k]);
             }
@@ -99,26 +100,33 @@ fn turn_run_avx(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
     }
 }
 
-/// [`sin_cos_series`] of four reduced half angles at once, in AVX's `f64` lanes: each
-/// lane the same operations in the same order, so the same bits.
+/// [`sin_cos_series`] of eight reduced half angles at once, in two of AVX's four `f64`
+/// lanes: each lane the same operations in the same order, so the same bits. The two
+/// chains of the Horner rule are independent, so the processor runs them side by side
+/// (each step waits for the one before: with one chain of four, the turn of a forming
+/// pile of 100,000 spheres took 2.05 to 2.1 ms a step on one thread).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn half_angle_sin_cos_avx(x: [f64; 4]) -> ([f32; 4], [f32; 4]) {
+fn half_angle_sin_cos_avx(low: [f64; 4], high: [f64; 4]) -> ([f32; 8], [f32; 8]) {
     use std::arch::x86_64::*;
     // Four f64, lane 0 first, are what `__m256d` holds: a plain cast, no pointer.
-    let x: __m256d = bytemuck::cast(x);
-    let x2 = _mm256_mul_pd(x, x);
+    let (x, y): (__m256d, __m256d) = (bytemuck::cast(low), bytemuck::cast(high));
+    let (x2, y2) = (_mm256_mul_pd(x, x), _mm256_mul_pd(y, y));
     let one = _mm256_set1_pd(1.0);
-    let (mut sin, mut cos) = (one, one);
+    let (mut sin_x, mut cos_x, mut sin_y, mut cos_y) = (one, one, one, one);
     for k in (1..=11).rev() {
-        let k = f64::from(k);
-        let (sin_factor, cos_factor) = series_factors(k);
-        sin = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(x2, _mm256_set1_pd(sin_factor)), sin));
-        cos = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(x2, _mm256_set1_pd(cos_factor)), cos));
+        let (sin_factor, cos_factor) = series_factors(f64::from(k));
+        let (sin_factor, cos_factor) = (_mm256_set1_pd(sin_factor), _mm256_set1_pd(cos_factor));
+        sin_x = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(x2, sin_factor), sin_x));
+        sin_y = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(y2, sin_factor), sin_y));
+        cos_x = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(x2, cos_factor), cos_x));
+        cos_y = _mm256_sub_pd(one, _mm256_mul_pd(_mm256_mul_pd(y2, cos_factor), cos_y));
     }
-    let (sin_out, cos_out): ([f64; 4], [f64; 4]) =
-        (bytemuck::cast(_mm256_mul_pd(x, sin)), bytemuck::cast(cos));
-    (sin_out.map(|s| s as f32), cos_out.map(|c| c as f32))
+    let halves = |a: __m256d, b: __m256d| -> [f32; 8] {
+        let (a, b): ([f64; 4], [f64; 4]) = (bytemuck::cast(a), bytemuck::cast(b));
+        std::array::from_fn(|k| if k < 4 { a[k] as f32 } else { b[k - 4] as f32 })
+    };
+    (halves(_mm256_mul_pd(x, sin_x), _mm256_mul_pd(y, sin_y)), halves(cos_x, cos_y))
 }
 
 /// `q` turned by the rotation vector `turn` (axis × angle, rad), renormalised: the
@@ -195,7 +203,7 @@ mod tests {
     use super::*;
     use glam::Vec4;
 
-    /// A run of spheres turned four at a time (AVX's f64 lanes, where the processor
+    /// A run of spheres turned eight at a time (AVX's f64 lanes, where the processor
     /// has them) comes out bit for bit as each turned alone, including the spheres
     /// left over after the last four and those that do not turn. (Under Miri, which
     /// runs it for the AVX path's sake, 103 spheres.)
