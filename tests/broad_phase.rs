@@ -171,15 +171,20 @@ fn large_worlds_take_the_threaded_path_and_agree() {
     assert_eq!(found, expected);
 }
 
+/// Spheres `side` × `side` × `side` 0.95 m apart, in x-fastest order: with a reach of
+/// 0.5 m each overlaps its neighbours.
+fn packed_block(side: usize) -> Vec<Vec3> {
+    (0..side * side * side)
+        .map(|i| Vec3::new((i % side) as f32, ((i / side) % side) as f32, (i / (side * side)) as f32) * 0.95)
+        .collect()
+}
+
 /// A still block with more kept pairs than one task tests (16,384) serves them on
 /// several threads: on a 2-thread pool the kept pairs give exactly the all-pairs
 /// list, in its order, step after step, with a sphere moving within its skin.
 #[test]
 fn many_kept_pairs_are_served_on_several_threads_in_order() {
-    let side = 20;
-    let positions: Vec<Vec3> = (0..side * side * side)
-        .map(|i| Vec3::new((i % side) as f32, ((i / side) % side) as f32, (i / (side * side)) as f32) * 0.95)
-        .collect();
+    let positions = packed_block(20);
     let reach = vec![0.5; positions.len()];
     let (mut found, mut expected) = (Vec::new(), Vec::new());
     all_pairs(&positions, &reach, &mut expected);
@@ -206,10 +211,7 @@ fn many_kept_pairs_are_served_on_several_threads_in_order() {
 /// one sphere in 32, spread over the chunks, make the grid search anew.
 #[test]
 fn movers_are_found_on_several_threads() {
-    let side = 26;
-    let positions: Vec<Vec3> = (0..side * side * side)
-        .map(|i| Vec3::new((i % side) as f32, ((i / side) % side) as f32, (i / (side * side)) as f32) * 0.95)
-        .collect();
+    let positions = packed_block(26);
     assert!(positions.len() > 2 * 8192, "three chunks of movers: {}", positions.len());
     let reach = vec![0.5; positions.len()];
     let (mut found, mut expected) = (Vec::new(), Vec::new());
