@@ -86,7 +86,8 @@ fn turn_run_avx(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
         waiting[count] = (i, turn, angle, reduced_half_angle(angle));
         count += 1;
         if count == 8 {
-            let (sin, cos) = half_angle_sin_cos_avx(waiting.map(|(.., x)| x));
+            let x = waiting.map(|(.., x)| x);
+            let (sin, cos) = half_angle_sin_cos_avx([x[0], x[1], x[2], x[3]], [x[4], x[5], x[6], x[7]]);
             for (k, &(i, turn, angle, _)) in waiting.iter().enumerate() {
                 q[i] = rotated(q[i], turn, angle, sin[k], cos[k]);
             }
@@ -106,10 +107,10 @@ fn turn_run_avx(q: &mut [Quat], w: &[Vec3], inverse_inertia: &[f32], dt: f32) {
 /// pile of 100,000 spheres took 2.05 to 2.1 ms a step on one thread).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn half_angle_sin_cos_avx(angles: [f64; 8]) -> ([f32; 8], [f32; 8]) {
+fn half_angle_sin_cos_avx(low: [f64; 4], high: [f64; 4]) -> ([f32; 8], [f32; 8]) {
     use std::arch::x86_64::*;
     // Four f64, lane 0 first, are what `__m256d` holds: a plain cast, no pointer.
-    let [x, y]: [__m256d; 2] = bytemuck::cast(angles);
+    let (x, y): (__m256d, __m256d) = (bytemuck::cast(low), bytemuck::cast(high));
     let (x2, y2) = (_mm256_mul_pd(x, x), _mm256_mul_pd(y, y));
     let one = _mm256_set1_pd(1.0);
     let (mut sin_x, mut cos_x, mut sin_y, mut cos_y) = (one, one, one, one);
@@ -189,8 +190,8 @@ fn sin_cos_series(x: f64) -> (f32, f32) {
 /// 1))` for the sine and `1 / ((2k − 1) 2k)` for the cosine: constants, so the compiler
 /// works them out (correctly rounded, as at run time) and each step multiplies where it
 /// divided. (The turn of a forming pile of 100,000 rolling spheres took 2.3 ms a step
-/// on one thread with the 22 divisions, 2.05 to 2.1 with the factors, and 1.63 to 1.66
-/// with two chains at a time, see [`half_angle_sin_cos_avx`]. The orientations came out
+/// on one thread with the 22 divisions, 2.05 to 2.1 with the factors; the Horner rule's
+/// chain of dependent operations is most of what is left. The orientations came out
 /// with the same bits: every state hash stayed as it was.)
 #[inline(always)]
 fn series_factors(k: f64) -> (f64, f64) {
@@ -204,7 +205,7 @@ mod tests {
 
     /// A run of spheres turned eight at a time (AVX's f64 lanes, where the processor
     /// has them) comes out bit for bit as each turned alone, including the spheres
-    /// left over after the last eight and those that do not turn. (Under Miri, which
+    /// left over after the last four and those that do not turn. (Under Miri, which
     /// runs it for the AVX path's sake, 103 spheres.)
     #[test]
     fn turning_a_run_equals_turning_each_alone() {
