@@ -189,10 +189,25 @@ const FILE_ITEMS = {
   copyLink: [43, 195],
 };
 
+// Where the File menu opens, over the panel: what shows there changes when it opens.
+const FILE_MENU_AREA = { x: 0, y: 26, width: 200, height: 190 };
+
+// Opens the File menu and clicks `item` once the menu shows; false if it never showed.
+// A click at an item's place with the menu not (yet) open lands on the panel under it
+// (Resume lies under Open snapshot) and changes the state the check then reads: on a
+// loaded machine a fresh-clone run once saw a page set running that way.
 async function fileItem(page, item) {
+  const closed = await page.screenshot({ clip: FILE_MENU_AREA });
   await click(page, ...FILE_MENU.open);
-  await page.waitForTimeout(600);
-  await click(page, ...FILE_ITEMS[item]);
+  for (let waited = 0; waited < 8000; waited += 200) {
+    await page.waitForTimeout(200);
+    if (!(await page.screenshot({ clip: FILE_MENU_AREA })).equals(closed)) {
+      await page.waitForTimeout(200);
+      await click(page, ...FILE_ITEMS[item]);
+      return true;
+    }
+  }
+  return false;
 }
 
 // A File menu item whose effect is a browser event (a download, the file chooser). On
@@ -200,9 +215,8 @@ async function fileItem(page, item) {
 // is closed (Escape) and the item tried again, three times in all.
 async function menuEvent(page, item, event) {
   for (let attempt = 0; attempt < 3; attempt++) {
-    const waiter = page.waitForEvent(event, { timeout: 8000 }).catch(() => null);
-    await fileItem(page, item);
-    const got = await waiter;
+    const waiter = page.waitForEvent(event, { timeout: 16000 }).catch(() => null);
+    const got = (await fileItem(page, item)) ? await waiter : null;
     if (got) return got;
     await page.keyboard.press('Escape');
     await page.waitForTimeout(300);
@@ -214,8 +228,8 @@ async function menuEvent(page, item, event) {
 // `menuEvent` tries.
 async function menuEffect(page, item, done) {
   for (let attempt = 0; attempt < 3; attempt++) {
-    await fileItem(page, item);
-    if (await page.waitForFunction(done, null, { timeout: 8000 }).then(() => true, () => false)) return true;
+    const clicked = await fileItem(page, item);
+    if (clicked && (await page.waitForFunction(done, null, { timeout: 8000 }).then(() => true, () => false))) return true;
     await page.keyboard.press('Escape');
     await page.waitForTimeout(300);
   }
@@ -244,7 +258,7 @@ async function files(page) {
   const back = await waitFor(page, (n) => document.getElementById('state').dataset.step === String(n), 120);
   const reloaded = await state(page);
   check(back && reloaded.hash === saved.hash, 'Open snapshot returns to the saved step and state',
-    `step ${reloaded.step}, ${reloaded.hash} vs ${saved.hash}`);
+    `step ${reloaded.step}, ${reloaded.hash} vs ${saved.hash}, paused ${reloaded.paused}: ${reloaded.status}`);
 
   // Open scene file: a shipped file opens; a broken one says why and changes nothing.
   const sceneChooser = await menuEvent(page, 'openScene', 'filechooser');
