@@ -457,6 +457,7 @@ impl SoftStep {
 mod tests {
     use super::*;
     use crate::physics::particles::ParticleDesc;
+    use crate::physics::solver::soft::FreshContact;
 
     /// Every batch names a material whose every lane is what its own contacts and
     /// particles give (read here from them, lane by lane), in its run's places. A pile
@@ -542,7 +543,7 @@ mod tests {
             }
             // One in ten of another friction, unless alike.
             let source = u32::from(!alike && next(10) == 0);
-            step.fresh.push(SoftContact { a, b, source, ..SoftContact::default() });
+            step.fresh.push(FreshContact { a, b, source, ..FreshContact::default() });
         }
         step.fresh_keys = step.fresh.iter().map(|c| super::super::warm::key(c.a, c.b)).collect();
         step.color(&particles);

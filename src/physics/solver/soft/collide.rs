@@ -8,7 +8,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::warm::key;
-use super::{NONE, SoftContact, SoftLink, SoftStep, Surface, ms};
+use super::{FreshContact, NONE, SoftLink, SoftStep, Surface, ms};
 use crate::physics::collision::{BroadPhase, ContactGenerator, Plane, Plate, Scratch};
 use crate::physics::ids::ContactGeneratorId;
 use crate::physics::links::{Constraint, LinkEnd, direction_or_zero};
@@ -293,7 +293,7 @@ fn copy_parts<T: Copy + Send + Sync>(
 #[derive(Clone, Debug, Default)]
 pub(super) struct PairChunk {
     keys: Vec<u64>,
-    contacts: Vec<SoftContact>,
+    contacts: Vec<FreshContact>,
     wake: Vec<u32>,
 }
 
@@ -336,15 +336,15 @@ fn collide_pairs(
         let swept = swept_contact(p[i] - p[j], v[i] - v[j], r[i] + r[j], dt, slack);
         let Some((normal, separation)) = swept else { continue };
         out.keys.push(key(a, b));
-        out.contacts.push(SoftContact { a, b, normal, separation, source, ..SoftContact::default() });
+        out.contacts.push(FreshContact { a, b, normal, separation, source });
     }
 }
 
 /// The contact of particle `i` with something that does not move (a plane, a plate,
 /// generator `source`): its normal and separation (m).
 #[inline]
-fn still_contact(i: usize, normal: Vec3, separation: f32, source: u32) -> SoftContact {
-    SoftContact { a: i as u32, b: NONE, normal, separation, source, ..SoftContact::default() }
+fn still_contact(i: usize, normal: Vec3, separation: f32, source: u32) -> FreshContact {
+    FreshContact { a: i as u32, b: NONE, normal, separation, source }
 }
 
 /// What a contact's solve needs of its particles `a` and `b` ([`NONE`] for a plane)

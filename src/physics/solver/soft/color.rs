@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use super::shared::Disjoint;
-use super::{COLORS, NONE, OVERFLOW, SoftContact, SoftStep};
+use super::{COLORS, FreshContact, NONE, OVERFLOW, SoftContact, SoftStep};
 use crate::physics::particles::Particles;
 
 /// Fresh contacts from which the greedy colouring runs beside the warm start's pick-up
@@ -29,8 +29,9 @@ impl SoftStep {
     /// The warm start's pick-up of last step's impulses
     /// ([`warm_start_from_last_step`](SoftStep::warm_start_from_last_step), for
     /// `generators` contact generators) comes first: the sort places the contacts that
-    /// wait by what it finds. It reads the keys and writes the fresh contacts, the
-    /// greedy pass reads the keys alone, so with many contacts and several threads the
+    /// wait by what it finds. It reads the keys and the fresh contacts and writes where
+    /// each one's impulses are, the greedy pass reads the keys alone, so with many
+    /// contacts and several threads the
     /// serial greedy pass runs on one thread while the pick-up runs beside it (on the
     /// other, and on this one once the colours are done): the same colours and
     /// impulses, sooner.
@@ -160,15 +161,19 @@ fn bucket(color: u8, waits: bool) -> usize {
     2 * color as usize + usize::from(waits && color as usize != OVERFLOW)
 }
 
-/// A chunk of the counting sort: its index, fresh contacts, their colours, where they
-/// go (written), and the chunk's first slot in each bucket.
-type SortChunk<'a> =
-    (usize, ((((&'a [SoftContact], &'a [u8]), &'a [bool]), &'a mut [u32]), &'a [usize; BUCKETS]));
+/// A chunk of the counting sort: its index, fresh contacts, where their impulses of
+/// last step are, their colours, whether they wait, where they go (written), and the
+/// chunk's first slot in each bucket.
+type SortChunk<'a> = (
+    usize,
+    (((((&'a [FreshContact], &'a [u32]), &'a [u8]), &'a [bool]), &'a mut [u32]), &'a [usize; BUCKETS]),
+);
 
 impl SoftStep {
     /// The counting sort of stage 2: every fresh contact to its colour's run, in
     /// generation order within each of the colour's two [`bucket`]s, tagged with its
-    /// origin; `slots` says where each went. The fresh list is cut into chunks of
+    /// origin and given the impulses the pick-up found for it
+    /// ([`with_impulses`](SoftStep::with_impulses)); `slots` says where each went. The fresh list is cut into chunks of
     /// [`SORT_CHUNK`]; each chunk counts its buckets, the prefix sums give each chunk
     /// its slots in every bucket, and the chunks then place their contacts at once: the
     /// same list as placing them one by one.
@@ -182,6 +187,11 @@ impl SoftStep {
         if self.waits.len() != n {
             self.waits.clear();
             self.waits.resize(n, false);
+        }
+        // Nor, then, were last step's impulses looked for.
+        if self.picked.len() != n {
+            self.picked.clear();
+            self.picked.resize(n, NONE);
         }
         let chunks = n.div_ceil(SORT_CHUNK);
         self.chunk_starts.clear();
@@ -217,25 +227,27 @@ impl SoftStep {
             }
         }
         let out = Disjoint::new(&mut self.contacts);
-        let place = |(k, ((((fresh, colors), waits), slots), starts)): SortChunk<'_>| {
+        let warm = &self.warm;
+        let place = |(k, (((((fresh, picked), colors), waits), slots), starts)): SortChunk<'_>| {
             let mut cursor = *starts;
-            let tagged = fresh.iter().zip(colors).zip(waits);
-            for (i, (((contact, &color), &waits), slot)) in tagged.zip(slots).enumerate() {
+            let tagged = fresh.iter().zip(picked).zip(colors).zip(waits);
+            for (i, ((((contact, &picked), &color), &waits), slot)) in tagged.zip(slots).enumerate() {
                 let next = &mut cursor[bucket(color, waits)];
                 let origin = (k * SORT_CHUNK + i) as u32;
                 // SAFETY: `next` lies in this chunk's run of slots of its bucket (see
                 // `Disjoint`), and is used once.
                 let placed = unsafe { out.run(*next..*next + 1) };
-                placed[0] = SoftContact { origin, ..*contact };
+                placed[0] = SoftStep::with_impulses(warm, contact, picked, origin);
                 *slot = *next as u32;
                 *next += 1;
             }
         };
         let (fresh, colors, starts) = (&self.fresh, &self.colors, &self.chunk_starts);
-        let waits = &self.waits;
+        let (waits, picked) = (&self.waits, &self.picked);
         if parallel {
             fresh
                 .par_chunks(SORT_CHUNK)
+                .zip(picked.par_chunks(SORT_CHUNK))
                 .zip(colors.par_chunks(SORT_CHUNK))
                 .zip(waits.par_chunks(SORT_CHUNK))
                 .zip(self.slots.par_chunks_mut(SORT_CHUNK))
@@ -245,6 +257,7 @@ impl SoftStep {
         } else {
             fresh
                 .chunks(SORT_CHUNK)
+                .zip(picked.chunks(SORT_CHUNK))
                 .zip(colors.chunks(SORT_CHUNK))
                 .zip(waits.chunks(SORT_CHUNK))
                 .zip(self.slots.chunks_mut(SORT_CHUNK))
@@ -279,8 +292,8 @@ mod tests {
     use super::*;
     use crate::physics::particles::ParticleDesc;
 
-    fn contact(a: u32, b: u32) -> SoftContact {
-        SoftContact { a, b, ..SoftContact::default() }
+    fn contact(a: u32, b: u32) -> FreshContact {
+        FreshContact { a, b, ..FreshContact::default() }
     }
 
     /// The keys of a step's fresh contacts, as the collide stage makes them.
@@ -312,9 +325,10 @@ mod tests {
 
         let mut starts = [0; COLORS + 2];
         starts[1..].fill(2);
-        let both_on_three = [contact(3, 4), contact(5, 3)];
+        let sorted = |a: u32, b: u32| SoftContact { a, b, ..SoftContact::default() };
+        let both_on_three = [sorted(3, 4), sorted(5, 3)];
         assert!(!colours_are_disjoint(&both_on_three, &starts, w));
-        let both_on_the_immovable = [contact(1, 4), contact(5, 1)];
+        let both_on_the_immovable = [sorted(1, 4), sorted(5, 1)];
         assert!(colours_are_disjoint(&both_on_the_immovable, &starts, w));
     }
 

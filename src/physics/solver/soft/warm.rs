@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::{SoftContact, SoftMemory, SoftStep, Warm};
+use super::{FreshContact, NONE, SoftContact, SoftMemory, SoftStep, Warm};
 use crate::physics::hash::StateHasher;
 
 /// Contacts from which their impulses are stored, and picked up, on several threads.
@@ -78,56 +78,52 @@ impl SoftStep {
         }
     }
 
-    /// Copies last step's impulses into this step's matching contacts and links;
-    /// `keys` are the fresh contacts' keys (taken out of `fresh_keys` while the
-    /// colouring reads them too), `generators` is how many contact generators the
-    /// world has.
+    /// Finds last step's impulses of this step's contacts (`picked`: their places in
+    /// `warm`, for the colour stage's sort to copy) and gives the links theirs; `keys`
+    /// are the fresh contacts' keys (taken out of `fresh_keys` while the colouring
+    /// reads them too), `generators` is how many contact generators the world has.
     ///
     /// It also marks the contacts that wait (`waits`): apart at the start of the step
     /// and without a normal impulse to start from (see `color::bucket`).
     pub(super) fn warm_start_from_last_step(&mut self, keys: &[u64], generators: usize) {
+        let n = self.fresh.len();
         self.waits.clear();
-        self.waits.resize(self.fresh.len(), false);
-        let mark = |(contacts, waits): (&[SoftContact], &mut [bool])| {
-            for (contact, waits) in contacts.iter().zip(waits) {
-                *waits = waiting(contact);
-            }
-        };
+        self.waits.resize(n, false);
+        self.picked.clear();
+        self.picked.resize(n, NONE);
+        let (fresh, warm) = (&self.fresh, &self.warm);
         for (id, range) in &self.fresh_groups {
-            let contacts = &mut self.fresh[range.clone()];
-            let waits = &mut self.waits[range.clone()];
+            let contacts = &fresh[range.clone()];
+            let (picked, waits) = (&mut self.picked[range.clone()], &mut self.waits[range.clone()]);
             let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else {
-                mark((contacts, waits));
+                for (contact, waits) in contacts.iter().zip(waits) {
+                    *waits = contact.separation > 0.0;
+                }
                 continue;
             };
-            let (old_keys, new_keys) = (&self.warm[old.clone()], &keys[range.clone()]);
+            let (old_keys, new_keys, base) = (&warm[old.clone()], &keys[range.clone()], old.start);
             // Both runs are sorted by key: walk them together, from where the old run
             // reaches a piece's first key (pieces on several threads for long runs).
-            let pick_up = |((contacts, new_keys), waits): ((&mut [SoftContact], &[u64]), &mut [bool])| {
+            let pick_up = |(((contacts, new_keys), picked), waits): Piece<'_>| {
                 let Some(&first) = new_keys.first() else { return };
                 let mut j = old_keys.partition_point(|warm| warm.key < first);
-                for ((contact, &k), waits) in contacts.iter_mut().zip(new_keys).zip(waits) {
+                for (((contact, &k), picked), waits) in contacts.iter().zip(new_keys).zip(picked).zip(waits) {
                     while j < old_keys.len() && old_keys[j].key < k {
                         j += 1;
                     }
+                    let mut normal_impulse = 0.0;
                     if j < old_keys.len() && old_keys[j].key == k {
-                        let warm = old_keys[j];
-                        contact.normal_impulse = warm.normal_impulse;
-                        // The normal turned a little since: keep the tangential part.
-                        let t = warm.tangent_impulse;
-                        contact.tangent_impulse = t - contact.normal * t.dot(contact.normal);
-                        // Kept whether or not the contact rolls now: one that does not
-                        // gets none where its batch is made (`ContactBatch::new`).
-                        contact.rolling_impulse = warm.rolling_impulse;
+                        *picked = (base + j) as u32;
+                        normal_impulse = old_keys[j].normal_impulse;
                     }
-                    *waits = waiting(contact);
+                    *waits = contact.separation > 0.0 && normal_impulse == 0.0;
                 }
             };
             if contacts.len() >= PARALLEL_STORE {
-                let pieces = contacts.par_chunks_mut(PIECE).zip(new_keys.par_chunks(PIECE));
-                pieces.zip(waits.par_chunks_mut(PIECE)).for_each(pick_up);
+                let pieces = contacts.par_chunks(PIECE).zip(new_keys.par_chunks(PIECE));
+                pieces.zip(picked.par_chunks_mut(PIECE)).zip(waits.par_chunks_mut(PIECE)).for_each(pick_up);
             } else {
-                pick_up(((contacts, new_keys), waits));
+                pick_up((((contacts, new_keys), picked), waits));
             }
         }
         // Last step's impulses by generator index, so each link finds its own at once
@@ -197,8 +193,32 @@ pub(super) fn key(a: u32, b: u32) -> u64 {
     (u64::from(a) << 32) | u64::from(b)
 }
 
-/// Whether a contact waits: apart at the start of the step and without a normal
-/// impulse to start from (see `color::bucket`).
-fn waiting(contact: &SoftContact) -> bool {
-    contact.separation > 0.0 && contact.normal_impulse == 0.0
+/// A piece of the pick-up: fresh contacts, their keys, and what it writes of each
+/// (where its impulses are in `warm`, whether it waits).
+type Piece<'a> = (((&'a [FreshContact], &'a [u64]), &'a mut [u32]), &'a mut [bool]);
+
+impl SoftStep {
+    /// The contact `contact` (fresh contact number `origin`) with the impulses the
+    /// pick-up found for it (`picked`, see
+    /// [`warm_start_from_last_step`](SoftStep::warm_start_from_last_step)), or none.
+    #[inline]
+    pub(super) fn with_impulses(
+        warm: &[Warm],
+        contact: &FreshContact,
+        picked: u32,
+        origin: u32,
+    ) -> SoftContact {
+        let FreshContact { a, b, normal, separation, source } = *contact;
+        let mut out = SoftContact { a, b, normal, separation, source, origin, ..SoftContact::default() };
+        if let Some(warm) = warm.get(picked as usize) {
+            out.normal_impulse = warm.normal_impulse;
+            // The normal turned a little since: keep the tangential part.
+            let t = warm.tangent_impulse;
+            out.tangent_impulse = t - normal * t.dot(normal);
+            // Kept whether or not the contact rolls now: one that does not gets none
+            // where its batch is made (`ContactBatch::new`).
+            out.rolling_impulse = warm.rolling_impulse;
+        }
+        out
+    }
 }
