@@ -111,8 +111,8 @@ pub struct SoftContact {
 /// which the colour stage's sort adds from last step's (see `warm.rs`). 28 bytes
 /// instead of 60: the narrow phase writes it, copies it from its threads' chunks onto
 /// one list, and the pick-up and the sort read it, each over every contact a step. At
-/// 100,000 spheres on 2 threads this took 0.7–1.0 ms a step off the narrow phase and
-/// 0.2–0.7 ms off the colour stage (three runs each, the same bits).
+/// 100,000 spheres on 2 threads this took about 1 ms a step off the narrow phase and
+/// 0.3–0.9 ms off the colour stage (three runs each, the same bits).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct FreshContact {
     /// Dense index of the particle pushed along `normal`.
