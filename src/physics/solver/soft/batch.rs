@@ -190,6 +190,14 @@ impl<L: Lane> ContactBatch<L> {
     }
 }
 
+/// `[f(0), f(1), f(2), f(3)]`, in that order: one value per lane, written out so that
+/// it is always inlined (an array's `map` with a closure was not, in the batch stage,
+/// and cost a call per lane).
+#[inline(always)]
+fn lanes<T>(mut f: impl FnMut(usize) -> T) -> [T; LANES] {
+    [f(0), f(1), f(2), f(3)]
+}
+
 impl ContactBatch {
     /// A batch of `contacts` (1 to 4, lane by lane), and its material: its generators'
     /// `surfaces`, and what follows from its particles ([`terms`]). A lane that does not
@@ -203,14 +211,14 @@ impl ContactBatch {
     ) -> (Self, Material) {
         debug_assert!(!contacts.is_empty() && contacts.len() <= LANES);
         let last = contacts.len() - 1;
-        let c: [&SoftContact; LANES] = [0, 1, 2, 3].map(|i| &contacts[i.min(last)]);
-        let surface = c.map(|c| surfaces[c.source as usize]);
-        let t: [Terms; LANES] =
-            [0, 1, 2, 3].map(|i| known.of(particles, c[i].a, c[i].b, surface[i].rolling_resistance));
+        let c: [&SoftContact; LANES] = lanes(|i| &contacts[i.min(last)]);
+        let surface = lanes(|i| surfaces[c[i].source as usize]);
+        let t: [Terms; LANES] = lanes(|i| known.of(particles, c[i].a, c[i].b, surface[i].rolling_resistance));
         let (w, inertia) = (&particles.inverse_mass, &particles.inverse_inertia);
-        let column = |f: fn(&SoftContact) -> f32| F4::new(c.map(f));
-        let of_terms = |f: fn(&Terms) -> f32| F4::new(t.each_ref().map(f));
-        let of_b = |values: &[f32]| F4::new(c.map(|c| if c.b == NONE { 0.0 } else { values[c.b as usize] }));
+        let column = |f: fn(&SoftContact) -> f32| F4::new(lanes(|i| f(c[i])));
+        let of_terms = |f: fn(&Terms) -> f32| F4::new(lanes(|i| f(&t[i])));
+        let of_b =
+            |values: &[f32]| F4::new(lanes(|i| if c[i].b == NONE { 0.0 } else { values[c[i].b as usize] }));
         let has_b = (0..contacts.len()).filter(|&i| c[i].b != NONE).fold(0, |bits, i| bits | 1 << i);
         let full = (0..LANES).all(|i| {
             c[i].b != NONE
@@ -218,32 +226,31 @@ impl ContactBatch {
                 && t[i].rolling > 0.0
                 && [c[i].a, c[i].b].iter().all(|&p| w[p as usize] > 0.0 && inertia[p as usize] > 0.0)
         });
-        let rolling_impulse =
-            [0, 1, 2, 3].map(|i| if t[i].rolling > 0.0 { c[i].rolling_impulse } else { Vec3::ZERO });
+        let rolling_impulse = lanes(|i| if t[i].rolling > 0.0 { c[i].rolling_impulse } else { Vec3::ZERO });
         let batch = Self {
             active: (1 << contacts.len()) - 1,
             has_b,
             full,
             material: 0,
-            a: c.map(|c| c.a),
-            b: c.map(|c| if c.b == NONE { c.a } else { c.b }),
-            normal: V4::new(c.map(|c| c.normal)),
+            a: lanes(|i| c[i].a),
+            b: lanes(|i| if c[i].b == NONE { c[i].a } else { c[i].b }),
+            normal: V4::new(lanes(|i| c[i].normal)),
             separation: column(|c| c.separation),
             normal_impulse: column(|c| c.normal_impulse),
-            tangent_impulse: V4::new(c.map(|c| c.tangent_impulse)),
+            tangent_impulse: V4::new(lanes(|i| c[i].tangent_impulse)),
             rolling_impulse: V4::new(rolling_impulse),
         };
         let material = Material {
-            friction: F4::new(surface.map(|s| s.friction)),
+            friction: F4::new(lanes(|i| surface[i].friction)),
             mass: of_terms(|t| t.mass),
             tangent_mass: of_terms(|t| t.tangent_mass),
             lever_a: of_terms(|t| t.lever_a),
             lever_b: of_terms(|t| t.lever_b),
             rolling: of_terms(|t| t.rolling),
             rolling_mass: of_terms(|t| t.rolling_mass),
-            wa: F4::new(c.map(|c| w[c.a as usize])),
+            wa: F4::new(lanes(|i| w[c[i].a as usize])),
             wb: of_b(w),
-            ia: F4::new(c.map(|c| inertia[c.a as usize])),
+            ia: F4::new(lanes(|i| inertia[c[i].a as usize])),
             ib: of_b(inertia),
         };
         (batch, material)
