@@ -31,10 +31,9 @@ impl SoftStep {
     /// `generators` contact generators) comes first: the sort places the contacts that
     /// wait by what it finds. It reads the keys and the fresh contacts and writes where
     /// each one's impulses are, the greedy pass reads the keys alone, so with many
-    /// contacts and several threads the
-    /// serial greedy pass runs on one thread while the pick-up runs beside it (on the
-    /// other, and on this one once the colours are done): the same colours and
-    /// impulses, sooner.
+    /// contacts and several threads the serial greedy pass runs on one thread while the
+    /// pick-up runs beside it (on the other, and on this one once the colours are
+    /// done): the same colours and impulses, sooner.
     pub(super) fn pick_up_and_color(&mut self, particles: &Particles, generators: usize) {
         let w = &particles.inverse_mass;
         let recolor = !self.colors_still_hold(w);
@@ -173,10 +172,10 @@ impl SoftStep {
     /// The counting sort of stage 2: every fresh contact to its colour's run, in
     /// generation order within each of the colour's two [`bucket`]s, tagged with its
     /// origin and given the impulses the pick-up found for it
-    /// ([`with_impulses`](SoftStep::with_impulses)); `slots` says where each went. The fresh list is cut into chunks of
-    /// [`SORT_CHUNK`]; each chunk counts its buckets, the prefix sums give each chunk
-    /// its slots in every bucket, and the chunks then place their contacts at once: the
-    /// same list as placing them one by one.
+    /// ([`with_impulses`](SoftStep::with_impulses)); `slots` says where each went. The
+    /// fresh list is cut into chunks of [`SORT_CHUNK`]; each chunk counts its buckets,
+    /// the prefix sums give each chunk its slots in every bucket, and the chunks then
+    /// place their contacts at once: the same list as placing them one by one.
     fn sort_by_color(&mut self) {
         let n = self.fresh.len();
         // Every slot is written below: only growth needs filling.

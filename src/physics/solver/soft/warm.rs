@@ -97,7 +97,7 @@ impl SoftStep {
             let (picked, waits) = (&mut self.picked[range.clone()], &mut self.waits[range.clone()]);
             let Some((_, old)) = self.warm_groups.iter().find(|(old_id, _)| old_id == id) else {
                 for (contact, waits) in contacts.iter().zip(waits) {
-                    *waits = contact.separation > 0.0;
+                    *waits = waiting(contact, 0.0);
                 }
                 continue;
             };
@@ -116,7 +116,7 @@ impl SoftStep {
                         *picked = (base + j) as u32;
                         normal_impulse = old_keys[j].normal_impulse;
                     }
-                    *waits = contact.separation > 0.0 && normal_impulse == 0.0;
+                    *waits = waiting(contact, normal_impulse);
                 }
             };
             if contacts.len() >= PARALLEL_STORE {
@@ -191,6 +191,12 @@ impl SoftStep {
 #[inline]
 pub(super) fn key(a: u32, b: u32) -> u64 {
     (u64::from(a) << 32) | u64::from(b)
+}
+
+/// Whether a contact waits: apart at the start of the step and without a normal
+/// impulse to start from (`normal_impulse`, last step's; see `color::bucket`).
+fn waiting(contact: &FreshContact, normal_impulse: f32) -> bool {
+    contact.separation > 0.0 && normal_impulse == 0.0
 }
 
 /// A piece of the pick-up: fresh contacts, their keys, and what it writes of each
