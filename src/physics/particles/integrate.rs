@@ -146,6 +146,31 @@ impl Particles {
         }
     }
 
+    /// Each particle's mass and moment of inertia in `f64`, `[1/w, 1/I]` from its
+    /// inverses (0 for an immovable particle, `w <= 0`, and for a sphere that does not
+    /// roll, `I⁻¹ = 0`), into `out`: so that the energy sums of every substep (two
+    /// each) multiply by them instead of dividing by the inverses each time.
+    pub(crate) fn masses_into(&self, out: &mut Vec<[f64; 2]>, parallel: bool) {
+        out.resize(self.len(), [0.0; 2]);
+        let (inverse_mass, inverse_inertia) = (&self.inverse_mass, &self.inverse_inertia);
+        let fill = |first: usize, out: &mut [[f64; 2]]| {
+            let inverses = inverse_mass[first..].iter().zip(&inverse_inertia[first..]);
+            for (m, (&w, &i)) in out.iter_mut().zip(inverses) {
+                let mass = if w > 0.0 { 1.0 / f64::from(w) } else { 0.0 };
+                *m = [mass, if i != 0.0 { 1.0 / f64::from(i) } else { 0.0 }];
+            }
+        };
+        if parallel {
+            let shared = Disjoint::new(out);
+            on_threads(shared.len(), |run| {
+                // SAFETY: `on_threads` gives each run to one thread; the runs are disjoint.
+                fill(run.start, unsafe { shared.run(run.clone()) });
+            });
+        } else {
+            fill(0, out);
+        }
+    }
+
     /// The velocities, what the kick reads, and the spins, borrowed apart.
     fn kick_parts(&mut self) -> (&mut [Vec3], KickInputs<'_>, &[Vec3]) {
         let Self {
@@ -300,5 +325,42 @@ mod tests {
             }
         }
         assert_ne!(bits(&expected.velocity), bits(&start), "the kick changed the velocities");
+    }
+
+    /// Each particle's noted mass and moment of inertia are `m` and `2/5 m r²` as the
+    /// particle was made (to f32's rounding of their inverses), 0 for an immovable
+    /// particle and for a point mass's inertia; the same bits on one thread and on two.
+    #[test]
+    #[cfg_attr(miri, ignore = "5,000 particles: too slow to interpret (`parts.rs` tests its threads)")]
+    fn the_masses_are_the_particles_masses_and_moments_of_inertia() {
+        let mut particles = Particles::new();
+        let mut made = Vec::new();
+        for i in 0..5000 {
+            let (mass, radius, immovable) =
+                (1.0 + (i % 7) as f32 * 0.5, 0.1 + (i % 3) as f32 * 0.2, i % 13 == 5);
+            particles
+                .add(ParticleDesc { mass, radius, immovable, ..ParticleDesc::default() })
+                .expect("valid");
+            made.push((f64::from(mass), f64::from(radius), immovable));
+        }
+        // Half of them spheres that roll.
+        for i in (0..5000).step_by(2) {
+            let (mass, radius, _) = made[i];
+            particles.inverse_inertia[i] = (1.0 / (0.4 * mass * radius * radius)) as f32;
+        }
+        let mut alone = Vec::new();
+        particles.masses_into(&mut alone, false);
+        assert_eq!(alone.len(), 5000);
+        for (i, (&[m, inertia], &(mass, radius, immovable))) in alone.iter().zip(&made).enumerate() {
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * b;
+            assert!(if immovable { m == 0.0 } else { close(m, mass) }, "particle {i}: mass {m}, made {mass}");
+            let expected = if i % 2 == 0 { 0.4 * mass * radius * radius } else { 0.0 };
+            assert!(close(inertia, expected), "particle {i}: inertia {inertia}, expected {expected}");
+        }
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
+        let mut shared = vec![[f64::NAN; 2]; 7];
+        pool.install(|| particles.masses_into(&mut shared, true));
+        let bits = |m: &[[f64; 2]]| m.iter().flat_map(|x| x.map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&shared), bits(&alone));
     }
 }

@@ -49,7 +49,7 @@
 //! first 5 s, beside 66 J dissipated.)
 
 use super::SoftStep;
-use crate::physics::particles::{Particles, tree_sum};
+use crate::physics::particles::{Particles, in_lanes, tree_sum};
 
 impl SoftStep {
     /// After the relax pass: the particles' kinetic energy (J, as
@@ -62,38 +62,38 @@ impl SoftStep {
         let entering = if semi_implicit { &self.kicked } else { &self.moving };
         let start = if self.own_reference { &self.reference } else { &self.substep_velocity };
         let changes = self.noting.then_some(&self.changes[..]);
+        let masses = &self.masses;
         let [moving, turning, work] = tree_sum(0..p.len(), &|range: std::ops::Range<usize>| {
-            let (mut moving, mut turning, mut work) = (0.0, 0.0, 0.0);
             let first = range.start;
-            let bodies = p.velocity[range.clone()].iter().zip(&p.inverse_mass[range.clone()]);
-            let before = entering[range.clone()].iter().zip(&start[range.clone()]);
-            for (k, ((&v, &w), (&entering, &start))) in bodies.zip(before).enumerate() {
-                if w <= 0.0 {
-                    continue;
+            let (v, masses) = (&p.velocity[range.clone()], &masses[range.clone()]);
+            let (entering, start) = (&entering[range.clone()], &start[range.clone()]);
+            let [moving, moving_work] = in_lanes(range.len(), |j| {
+                let [mass, _] = masses[j];
+                if mass == 0.0 {
+                    return [0.0; 2]; // immovable
                 }
-                let mass = 1.0 / f64::from(w);
-                moving += f64::from(v.length_squared()) * mass;
+                let v = v[j];
                 // What the contacts changed of the velocity: all but the kick and the
                 // changes noted.
                 let by_contacts = match changes {
-                    Some(changes) => v - entering - changes[first + k],
-                    None => v - entering,
+                    Some(changes) => v - entering[j] - changes[first + j],
+                    None => v - entering[j],
                 };
-                work += f64::from(by_contacts.dot(start + v)) * mass;
-            }
-            let spins = p.angular_velocity[range.clone()].iter().zip(&p.inverse_inertia[range.clone()]);
-            for (k, (&spin, &inverse_inertia)) in spins.enumerate() {
-                if inverse_inertia == 0.0 {
-                    continue;
+                [f64::from(v.length_squared()) * mass, f64::from(by_contacts.dot(start[j] + v)) * mass]
+            });
+            let spin = &p.angular_velocity[range.clone()];
+            let spin_start = if rolling { &self.substep_spin[range] } else { &[][..] };
+            let [turning, turning_work] = in_lanes(spin.len(), |j| {
+                let [_, inertia] = masses[j];
+                if inertia == 0.0 {
+                    return [0.0; 2];
                 }
-                let (spin, inverse_inertia) = (f64::from(spin.length_squared()), f64::from(inverse_inertia));
-                turning += spin / inverse_inertia;
-                if rolling {
-                    let before = f64::from(self.substep_spin[range.start + k].length_squared());
-                    work += (spin - before) / inverse_inertia;
-                }
-            }
-            [moving, turning, work]
+                let spin = f64::from(spin[j].length_squared());
+                let work =
+                    if rolling { (spin - f64::from(spin_start[j].length_squared())) * inertia } else { 0.0 };
+                [spin * inertia, work]
+            });
+            [moving, turning, moving_work + turning_work]
         });
         (0.5 * (moving + turning), 0.5 * work)
     }

@@ -271,6 +271,9 @@ pub struct SoftStep {
     integration: Integration,
     /// Velocities after the substep's kick, before the solve (energy budget).
     kicked: Vec<Vec3>,
+    /// Each particle's mass and moment of inertia in `f64`, noted once a step for the
+    /// substeps' energy sums (`Particles::masses_into`).
+    masses: Vec<[f64; 2]>,
     /// Velocities at the start of the substep, kept while anything can bounce.
     substep_velocity: Vec<Vec3>,
     /// Angular velocities at the start of the substep, kept while spheres roll

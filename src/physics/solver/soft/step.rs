@@ -33,7 +33,7 @@ use crate::physics::collision::{BroadPhase, ContactGenerator, Scratch};
 use crate::physics::forces::ForceRegistry;
 use crate::physics::ids::ContactGeneratorId;
 use crate::physics::integrator::Integrator;
-use crate::physics::particles::{Particles, tree_sum};
+use crate::physics::particles::{Particles, in_lanes, tree_sum};
 use crate::physics::solver::report::{Profile, SoftReport};
 use crate::physics::solver::settings::{CONTACT_HERTZ_LIMIT, Softness, SolverSettings};
 
@@ -116,6 +116,9 @@ impl SoftStep {
         let rolling = constrained && particles.any_rolling();
         // The time of the passes over the contacts and links, summed over the substeps.
         let mut passes = Duration::ZERO;
+        if constrained {
+            particles.masses_into(&mut self.masses, parallel);
+        }
         for _ in 0..substeps {
             if self.noting {
                 self.changes.clear();
@@ -266,26 +269,25 @@ impl SoftStep {
     /// Summed up a fixed tree ([`tree_sum`]), the same on any number of threads.
     fn kick_and_solve_work(&self, particles: &Particles, rolling: bool) -> (f64, f64) {
         let (start, kicked) = (&self.substep_velocity, &self.kicked);
-        let (spin_start, p) = (&self.substep_spin, particles);
+        let (spin_start, p, masses) = (&self.substep_spin, particles, &self.masses);
         let network = &self.network;
         let linear = |range: std::ops::Range<usize>| {
             let first = range.start;
-            let bodies =
-                p.velocity[range.clone()].iter().zip(&kicked[range.clone()]).zip(&start[range.clone()]);
-            let masses = p.inverse_mass[range.clone()].iter().zip(&p.damping_per_step[range]);
-            let (mut work, mut kinetic) = (0.0, 0.0);
-            for (k, (((&v, &kicked), &v0), (&w, &d))) in bodies.zip(masses).enumerate() {
-                if w <= 0.0 {
-                    continue;
+            let (v, kicked, v0) = (&p.velocity[range.clone()], &kicked[range.clone()], &start[range.clone()]);
+            let (masses, damping) = (&masses[range.clone()], &p.damping_per_step[range.clone()]);
+            let [work, kinetic] = in_lanes(range.len(), |j| {
+                let [mass, _] = masses[j];
+                if mass == 0.0 {
+                    return [0.0; 2]; // immovable
                 }
-                let (v, w) = (v.as_dvec3(), f64::from(w));
-                kinetic += v.length_squared() / w;
+                let (v, d) = (v[j].as_dvec3(), damping[j]);
+                let kinetic = v.length_squared() * mass;
                 // A link of the exact solve holds its particles even when they need no
                 // impulse this substep (a rod whose end moves across it).
-                if d <= 0.0 || (v == kicked.as_dvec3() && !network.moves(first + k)) {
-                    continue; // fully damped, or no contact or link touched it
+                if d <= 0.0 || (v == kicked[j].as_dvec3() && !network.moves(first + j)) {
+                    return [0.0, kinetic]; // fully damped, or no contact or link touched it
                 }
-                let (kicked, v0, d) = (kicked.as_dvec3(), v0.as_dvec3(), f64::from(d));
+                let (kicked, v0, d) = (kicked[j].as_dvec3(), v0[j].as_dvec3(), f64::from(d));
                 // v0 kicked (and damped by d) gives `kicked`: the kick is kicked/d - v0.
                 let (kick, damping_loss) = if d == 1.0 {
                     (kicked - v0, 0.0)
@@ -293,22 +295,28 @@ impl SoftStep {
                     let undamp = 1.0 / d;
                     (kicked * undamp - v0, 0.5 * kicked.length_squared() * (undamp * undamp - 1.0))
                 };
-                work += (0.5 * (v.length_squared() - v0.length_squared()) - kick.dot(v) + damping_loss) / w;
-            }
+                let work =
+                    (0.5 * (v.length_squared() - v0.length_squared()) - kick.dot(v) + damping_loss) * mass;
+                [work, kinetic]
+            });
             (work, 0.5 * kinetic)
         };
         let turning = |range: std::ops::Range<usize>| {
-            let spins = p.angular_velocity[range.clone()].iter().zip(&spin_start[range.clone()]);
-            let (mut work, mut kinetic) = (0.0, 0.0);
-            for ((&w, &w0), &inverse_inertia) in spins.zip(&p.inverse_inertia[range]) {
-                if inverse_inertia != 0.0 {
-                    let (spin, inertia) = (f64::from(w.length_squared()), 1.0 / f64::from(inverse_inertia));
-                    kinetic += 0.5 * spin * inertia;
-                    if w != w0 {
-                        work += 0.5 * (spin - f64::from(w0.length_squared())) * inertia;
-                    }
+            let (w, w0, masses) =
+                (&p.angular_velocity[range.clone()], &spin_start[range.clone()], &masses[range]);
+            let [work, kinetic] = in_lanes(masses.len(), |j| {
+                let [_, inertia] = masses[j];
+                if inertia == 0.0 {
+                    return [0.0; 2];
                 }
-            }
+                let spin = f64::from(w[j].length_squared());
+                let work = if w[j] != w0[j] {
+                    0.5 * (spin - f64::from(w0[j].length_squared())) * inertia
+                } else {
+                    0.0
+                };
+                [work, 0.5 * spin * inertia]
+            });
             (work, kinetic)
         };
         let [work, kinetic] = tree_sum(0..p.len(), &|range: std::ops::Range<usize>| {
