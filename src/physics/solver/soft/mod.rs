@@ -81,9 +81,10 @@ pub(crate) const PARALLEL_PARTICLES: usize = 4096;
 /// normal, how far apart, and the impulses (the narrow phase makes a [`FreshContact`],
 /// without them). What it is made of is its generator's [`Surface`]; its effective
 /// masses, levers and rolling resistance follow from its particles
-/// ([`collide::terms`]) and are worked out where the batches are made. Kept out of the contact, they spared 28 of
-/// its 88 bytes, which every stage from the narrow phase to the store copies or reads
-/// (28 bytes more cost a forming 100,000-sphere pile 7 to 10% of its step).
+/// ([`collide::terms`]) and are worked out where the batches are made. Kept out of the
+/// contact, they spared 28 of its 88 bytes, which every stage from the narrow phase to
+/// the store copies or reads (28 bytes more cost a forming 100,000-sphere pile 7 to 10%
+/// of its step).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SoftContact {
     /// Dense index of the particle pushed along `normal`.
