@@ -32,6 +32,6 @@ pub use super::ids::ParticleId;
 pub(crate) use desc::check_acceleration;
 pub use desc::{MAX_MASS, MIN_MASS, ParticleDesc, inverse_mass};
 pub(crate) use integrate::kicked;
-pub(crate) use parts::{Disjoint, in_lanes, tree_sum};
+pub(crate) use parts::{Disjoint, in_lanes, on_threads, tree_sum};
 pub(crate) use sleep::{AWAKE, Sleep};
 pub use store::Particles;

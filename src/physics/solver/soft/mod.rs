@@ -312,6 +312,11 @@ pub struct SoftStep {
     parent: Vec<u32>,
     ready: Vec<bool>,
     blocked: Vec<bool>,
+    /// The contacts' keys of which both particles are ready, each thread's run of them
+    /// where its run of keys begins, and where each run starts and how many it holds
+    /// (see `sleep.rs`).
+    joins: Vec<u64>,
+    join_runs: Vec<(usize, usize)>,
     /// The exact solve of rods and cables (`link_network/`), with its cached network.
     network: link_network::LinkNetwork,
 }
