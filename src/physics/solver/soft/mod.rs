@@ -312,9 +312,8 @@ pub struct SoftStep {
     parent: Vec<u32>,
     ready: Vec<bool>,
     blocked: Vec<bool>,
-    /// The contacts' keys of which both particles are ready, each thread's run of them
-    /// where its run of keys begins, and where each run starts and how many it holds
-    /// (see `sleep.rs`).
+    /// For sleeping (`sleep.rs`): the keys of contacts joining two ready particles, each
+    /// run of keys' written from where that run begins, and each run's start and count.
     joins: Vec<u64>,
     join_runs: Vec<(usize, usize)>,
     /// The exact solve of rods and cables (`link_network/`), with its cached network.

@@ -46,22 +46,18 @@ impl SoftStep {
         // turn.
         let n = particles.len();
         let w = &particles.inverse_mass;
-        let movable = |i: u32| i != NONE && w[i as usize] > 0.0;
         self.parent.clear();
         self.parent.extend(0..n as u32);
         self.blocked.clear();
         self.blocked.resize(n, false);
         self.join_contacts(w);
         let (parent, blocked, ready) = (&mut self.parent, &mut self.blocked, &self.ready);
-        let is_ready = |i: u32| i != NONE && ready[i as usize];
-        let mut join = |a: u32, b: u32| match (is_ready(a), is_ready(b)) {
-            (true, true) => union(parent, a, b),
-            (true, false) if movable(b) => blocked[a as usize] = true,
-            (false, true) if movable(a) => blocked[b as usize] = true,
-            _ => {}
-        };
         for link in &self.links {
-            join(link.a, link.b);
+            match joining(ready, w, link.a, link.b) {
+                Joining::Both => union(parent, link.a, link.b),
+                Joining::Blocks(i) => blocked[i as usize] = true,
+                Joining::Neither => {}
+            }
         }
         // A block holds for the whole island: note it at the island's root.
         for i in 0..n {
@@ -112,7 +108,7 @@ impl SoftStep {
         // Rare (a force reaching a sleeping island), so one list behind a lock will do.
         let to_wake = Mutex::new(&mut self.to_wake);
         let any_ready = AtomicBool::new(false);
-        self.ready.clear();
+        // Every flag is written below.
         self.ready.resize(sleep.len(), false);
         let (sleeps, ready) = (Disjoint::new(sleep), Disjoint::new(&mut self.ready));
         on_threads(sleeps.len(), |run| {
@@ -162,18 +158,13 @@ impl SoftStep {
     fn join_contacts(&mut self, w: &[f32]) {
         use std::sync::Mutex;
         use std::sync::atomic::{AtomicBool, Ordering};
-        let movable = |i: u32| i != NONE && w[i as usize] > 0.0;
         let (keys, ready) = (&self.fresh_keys, &self.ready);
-        // A ready particle is movable, so a pair of which neither is ready (almost every
-        // contact of a forming pile) is passed over on the `ready` list alone, without
-        // reading the particles' masses.
-        let is_ready = |i: u32| i != NONE && ready[i as usize];
         // SAFETY: `AtomicBool` has the size, alignment and bit validity of `bool`; the
         // exclusive borrow of `blocked` is held while `blocked` is used, and only
         // through it.
         let blocked: &[AtomicBool] =
             unsafe { &*(std::ptr::from_mut::<[bool]>(&mut self.blocked[..]) as *const [AtomicBool]) };
-        self.joins.clear();
+        // Each run writes its pairs from where it begins, so only lengths matter here.
         self.joins.resize(keys.len(), 0);
         self.join_runs.clear();
         let joins = Disjoint::new(&mut self.joins);
@@ -183,15 +174,13 @@ impl SoftStep {
             let pairs = unsafe { joins.run(run.clone()) };
             let mut count = 0;
             for &key in &keys[run.clone()] {
-                let (a, b) = ((key >> 32) as u32, key as u32);
-                match (is_ready(a), is_ready(b)) {
-                    (true, true) => {
+                match joining(ready, w, (key >> 32) as u32, key as u32) {
+                    Joining::Both => {
                         pairs[count] = key;
                         count += 1;
                     }
-                    (true, false) if movable(b) => blocked[a as usize].store(true, Ordering::Relaxed),
-                    (false, true) if movable(a) => blocked[b as usize].store(true, Ordering::Relaxed),
-                    _ => {}
+                    Joining::Blocks(i) => blocked[i as usize].store(true, Ordering::Relaxed),
+                    Joining::Neither => {}
                 }
             }
             runs.lock().expect("no thread panics holding it").push((run.start, count));
@@ -201,6 +190,33 @@ impl SoftStep {
                 union(&mut self.parent, (key >> 32) as u32, key as u32);
             }
         }
+    }
+}
+
+/// What a contact or link between particles `a` and `b` ([`NONE`]: a plane or an
+/// anchor) does to the islands that can sleep, given which particles are `ready` and
+/// their inverse masses `w`.
+enum Joining {
+    /// Both are ready: one island.
+    Both,
+    /// This ready particle touches a movable one that is not: its island stays awake.
+    Blocks(u32),
+    /// Neither is ready, or one is joined only to something that does not move.
+    Neither,
+}
+
+#[inline]
+fn joining(ready: &[bool], w: &[f32], a: u32, b: u32) -> Joining {
+    // A ready particle is movable, so a pair of which neither is ready (most contacts
+    // of a forming pile) is passed over on the `ready` list alone, without reading
+    // the particles' masses.
+    let is_ready = |i: u32| i != NONE && ready[i as usize];
+    let movable = |i: u32| i != NONE && w[i as usize] > 0.0;
+    match (is_ready(a), is_ready(b)) {
+        (true, true) => Joining::Both,
+        (true, false) if movable(b) => Joining::Blocks(a),
+        (false, true) if movable(a) => Joining::Blocks(b),
+        _ => Joining::Neither,
     }
 }
 
