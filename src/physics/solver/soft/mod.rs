@@ -313,7 +313,7 @@ pub struct SoftStep {
     ready: Vec<bool>,
     blocked: Vec<bool>,
     /// For sleeping (`sleep.rs`): the keys of contacts joining two ready particles, each
-    /// run of keys' written from where that run begins, and each run's start and count.
+    /// run's written where that run's keys begin, and each run's start and count.
     joins: Vec<u64>,
     join_runs: Vec<(usize, usize)>,
     /// The exact solve of rods and cables (`link_network/`), with its cached network.
